@@ -1,0 +1,179 @@
+// `bridgefit law`: evaluates a bridging law and its R curve (PHYSICS 2-3).
+//   bridgefit law --law linear --sigma-c "0.45 MPa" --jb "500 J/m^2" --jtip "2210 J/m^2"
+//   bridgefit law --law cubic --sigma-c 1MPa --delta-c 2mm --jtip 2210J/m^2 --json
+
+#include <cmath>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "bridgefit/core/atomic_file.hpp"
+#include "bridgefit/core/error.hpp"
+#include "bridgefit/core/units.hpp"
+#include "bridgefit/io/csv.hpp"
+#include "bridgefit/laws/law.hpp"
+#include "bridgefit/laws/rcurve_theory.hpp"
+#include "command.hpp"
+
+namespace bridgefit::cli {
+namespace {
+
+double OptionalQuantity(const std::string& text, const Dimension& dimension, const char* option) {
+  if (text.empty()) return NAN;
+  try {
+    return ParseQuantity(text, dimension);
+  } catch (const Error& e) {
+    throw e.WithContext({.field = option});
+  }
+}
+
+std::vector<double> ParseNumberList(const std::string& text, const char* option, size_t count) {
+  std::vector<double> values;
+  std::stringstream stream(text);
+  std::string item;
+  while (std::getline(stream, item, ',')) {
+    char* end = nullptr;
+    const double v = std::strtod(item.c_str(), &end);
+    if (end == item.c_str())
+      throw Error(ErrorKind::kUsage, "not a number", {.field = option, .value = item});
+    values.push_back(v);
+  }
+  if (values.size() != count)
+    throw Error(ErrorKind::kUsage, fmt::format("expected {} comma-separated numbers", count),
+                {.field = option, .value = text});
+  return values;
+}
+
+class LawCommand final : public Command {
+ public:
+  const char* name() const override { return "law"; }
+  const char* description() const override {
+    return "Evaluate a bridging law sigma(delta) and its elastic-zone R curve";
+  }
+  void Register(CLI::App& sub) override {
+    sub.add_option("--law", law_, "linear|cubic|triangular|trilinear|exponential|table")
+        ->default_val("linear");
+    sub.add_option("--sigma-c", sigma_c_, "Peak bridging stress, e.g. '0.45 MPa'");
+    sub.add_option("--jb", J_B_, "Bridging toughness J_B, e.g. '500 J/m^2'");
+    sub.add_option("--delta-c", delta_c_, "Critical opening, e.g. '2.57 mm'");
+    sub.add_option("--jtip", J_tip_c_, "Crack-tip toughness J_tip,c, e.g. '2210 J/m^2'")
+        ->required();
+    sub.add_option("--peak-ratio", peak_ratio_,
+                   "triangular: opening at the peak as a fraction of delta_c (u_e/delta_c)")
+        ->default_val(0.1);
+    sub.add_option("--alpha", alpha_, "exponential: decay constant, s = exp(-alpha d)")
+        ->default_val(3.0);
+    sub.add_option("--trilinear", trilinear_,
+                   "trilinear: 's0,d1,s1,d2,s2' (fractions of sigma_c and delta_c)");
+    sub.add_option("--table", table_,
+                   "table: CSV with header 'delta [mm], sigma [MPa]' (any units)");
+    sub.add_option("--points", points_, "Number of openings from 0 to delta_c inclusive")
+        ->default_val(101)
+        ->check(CLI::Range(2, 1000000));
+    sub.add_option("--csv", csv_, "Also write the points to this CSV file");
+  }
+
+  int Run(const CommonOptions& common) override {
+    const laws::LawFamily family = laws::ParseLawFamily(law_);
+    laws::LawShape shape;
+    laws::LawScales given{OptionalQuantity(sigma_c_, Dimension::Stress(), "--sigma-c"),
+                          OptionalQuantity(delta_c_, Dimension::Length(), "--delta-c"),
+                          OptionalQuantity(J_B_, Dimension::EnergyPerArea(), "--jb")};
+    switch (family) {
+      case laws::LawFamily::kLinear: shape = laws::MakeLinearShape(); break;
+      case laws::LawFamily::kCubic: shape = laws::MakeCubicShape(); break;
+      case laws::LawFamily::kTriangular: shape = laws::MakeTriangularShape(peak_ratio_); break;
+      case laws::LawFamily::kExponential: shape = laws::MakeExponentialShape(alpha_); break;
+      case laws::LawFamily::kTrilinear: {
+        if (trilinear_.empty())
+          throw Error(ErrorKind::kUsage, "the trilinear law needs its break points",
+                      {.field = "--trilinear", .expected = "'s0,d1,s1,d2,s2'"});
+        const auto v = ParseNumberList(trilinear_, "--trilinear", 5);
+        shape = laws::MakeTrilinearShape(v[0], v[1], v[2], v[3], v[4]);
+        break;
+      }
+      case laws::LawFamily::kTable: {
+        if (table_.empty())
+          throw Error(ErrorKind::kUsage, "the table law needs --table FILE",
+                      {.field = "--table", .expected = "a CSV with columns delta and sigma"});
+        const io::CsvTable table = io::ReadCsvTable(table_);
+        const auto delta = table.ColumnSi("delta", Dimension::Length());
+        const auto sigma = table.ColumnSi("sigma", Dimension::Stress());
+        double table_sigma_c = 0, table_delta_c = 0;
+        shape = laws::MakeTableShape(delta, sigma, &table_sigma_c, &table_delta_c);
+        if (!std::isfinite(given.sigma_c) && !std::isfinite(given.delta_c) &&
+            !std::isfinite(given.J_B)) {
+          given.sigma_c = table_sigma_c;
+          given.delta_c = table_delta_c;
+        }
+        break;
+      }
+    }
+    const laws::LawScales scales = laws::CompleteScales(shape, given);
+    const double J_tip_c = ParseQuantity(J_tip_c_, Dimension::EnergyPerArea());
+    BF_CHECK_INPUT(J_tip_c > 0.0, "J_tip,c must be positive",
+                   {.field = "--jtip", .value = J_tip_c_, .expected = "a value > 0 J/m^2"});
+    const laws::BridgingLaw law{&shape, scales.sigma_c, scales.delta_c};
+
+    struct Row { double delta, sigma, R, J_ff; };
+    std::vector<Row> rows;
+    for (int i = 0; i < points_; ++i) {
+      const double delta = scales.delta_c * i / (points_ - 1);
+      rows.push_back({delta, law.Traction(delta), laws::ElasticZoneR(law, delta, J_tip_c),
+                      laws::FarFieldJ(law, delta, J_tip_c)});
+    }
+
+    if (!csv_.empty()) {
+      std::string text = "delta [m], sigma [Pa], R [J/m^2], J_ff [J/m^2]\n";
+      for (const Row& r : rows)
+        text += fmt::format("{:.10g}, {:.10g}, {:.10g}, {:.10g}\n", r.delta, r.sigma, r.R, r.J_ff);
+      WriteTextFileAtomic(csv_, text);
+    }
+
+    if (common.json) {
+      nlohmann::json out;
+      out["law"] = std::string(laws::LawFamilyName(family));
+      out["sigma_c_Pa"] = scales.sigma_c;
+      out["delta_c_m"] = scales.delta_c;
+      out["J_B_J_per_m2"] = scales.J_B;
+      out["J_tip_c_J_per_m2"] = J_tip_c;
+      out["shape_area"] = shape.Area();
+      nlohmann::json points = nlohmann::json::array();
+      for (const Row& r : rows)
+        points.push_back({{"delta_m", r.delta}, {"sigma_Pa", r.sigma}, {"R_J_per_m2", r.R},
+                          {"J_ff_J_per_m2", r.J_ff}});
+      out["points"] = std::move(points);
+      PrintJson(out);
+    } else {
+      std::cout << fmt::format(
+          "law {}: sigma_c = {:.6g} MPa, delta_c = {:.6g} mm, J_B = {:.6g} J/m^2, "
+          "J_tip,c = {:.6g} J/m^2, steady-state R = {:.6g} J/m^2\n",
+          laws::LawFamilyName(family), scales.sigma_c / 1e6, scales.delta_c * 1e3, scales.J_B,
+          J_tip_c, J_tip_c + scales.J_B);
+      std::cout << fmt::format("{:>14} {:>14} {:>14} {:>14}\n", "delta [mm]", "sigma [MPa]",
+                               "R [J/m^2]", "J_ff [J/m^2]");
+      const int stride = std::max(1, points_ / 20);
+      for (int i = 0; i < points_; ++i) {
+        if (i % stride != 0 && i != points_ - 1) continue;
+        const Row& r = rows[i];
+        std::cout << fmt::format("{:14.6g} {:14.6g} {:14.6g} {:14.6g}\n", r.delta * 1e3,
+                                 r.sigma / 1e6, r.R, r.J_ff);
+      }
+    }
+    return 0;
+  }
+
+ private:
+  std::string law_, sigma_c_, J_B_, delta_c_, J_tip_c_, trilinear_, table_, csv_;
+  double peak_ratio_ = 0.1;
+  double alpha_ = 3.0;
+  int points_ = 101;
+};
+
+}  // namespace
+
+std::unique_ptr<Command> MakeLawCommand() { return std::make_unique<LawCommand>(); }
+
+}  // namespace bridgefit::cli

@@ -1,0 +1,42 @@
+#pragma once
+// Subcommand plumbing of the `bridgefit` CLI. Each subcommand lives in its
+// own apps/cmd_<name>.cpp and is created by a Make<Name>Command() factory
+// listed in main.cpp.
+
+#include <CLI/CLI.hpp>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+
+namespace bridgefit::cli {
+
+// Options every subcommand has.
+struct CommonOptions {
+  bool json = false;  // stdout carries exactly one JSON object, nothing else
+  bool quiet = false; // no progress on stderr
+};
+
+class Command {
+ public:
+  virtual ~Command() = default;
+  virtual const char* name() const = 0;
+  virtual const char* description() const = 0;
+  // Adds the subcommand's own options to `sub`.
+  virtual void Register(CLI::App& sub) = 0;
+  // Runs after parsing. Returns the exit code; throws bridgefit::Error on
+  // failure (mapped to exit 1, or 2 for ErrorKind::kUsage).
+  virtual int Run(const CommonOptions& common) = 0;
+};
+
+std::unique_ptr<Command> MakeLawCommand();
+std::unique_ptr<Command> MakeSimulateCommand();
+std::unique_ptr<Command> MakeRcurveCommand();
+std::unique_ptr<Command> MakeDicCommand();
+
+// Prints one JSON object on stdout (the only stdout output under --json).
+void PrintJson(const nlohmann::json& object);
+
+// JSON null for a non-finite number, the number otherwise.
+nlohmann::json NumberOrNull(double value);
+
+}  // namespace bridgefit::cli

@@ -1,0 +1,69 @@
+// bridgefit: fracture tests with fibre bridging -> bridging-law parameters.
+//
+// Exit codes: 0 success, 1 runtime or data error, 2 usage error.
+// Sample runs:
+//   bridgefit law --law cubic --sigma-c "0.45 MPa" --jb "500 J/m^2" --jtip "2210 J/m^2"
+//   bridgefit law --law linear --sigma-c 1MPa --delta-c 1mm --jtip 2210J/m^2 --json
+
+#include <cstdio>
+#include <iostream>
+#include <vector>
+
+#include "bridgefit/core/error.hpp"
+#include "bridgefit/core/version.hpp"
+#include "command.hpp"
+
+namespace bridgefit::cli {
+
+void PrintJson(const nlohmann::json& object) { std::cout << object.dump(2) << std::endl; }
+
+nlohmann::json NumberOrNull(double value) {
+  return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
+}
+
+}  // namespace bridgefit::cli
+
+int main(int argc, char** argv) {
+  using namespace bridgefit;
+  CLI::App app{"bridgefit: R curves and bridging laws from fracture tests of fibrous materials"};
+  app.set_version_flag("--version", std::string("bridgefit ") + VersionString());
+  app.require_subcommand(1);
+  app.failure_message(CLI::FailureMessage::help);
+
+  cli::CommonOptions common;
+  std::vector<std::unique_ptr<cli::Command>> commands;
+  commands.push_back(cli::MakeLawCommand());
+  commands.push_back(cli::MakeSimulateCommand());
+  commands.push_back(cli::MakeRcurveCommand());
+  commands.push_back(cli::MakeDicCommand());
+
+  std::vector<CLI::App*> subs;
+  for (auto& command : commands) {
+    CLI::App* sub = app.add_subcommand(command->name(), command->description());
+    sub->add_flag("--json", common.json, "Print exactly one JSON object on stdout (SI units)");
+    sub->add_flag("--quiet", common.quiet, "No progress messages on stderr");
+    command->Register(*sub);
+    subs.push_back(sub);
+  }
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);  // prints help/version (0) or the usage error
+    return code == 0 ? 0 : 2;
+  }
+
+  for (size_t i = 0; i < commands.size(); ++i) {
+    if (!subs[i]->parsed()) continue;
+    try {
+      return commands[i]->Run(common);
+    } catch (const Error& e) {
+      std::cerr << "bridgefit " << commands[i]->name() << ": error: " << e.what() << "\n";
+      return e.kind() == ErrorKind::kUsage ? 2 : 1;
+    } catch (const std::exception& e) {
+      std::cerr << "bridgefit " << commands[i]->name() << ": error: " << e.what() << "\n";
+      return 1;
+    }
+  }
+  return 2;
+}

@@ -1,0 +1,81 @@
+#pragma once
+// Plain value types passed between the stages of the data flow, in SI units.
+// HDF5 layouts: docs/FORMATS.md (io::WriteRecordH5 / io::Read*H5).
+
+#include <cmath>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace bridgefit {
+
+// A load-displacement test record (one row per sample).
+struct ExperimentRecord {
+  std::string source;                 // provenance: file it came from
+  std::vector<double> time;           // [s] (may be empty)
+  std::vector<double> load;           // P [N]
+  std::vector<double> displacement;   // load-point displacement [m]
+  std::vector<double> crack_length;   // a [m], from the load line (may be empty)
+  std::vector<std::string> images;    // image file per row (may be empty)
+  std::map<std::string, std::string> metadata;  // specimen, material, notes
+
+  // Cleaning done on import, reported, never silent.
+  int rows_read = 0;
+  int rows_dropped_nan = 0;   // rows with a NaN/empty value in a used column
+  int rows_repeated = 0;      // exact repeats of the previous row
+
+  std::size_t size() const { return load.size(); }
+  bool has_crack_length() const { return !crack_length.empty(); }
+  // Throws Error when column lengths differ or values are not finite.
+  void Validate() const;
+};
+
+// An R curve: resistance against crack length.
+struct RCurve {
+  std::string method;   // energy | mbt | cc | lefm | equivalent | model name
+  std::string r_kind;   // "energy" (energy released) or "elastic-zone"
+  std::string source;   // provenance
+  std::vector<double> crack_length;   // a [m]
+  std::vector<double> R;              // [J/m^2]
+  std::vector<double> R_uncertainty;  // [J/m^2], empty when unknown
+  double initial_crack_length = NAN;  // a0 [m]
+  double initiation_R = NAN;          // [J/m^2]
+
+  std::size_t size() const { return R.size(); }
+  void Validate() const;
+};
+
+// One crack length of a forward simulation.
+struct SimulationPoint {
+  double crack_length = NAN;          // a [m]
+  double R = NAN;                     // elastic-zone R (PHYSICS 3) [J/m^2]
+  double R_energy = NAN;              // energy released per unit growth [J/m^2]
+  double J_tip = NAN;                 // [J/m^2]
+  double J_ff = NAN;                  // [J/m^2]
+  double delta_root = NAN;            // COD at the notch root [m]
+  double root_position = NAN;         // x of the notch root from the load line [m]
+  double bridging_zone_length = NAN;  // a - x_root [m]
+  double load = NAN;                  // P [N]
+  double displacement = NAN;          // load-point displacement [m]
+  double cmod = NAN;                  // crack-mouth opening [m]
+};
+
+enum class RunStatus { kOk, kNotConverged, kUnstable, kInvalidInput, kFailed };
+const char* RunStatusName(RunStatus status);
+
+// The result of a forward simulation with crack growth.
+struct SimulationResult {
+  std::string model;                  // "reduced", "mpm", "analytic"
+  RunStatus status = RunStatus::kOk;
+  std::string message;                // why it stopped
+  std::vector<SimulationPoint> points;
+  bool steady_state_reached = false;
+  double steady_state_crack_length = NAN;  // [m], NaN when not reached
+  double initiation_load = NAN;            // [N]
+  double wall_s = 0.0;
+  std::map<std::string, double> figures;   // model-specific numbers (SI)
+
+  RCurve ToRCurve(bool energy_kind) const;
+};
+
+}  // namespace bridgefit

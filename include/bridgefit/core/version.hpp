@@ -1,0 +1,5 @@
+#pragma once
+namespace bridgefit {
+// Semantic version of the library and the CLI.
+const char* VersionString();
+}  // namespace bridgefit

@@ -1,0 +1,72 @@
+#pragma once
+// HDF5 files in one documented layout (docs/FORMATS.md). Every dataset has
+// a `units` attribute. Files are written under a temporary name and renamed
+// by Commit(), so a failed run leaves no half-written file.
+// The HDF5 C++ API stays inside src/io (pimpl).
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "bridgefit/core/records.hpp"
+
+namespace bridgefit::io {
+
+class H5Writer {
+ public:
+  explicit H5Writer(const std::filesystem::path& target);
+  ~H5Writer();
+  H5Writer(const H5Writer&) = delete;
+  H5Writer& operator=(const H5Writer&) = delete;
+
+  // Paths like "/rcurve/R"; parent groups are created as needed.
+  void WriteVector(const std::string& path, const std::vector<double>& values,
+                   const std::string& units, const std::string& description = "");
+  // Row-major matrix rows x cols.
+  void WriteMatrix(const std::string& path, std::size_t rows, std::size_t cols,
+                   const std::vector<double>& values, const std::string& units,
+                   const std::string& description = "");
+  void WriteStrings(const std::string& path, const std::vector<std::string>& values);
+  // Attributes on a group or dataset (created as a group if missing).
+  void WriteAttribute(const std::string& object_path, const std::string& key,
+                      const std::string& value);
+  void WriteAttribute(const std::string& object_path, const std::string& key, double value);
+  // Closes the file and renames it onto the target.
+  void Commit();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+class H5Reader {
+ public:
+  explicit H5Reader(const std::filesystem::path& path);
+  ~H5Reader();
+  H5Reader(const H5Reader&) = delete;
+  H5Reader& operator=(const H5Reader&) = delete;
+
+  bool Exists(const std::string& path) const;
+  std::vector<double> ReadVector(const std::string& path, std::string* units = nullptr) const;
+  std::vector<std::string> ReadStrings(const std::string& path) const;
+  std::string ReadStringAttribute(const std::string& object_path, const std::string& key) const;
+  double ReadNumberAttribute(const std::string& object_path, const std::string& key) const;
+  bool HasAttribute(const std::string& object_path, const std::string& key) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// Record types <-> HDF5 groups ("/experiment", "/rcurve", "/simulation").
+void WriteRecordH5(H5Writer& file, const ExperimentRecord& record,
+                   const std::string& group = "/experiment");
+void WriteRecordH5(H5Writer& file, const RCurve& curve, const std::string& group = "/rcurve");
+void WriteRecordH5(H5Writer& file, const SimulationResult& result,
+                   const std::string& group = "/simulation");
+ExperimentRecord ReadExperimentH5(const H5Reader& file, const std::string& group = "/experiment");
+RCurve ReadRCurveH5(const H5Reader& file, const std::string& group = "/rcurve");
+SimulationResult ReadSimulationH5(const H5Reader& file, const std::string& group = "/simulation");
+
+}  // namespace bridgefit::io

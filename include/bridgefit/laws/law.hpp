@@ -1,0 +1,185 @@
+#pragma once
+// Bridging (traction-separation) laws sigma(delta), PHYSICS.md section 2.
+//
+// Every law is a normalized shape s(d) on d = delta / delta_c in [0, 1],
+// peaking at s = 1, scaled by the peak stress sigma_c and the critical
+// opening delta_c:  sigma(delta) = sigma_c s(delta / delta_c).
+// Hence J_B = k sigma_c delta_c with k = int_0^1 s(d) dd (the shape area),
+// and any two of (sigma_c, delta_c, J_B) fix the third.
+//
+// LawT<T> is templated on the scalar so Ceres Jets differentiate it with
+// respect to sigma_c and delta_c; the shape parameters stay double.
+
+#include <cmath>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace bridgefit::laws {
+
+enum class LawFamily { kLinear, kCubic, kTriangular, kTrilinear, kExponential, kTable };
+
+std::string_view LawFamilyName(LawFamily family);
+// Parses "linear", "cubic", ... Throws Error naming the accepted values.
+LawFamily ParseLawFamily(std::string_view name);
+
+// The normalized shape s(d). Build it with the Make*Shape functions.
+struct LawShape {
+  LawFamily family = LawFamily::kLinear;
+  double peak_ratio = 0.0;  // triangular: u_e / delta_c, in [0, 1)
+  double alpha = 0.0;       // exponential: s = exp(-alpha d), alpha >= 0
+  // Piecewise-linear families (trilinear, table): break points from
+  // d = 0 to d = 1, with s(1) = 0 and max s = 1.
+  std::vector<double> d_points;
+  std::vector<double> s_points;
+
+  // Throws Error when the shape is impossible (e.g. peak_ratio >= 1).
+  void Validate() const;
+  // k = int_0^1 s(d) dd, so that J_B = k sigma_c delta_c.
+  double Area() const;
+};
+
+LawShape MakeLinearShape();
+LawShape MakeCubicShape();
+// Elastic rise to the peak at u_e = peak_ratio delta_c, then linear to zero.
+LawShape MakeTriangularShape(double peak_ratio);
+// Exponential decay exp(-alpha d), cut at d = 1.
+LawShape MakeExponentialShape(double alpha);
+// General three-segment law through (0, s0), (d1, s1), (d2, s2), (1, 0),
+// with 0 < d1 < d2 < 1; s values are rescaled so the peak is 1.
+LawShape MakeTrilinearShape(double s0, double d1, double s1, double d2, double s2);
+// Tabulated law from absolute (delta [m], sigma [Pa]) points. Returns the
+// normalized shape and sets sigma_c (peak) and delta_c (last point, where
+// sigma must be 0).
+LawShape MakeTableShape(const std::vector<double>& delta, const std::vector<double>& sigma,
+                        double* sigma_c, double* delta_c);
+
+// ---- Shape evaluation, templated on the scalar --------------------------
+
+namespace detail {
+template <class T>
+T PiecewiseValue(const std::vector<double>& xs, const std::vector<double>& ys, const T& d) {
+  for (size_t i = 1; i < xs.size(); ++i) {
+    if (d <= T(xs[i])) {
+      const double dx = xs[i] - xs[i - 1];
+      if (dx <= 0.0) return T(ys[i]);
+      return T(ys[i - 1]) + (d - T(xs[i - 1])) * ((ys[i] - ys[i - 1]) / dx);
+    }
+  }
+  return T(0.0);
+}
+template <class T>
+T PiecewiseIntegral(const std::vector<double>& xs, const std::vector<double>& ys, const T& d) {
+  T total(0.0);
+  for (size_t i = 1; i < xs.size(); ++i) {
+    const double x0 = xs[i - 1];
+    const double x1 = xs[i];
+    if (d <= T(x0)) break;
+    const double slope = x1 > x0 ? (ys[i] - ys[i - 1]) / (x1 - x0) : 0.0;
+    if (d >= T(x1)) {
+      total += T(0.5 * (ys[i - 1] + ys[i]) * (x1 - x0));
+    } else {
+      const T h = d - T(x0);
+      total += T(ys[i - 1]) * h + T(0.5 * slope) * h * h;
+      break;
+    }
+  }
+  return total;
+}
+}  // namespace detail
+
+// s(d): 0 outside [0, 1).
+template <class T>
+T ShapeValue(const LawShape& shape, const T& d) {
+  using std::exp;
+  if (d < T(0.0) || d >= T(1.0)) return T(0.0);
+  switch (shape.family) {
+    case LawFamily::kLinear:
+      return T(1.0) - d;
+    case LawFamily::kCubic: {
+      const T one_minus = T(1.0) - d;
+      return T(27.0 / 4.0) * d * one_minus * one_minus;
+    }
+    case LawFamily::kTriangular:
+      if (d < T(shape.peak_ratio)) return d / T(shape.peak_ratio);
+      return (T(1.0) - d) / T(1.0 - shape.peak_ratio);
+    case LawFamily::kExponential:
+      return exp(T(-shape.alpha) * d);
+    case LawFamily::kTrilinear:
+    case LawFamily::kTable:
+      return detail::PiecewiseValue(shape.d_points, shape.s_points, d);
+  }
+  return T(0.0);
+}
+
+// int_0^min(d,1) s(x) dx (0 for d <= 0).
+template <class T>
+T ShapeIntegral(const LawShape& shape, const T& d_in) {
+  using std::exp;
+  if (d_in <= T(0.0)) return T(0.0);
+  const T d = d_in < T(1.0) ? d_in : T(1.0);
+  switch (shape.family) {
+    case LawFamily::kLinear:
+      return d - T(0.5) * d * d;
+    case LawFamily::kCubic: {
+      const T d2 = d * d;
+      return T(27.0 / 4.0) * (T(0.5) * d2 - T(2.0 / 3.0) * d2 * d + T(0.25) * d2 * d2);
+    }
+    case LawFamily::kTriangular: {
+      const double p = shape.peak_ratio;
+      if (d <= T(p)) return T(0.5) * d * d / T(p);
+      const T rest = d - T(p);
+      return T(0.5 * p) + (rest - T(0.5) * (d * d - T(p * p))) / T(1.0 - p);
+    }
+    case LawFamily::kExponential:
+      if (shape.alpha == 0.0) return d;
+      return (T(1.0) - exp(T(-shape.alpha) * d)) / T(shape.alpha);
+    case LawFamily::kTrilinear:
+    case LawFamily::kTable:
+      return detail::PiecewiseIntegral(shape.d_points, shape.s_points, d);
+  }
+  return T(0.0);
+}
+
+// A law with its scale parameters. The shape must outlive the law.
+template <class T>
+struct LawT {
+  const LawShape* shape = nullptr;
+  T sigma_c = T(0.0);  // peak stress [Pa]
+  T delta_c = T(0.0);  // critical opening [m]
+
+  // sigma(delta) on the monotonic envelope [Pa].
+  T Traction(const T& delta) const { return sigma_c * ShapeValue(*shape, delta / delta_c); }
+  // W(delta) = int_0^delta sigma dd [J/m^2].
+  T Work(const T& delta) const { return sigma_c * delta_c * ShapeIntegral(*shape, delta / delta_c); }
+  // J_B = W(delta_c) [J/m^2].
+  T BridgingToughness() const { return sigma_c * delta_c * T(shape->Area()); }
+  // Energy given back on elastic unloading from delta_max: 1/2 sigma(delta_max) delta_max.
+  T Recoverable(const T& delta_max) const { return T(0.5) * Traction(delta_max) * delta_max; }
+  // Energy dissipated when loaded to delta_max: W(delta_max) - recoverable.
+  T Dissipated(const T& delta_max) const { return Work(delta_max) - Recoverable(delta_max); }
+  // Traction at opening delta for a point whose history maximum is
+  // delta_max: the envelope when delta >= delta_max, else the elastic
+  // unloading/reloading line toward the origin; zero once delta_max >= delta_c.
+  T TractionWithHistory(const T& delta, const T& delta_max) const {
+    if (delta >= delta_max) return Traction(delta);
+    if (delta_max >= delta_c) return T(0.0);
+    if (delta <= T(0.0) || delta_max <= T(0.0)) return T(0.0);
+    return Traction(delta_max) * (delta / delta_max);
+  }
+};
+
+using BridgingLaw = LawT<double>;
+
+// Which pair of (sigma_c, delta_c, J_B) was given.
+struct LawScales {
+  double sigma_c = NAN;  // [Pa]
+  double delta_c = NAN;  // [m]
+  double J_B = NAN;      // [J/m^2]
+};
+// Completes a LawScales from any two of its three values for `shape`.
+// Throws Error if fewer than two are given, if all three are given and
+// disagree, or if any is not positive.
+LawScales CompleteScales(const LawShape& shape, const LawScales& given);
+
+}  // namespace bridgefit::laws

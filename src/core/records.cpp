@@ -1,0 +1,69 @@
+#include "bridgefit/core/records.hpp"
+
+#include <string>
+
+#include "bridgefit/core/error.hpp"
+
+namespace bridgefit {
+namespace {
+
+void CheckColumn(const std::string& source, const char* name, const std::vector<double>& column,
+                 std::size_t expected_size, bool may_be_empty) {
+  if (column.empty() && may_be_empty) return;
+  if (column.size() != expected_size)
+    throw Error(ErrorKind::kInput, "column length differs from the load column",
+                {.file = source, .field = name, .value = std::to_string(column.size()) + " rows",
+                 .expected = std::to_string(expected_size) + " rows"});
+  for (std::size_t i = 0; i < column.size(); ++i)
+    if (!std::isfinite(column[i]))
+      throw Error(ErrorKind::kInput, "value is not finite in row " + std::to_string(i + 1),
+                  {.file = source, .field = name, .value = std::to_string(column[i])});
+}
+
+}  // namespace
+
+void ExperimentRecord::Validate() const {
+  const std::size_t n = load.size();
+  CheckColumn(source, "load", load, n, false);
+  CheckColumn(source, "displacement", displacement, n, false);
+  CheckColumn(source, "time", time, n, true);
+  CheckColumn(source, "crack_length", crack_length, n, true);
+  if (!images.empty() && images.size() != n)
+    throw Error(ErrorKind::kInput, "image column length differs from the load column",
+                {.file = source, .field = "image"});
+}
+
+void RCurve::Validate() const {
+  const std::size_t n = R.size();
+  CheckColumn(source, "crack_length", crack_length, n, false);
+  CheckColumn(source, "R", R, n, false);
+  CheckColumn(source, "R_uncertainty", R_uncertainty, n, true);
+}
+
+const char* RunStatusName(RunStatus status) {
+  switch (status) {
+    case RunStatus::kOk: return "ok";
+    case RunStatus::kNotConverged: return "not_converged";
+    case RunStatus::kUnstable: return "unstable";
+    case RunStatus::kInvalidInput: return "invalid_input";
+    case RunStatus::kFailed: return "failed";
+  }
+  return "unknown";
+}
+
+RCurve SimulationResult::ToRCurve(bool energy_kind) const {
+  RCurve curve;
+  curve.method = model;
+  curve.r_kind = energy_kind ? "energy" : "elastic-zone";
+  curve.source = "simulation (" + model + ")";
+  for (const SimulationPoint& p : points) {
+    const double r = energy_kind ? p.R_energy : p.R;
+    if (!std::isfinite(r)) continue;
+    curve.crack_length.push_back(p.crack_length);
+    curve.R.push_back(r);
+  }
+  if (!points.empty()) curve.initial_crack_length = points.front().crack_length;
+  return curve;
+}
+
+}  // namespace bridgefit
