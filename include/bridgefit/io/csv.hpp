@@ -20,6 +20,9 @@ struct CsvTable {
   std::vector<std::string> units;              // unit text in brackets, "" if none
   std::vector<std::vector<double>> columns;    // columns[i][row]
   std::vector<int> lines;                      // file line of each row (1-based)
+  std::vector<std::vector<std::string>> text;  // the raw cells, text[i][row]
+  std::vector<int> bad_line;                   // first line with a non-numeric cell, 0 if none
+  std::vector<std::string> bad_value;          // that cell
 
   std::size_t rows() const { return lines.size(); }
   // Index of a column by name (case-insensitive), or -1.
@@ -28,6 +31,8 @@ struct CsvTable {
   // column with no unit anywhere is an error naming the expected unit.
   std::vector<double> ColumnSi(const std::string& name, const Dimension& dimension,
                                const std::string& unit_override = "") const;
+  // Raw text of a column (e.g. image file names).
+  const std::vector<std::string>& TextColumn(const std::string& name) const;
 };
 
 // Reads a CSV with a header row. Throws Error for an empty file, a binary

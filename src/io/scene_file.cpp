@@ -1,0 +1,336 @@
+#include "bridgefit/io/scene_file.hpp"
+
+#include <fstream>
+#include <numbers>
+#include <set>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <toml++/toml.h>
+
+#include "bridgefit/core/error.hpp"
+#include "bridgefit/core/units.hpp"
+#include "bridgefit/io/csv.hpp"
+
+namespace bridgefit::io {
+namespace {
+
+int LineOf(const toml::node& node) { return static_cast<int>(node.source().begin.line); }
+
+// One [section] of the scene with the keys it allows.
+class Section {
+ public:
+  Section(const toml::table& root, const std::string& file, const char* name,
+          std::set<std::string> allowed)
+      : file_(file), name_(name) {
+    const toml::node* node = root.get(name);
+    if (!node) return;
+    table_ = node->as_table();
+    if (!table_)
+      throw Error(ErrorKind::kInput, "must be a [section] table",
+                  {.file = file_, .line = LineOf(*node), .field = name_});
+    for (auto&& [key, value] : *table_) {
+      const std::string k(key.str());
+      if (!allowed.count(k)) {
+        std::string list;
+        for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+        throw Error(ErrorKind::kInput, "unknown key",
+                    {.file = file_, .line = LineOf(value), .field = name_ + "." + k,
+                     .expected = "one of " + list});
+      }
+    }
+  }
+
+  bool present() const { return table_ != nullptr; }
+  bool has(const char* key) const { return table_ && table_->get(key); }
+  int line() const { return table_ ? LineOf(*table_) : 0; }
+
+  ErrorContext Context(const char* key, const std::string& expected = "") const {
+    const toml::node* node = table_ ? table_->get(key) : nullptr;
+    return {.file = file_, .line = node ? LineOf(*node) : line(), .field = name_ + "." + key,
+            .expected = expected};
+  }
+
+  [[noreturn]] void Missing(const char* key, const std::string& expected) const {
+    throw Error(ErrorKind::kInput, "missing required key",
+                {.file = file_, .line = line(), .field = name_ + "." + key, .expected = expected});
+  }
+
+  // A dimensional value written as a string with a unit, e.g. "12.7 mm".
+  double Quantity(const char* key, const Dimension& dimension) const {
+    const toml::node* node = table_ ? table_->get(key) : nullptr;
+    if (!node) Missing(key, DescribeDimension(dimension));
+    if (node->is_number()) {
+      const double v = node->value<double>().value_or(0.0);
+      if (dimension == Dimension::None()) return v;
+      throw Error(ErrorKind::kInput, "a bare number needs a unit",
+                  {.file = file_, .line = LineOf(*node), .field = name_ + "." + key,
+                   .value = fmt::format("{:g}", v),
+                   .expected = DescribeDimension(dimension) + " (a quoted string)"});
+    }
+    const auto text = node->value<std::string>();
+    if (!text)
+      throw Error(ErrorKind::kInput, "wrong value type",
+                  {.file = file_, .line = LineOf(*node), .field = name_ + "." + key,
+                   .expected = DescribeDimension(dimension)});
+    try {
+      return ParseQuantity(*text, dimension);
+    } catch (const Error& e) {
+      throw e.WithContext(Context(key));
+    }
+  }
+
+  std::optional<double> OptionalQuantity(const char* key, const Dimension& dimension) const {
+    if (!has(key)) return std::nullopt;
+    return Quantity(key, dimension);
+  }
+
+  double Number(const char* key, double fallback, bool required = false) const {
+    const toml::node* node = table_ ? table_->get(key) : nullptr;
+    if (!node) {
+      if (required) Missing(key, "a number");
+      return fallback;
+    }
+    const auto v = node->value<double>();
+    if (!v)
+      throw Error(ErrorKind::kInput, "must be a plain number",
+                  {.file = file_, .line = LineOf(*node), .field = name_ + "." + key,
+                   .expected = "a number such as 0.3"});
+    return *v;
+  }
+
+  std::string String(const char* key, const std::string& fallback, bool required = false) const {
+    const toml::node* node = table_ ? table_->get(key) : nullptr;
+    if (!node) {
+      if (required) Missing(key, "a string");
+      return fallback;
+    }
+    const auto v = node->value<std::string>();
+    if (!v)
+      throw Error(ErrorKind::kInput, "must be a string",
+                  {.file = file_, .line = LineOf(*node), .field = name_ + "." + key,
+                   .expected = "a quoted string"});
+    return *v;
+  }
+
+  bool Bool(const char* key, bool fallback) const {
+    const toml::node* node = table_ ? table_->get(key) : nullptr;
+    if (!node) return fallback;
+    const auto v = node->value<bool>();
+    if (!v)
+      throw Error(ErrorKind::kInput, "must be true or false",
+                  {.file = file_, .line = LineOf(*node), .field = name_ + "." + key,
+                   .expected = "true or false"});
+    return *v;
+  }
+
+  std::vector<double> Numbers(const char* key, size_t count) const {
+    const toml::node* node = table_ ? table_->get(key) : nullptr;
+    const toml::array* array = node ? node->as_array() : nullptr;
+    const std::string expected = fmt::format("an array of {} numbers", count);
+    if (!array || array->size() != count)
+      throw Error(ErrorKind::kInput, "wrong value",
+                  {.file = file_, .line = node ? LineOf(*node) : line(),
+                   .field = name_ + "." + key, .expected = expected});
+    std::vector<double> out;
+    for (const auto& element : *array) {
+      const auto v = element.value<double>();
+      if (!v)
+        throw Error(ErrorKind::kInput, "not a number",
+                    {.file = file_, .line = LineOf(element), .field = name_ + "." + key,
+                     .expected = expected});
+      out.push_back(*v);
+    }
+    return out;
+  }
+
+ private:
+  std::string file_;
+  std::string name_;
+  const toml::table* table_ = nullptr;
+};
+
+double ParseAngle(const Section& section, const char* key) {
+  if (!section.has(key)) return 0.0;
+  std::string text = section.String(key, "0 deg");
+  double value = 0.0;
+  char unit[16] = {0};
+  if (std::sscanf(text.c_str(), "%lf %15s", &value, unit) != 2 ||
+      (std::string(unit) != "deg" && std::string(unit) != "rad"))
+    throw Error(ErrorKind::kInput, "an angle needs a unit",
+                {.file = section.Context(key).file, .line = section.Context(key).line,
+                 .field = section.Context(key).field, .value = text,
+                 .expected = "an angle such as '30 deg' or '0.5 rad'"});
+  return std::string(unit) == "deg" ? value * std::numbers::pi / 180.0 : value;
+}
+
+}  // namespace
+
+Scene ParseScene(std::string_view text, const std::string& source_name) {
+  toml::table root;
+  try {
+    root = toml::parse(text, source_name);
+  } catch (const toml::parse_error& e) {
+    throw Error(ErrorKind::kInput, std::string("not valid TOML: ") + std::string(e.description()),
+                {.file = source_name, .line = static_cast<int>(e.source().begin.line),
+                 .expected = "a scene in TOML (see docs/FORMATS.md)"});
+  }
+  const std::set<std::string> sections = {"specimen", "material", "fracture", "bridging", "run"};
+  for (auto&& [key, value] : root) {
+    if (!sections.count(std::string(key.str())))
+      throw Error(ErrorKind::kInput, "unknown section or key",
+                  {.file = source_name, .line = LineOf(value), .field = std::string(key.str()),
+                   .expected = "one of [specimen], [material], [fracture], [bridging], [run]"});
+  }
+
+  Scene scene;
+  scene.source = source_name;
+
+  const Section specimen(root, source_name, "specimen",
+                         {"type", "width", "height", "thickness", "length", "notch", "plane"});
+  if (!specimen.present())
+    throw Error(ErrorKind::kInput, "missing required section",
+                {.file = source_name, .field = "specimen", .expected = "a [specimen] table"});
+  const std::string type = specimen.String("type", "", true);
+  SpecimenSpec& s = scene.specimen;
+  if (type == "ct") {
+    s.type = SpecimenType::kCT;
+    s.width = specimen.Quantity("width", Dimension::Length());
+    s.height = specimen.OptionalQuantity("height", Dimension::Length()).value_or(1.2 * s.width);
+    s.thickness = specimen.Quantity("thickness", Dimension::Length());
+    if (specimen.has("length"))
+      throw Error(ErrorKind::kInput, "a CT specimen has no 'length' (its total width is 1.25 W)",
+                  specimen.Context("length", "no length key for type = \"ct\""));
+  } else if (type == "dcb") {
+    s.type = SpecimenType::kDCB;
+    s.width = specimen.Quantity("width", Dimension::Length());
+    s.height = specimen.Quantity("height", Dimension::Length());
+    s.length = specimen.Quantity("length", Dimension::Length());
+    s.thickness = specimen.OptionalQuantity("thickness", Dimension::Length()).value_or(2.0 * s.height);
+  } else {
+    ErrorContext c = specimen.Context("type", "\"ct\" or \"dcb\"");
+    c.value = type;
+    throw Error(ErrorKind::kInput, "unknown specimen type", c);
+  }
+  s.notch = specimen.Quantity("notch", Dimension::Length());
+  const std::string plane = specimen.String("plane", "stress");
+  if (plane == "stress") {
+    s.plane = PlaneCondition::kPlaneStress;
+  } else if (plane == "strain") {
+    s.plane = PlaneCondition::kPlaneStrain;
+  } else {
+    ErrorContext c = specimen.Context("plane", "\"stress\" or \"strain\"");
+    c.value = plane;
+    throw Error(ErrorKind::kInput, "unknown plane condition", c);
+  }
+
+  const Section material(root, source_name, "material",
+                         {"E", "nu", "E1", "E2", "G12", "nu12", "G13", "angle", "density"});
+  if (!material.present())
+    throw Error(ErrorKind::kInput, "missing required section",
+                {.file = source_name, .field = "material", .expected = "a [material] table"});
+  MaterialSpec& m = scene.material;
+  m.orthotropic = material.has("E1") || material.has("E2") || material.has("G12");
+  if (m.orthotropic) {
+    if (material.has("E") || material.has("nu"))
+      throw Error(ErrorKind::kInput, "give either E and nu (isotropic) or E1, E2, G12, nu12",
+                  material.Context(material.has("E") ? "E" : "nu", "not both kinds"));
+    m.E1 = material.Quantity("E1", Dimension::Stress());
+    m.E2 = material.Quantity("E2", Dimension::Stress());
+    m.G12 = material.Quantity("G12", Dimension::Stress());
+    m.nu12 = material.Number("nu12", 0.0, true);
+    m.G13 = material.OptionalQuantity("G13", Dimension::Stress()).value_or(m.G12);
+    m.angle = ParseAngle(material, "angle");
+  } else {
+    m.E = material.Quantity("E", Dimension::Stress());
+    m.nu = material.Number("nu", 0.0, true);
+    m.G13 = material.OptionalQuantity("G13", Dimension::Stress()).value_or(m.E / (2.0 * (1.0 + m.nu)));
+  }
+  m.density = material.OptionalQuantity("density", Dimension::Density()).value_or(0.0);
+
+  const Section fracture(root, source_name, "fracture", {"J_tip_c"});
+  if (fracture.present()) scene.fracture = FractureSpec{fracture.Quantity("J_tip_c", Dimension::EnergyPerArea())};
+
+  const Section bridging(root, source_name, "bridging",
+                         {"law", "sigma_c", "J_B", "delta_c", "peak_ratio", "alpha", "trilinear",
+                          "table"});
+  if (bridging.present()) {
+    BridgingSpec b;
+    const std::string law = bridging.String("law", "linear");
+    laws::LawFamily family;
+    try {
+      family = laws::ParseLawFamily(law);
+    } catch (const Error& e) {
+      throw e.WithContext(bridging.Context("law"));
+    }
+    laws::LawScales given{
+        bridging.OptionalQuantity("sigma_c", Dimension::Stress()).value_or(NAN),
+        bridging.OptionalQuantity("delta_c", Dimension::Length()).value_or(NAN),
+        bridging.OptionalQuantity("J_B", Dimension::EnergyPerArea()).value_or(NAN)};
+    try {
+      switch (family) {
+        case laws::LawFamily::kLinear: b.shape = laws::MakeLinearShape(); break;
+        case laws::LawFamily::kCubic: b.shape = laws::MakeCubicShape(); break;
+        case laws::LawFamily::kTriangular:
+          b.shape = laws::MakeTriangularShape(bridging.Number("peak_ratio", 0.1));
+          break;
+        case laws::LawFamily::kExponential:
+          b.shape = laws::MakeExponentialShape(bridging.Number("alpha", 3.0));
+          break;
+        case laws::LawFamily::kTrilinear: {
+          const auto v = bridging.Numbers("trilinear", 5);
+          b.shape = laws::MakeTrilinearShape(v[0], v[1], v[2], v[3], v[4]);
+          break;
+        }
+        case laws::LawFamily::kTable: {
+          std::filesystem::path table = bridging.String("table", "", true);
+          if (table.is_relative())
+            table = std::filesystem::path(source_name).parent_path() / table;
+          b.table_file = table.string();
+          const CsvTable csv = ReadCsvTable(table);
+          double sc = 0, dc = 0;
+          b.shape = laws::MakeTableShape(csv.ColumnSi("delta", Dimension::Length()),
+                                         csv.ColumnSi("sigma", Dimension::Stress()), &sc, &dc);
+          if (!std::isfinite(given.sigma_c) && !std::isfinite(given.delta_c) &&
+              !std::isfinite(given.J_B)) {
+            given.sigma_c = sc;
+            given.delta_c = dc;
+          }
+          break;
+        }
+      }
+      b.scales = laws::CompleteScales(b.shape, given);
+    } catch (const Error& e) {
+      ErrorContext c = bridging.Context(e.context().field.empty() ? "law" : e.context().field.c_str());
+      throw e.WithContext(c);
+    }
+    scene.bridging = std::move(b);
+  }
+
+  const Section run(root, source_name, "run", {"max_crack_length", "grow", "load_point_displacement"});
+  scene.run.max_crack_length = run.OptionalQuantity("max_crack_length", Dimension::Length());
+  scene.run.grow = run.Bool("grow", true);
+  scene.run.load_point_displacement = run.OptionalQuantity("load_point_displacement", Dimension::Length());
+
+  scene.Validate();
+  return scene;
+}
+
+Scene ReadSceneFile(const std::filesystem::path& path) {
+  std::ifstream stream(path, std::ios::binary);
+  if (!stream)
+    throw Error(ErrorKind::kInput, "cannot open scene file",
+                {.file = path.string(), .expected = "a readable TOML scene file"});
+  std::stringstream buffer;
+  buffer << stream.rdbuf();
+  const std::string text = buffer.str();
+  if (text.find_first_not_of(" \t\r\n") == std::string::npos)
+    throw Error(ErrorKind::kInput, "the scene file is empty",
+                {.file = path.string(), .expected = "a scene with [specimen] and [material]"});
+  if (text.find('\0') != std::string::npos)
+    throw Error(ErrorKind::kInput, "the scene file is not text (binary data)",
+                {.file = path.string(), .expected = "a TOML text file"});
+  return ParseScene(text, path.string());
+}
+
+}  // namespace bridgefit::io
