@@ -20,15 +20,6 @@
 namespace bridgefit::cli {
 namespace {
 
-double OptionalQuantity(const std::string& text, const Dimension& dimension, const char* option) {
-  if (text.empty()) return NAN;
-  try {
-    return ParseQuantity(text, dimension);
-  } catch (const Error& e) {
-    throw e.WithContext({.field = option});
-  }
-}
-
 std::vector<double> ParseNumberList(const std::string& text, const char* option, size_t count) {
   std::vector<double> values;
   std::stringstream stream(text);
@@ -76,11 +67,17 @@ class LawCommand final : public Command {
   }
 
   int Run(const CommonOptions& common) override {
-    const laws::LawFamily family = laws::ParseLawFamily(law_);
+    laws::LawFamily family;
+    try {
+      family = laws::ParseLawFamily(law_);
+    } catch (const Error& e) {
+      throw Error(ErrorKind::kUsage, e.message(), ErrorContext{.field = "--law", .value = law_, .expected = e.context().expected});
+    }
     laws::LawShape shape;
-    laws::LawScales given{OptionalQuantity(sigma_c_, Dimension::Stress(), "--sigma-c"),
-                          OptionalQuantity(delta_c_, Dimension::Length(), "--delta-c"),
-                          OptionalQuantity(J_B_, Dimension::EnergyPerArea(), "--jb")};
+    laws::LawScales given{ParseOptionQuantity(sigma_c_, Dimension::Stress(), "--sigma-c"),
+                          ParseOptionQuantity(delta_c_, Dimension::Length(), "--delta-c"),
+                          ParseOptionQuantity(J_B_, Dimension::EnergyPerArea(), "--jb")};
+    try {
     switch (family) {
       case laws::LawFamily::kLinear: shape = laws::MakeLinearShape(); break;
       case laws::LawFamily::kCubic: shape = laws::MakeCubicShape(); break;
@@ -111,10 +108,21 @@ class LawCommand final : public Command {
         break;
       }
     }
-    const laws::LawScales scales = laws::CompleteScales(shape, given);
-    const double J_tip_c = ParseQuantity(J_tip_c_, Dimension::EnergyPerArea());
-    BF_CHECK_INPUT(J_tip_c > 0.0, "J_tip,c must be positive",
-                   {.field = "--jtip", .value = J_tip_c_, .expected = "a value > 0 J/m^2"});
+    } catch (const Error& e) {
+      // Shape parameters come from options (usage); a table file's content is data.
+      if (e.kind() != ErrorKind::kInput || family == laws::LawFamily::kTable) throw;
+      throw Error(ErrorKind::kUsage, e.message(), e.context());
+    }
+    laws::LawScales scales;
+    try {
+      scales = laws::CompleteScales(shape, given);
+    } catch (const Error& e) {  // the scales come from options: a usage error
+      throw Error(ErrorKind::kUsage, e.message(), e.context());
+    }
+    const double J_tip_c = ParseOptionQuantity(J_tip_c_, Dimension::EnergyPerArea(), "--jtip");
+    if (!(J_tip_c > 0.0))
+      throw Error(ErrorKind::kUsage, "J_tip,c must be positive",
+                  {.field = "--jtip", .value = J_tip_c_, .expected = "a value > 0 J/m^2"});
     const laws::BridgingLaw law{&shape, scales.sigma_c, scales.delta_c};
 
     struct Row { double delta, sigma, R, J_ff; };

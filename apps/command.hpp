@@ -8,6 +8,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "bridgefit/core/units.hpp"
+
 namespace bridgefit::cli {
 
 // Options every subcommand has.
@@ -38,5 +40,10 @@ void PrintJson(const nlohmann::json& object);
 
 // JSON null for a non-finite number, the number otherwise.
 nlohmann::json NumberOrNull(double value);
+
+// Parses a command-line quantity such as "0.45 MPa"; a bad value is a usage
+// error (exit 2) naming the option. Empty text gives NaN.
+double ParseOptionQuantity(const std::string& text, const Dimension& dimension,
+                           const std::string& option);
 
 }  // namespace bridgefit::cli

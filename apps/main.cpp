@@ -21,6 +21,17 @@ nlohmann::json NumberOrNull(double value) {
   return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
 }
 
+double ParseOptionQuantity(const std::string& text, const Dimension& dimension,
+                           const std::string& option) {
+  if (text.empty()) return NAN;
+  try {
+    return ParseQuantity(text, dimension);
+  } catch (const Error& e) {
+    const Error with_option = e.WithContext({.field = option});
+    throw Error(ErrorKind::kUsage, with_option.message(), with_option.context());
+  }
+}
+
 }  // namespace bridgefit::cli
 
 int main(int argc, char** argv) {

@@ -10,10 +10,11 @@ std::string FormatErrorMessage(const std::string& message,
     if (context.line > 0) out += ":" + std::to_string(context.line);
     out += ": ";
   }
-  if (!context.field.empty()) out += "field '" + context.field + "': ";
-  out += message;
-  if (!context.value.empty()) out += " (got '" + context.value + "')";
-  if (!context.expected.empty()) out += "; expected " + context.expected;
+  // Appended piece by piece (GCC 12 warns falsely on chained operator+).
+  if (!context.field.empty()) out.append("field '").append(context.field).append("': ");
+  out.append(message);
+  if (!context.value.empty()) out.append(" (got '").append(context.value).append("')");
+  if (!context.expected.empty()) out.append("; expected ").append(context.expected);
   if (!out.empty() && out.back() != '.') out += '.';
   return out;
 }
