@@ -13,6 +13,7 @@
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/core/units.hpp"
 #include "bridgefit/io/csv.hpp"
+#include "bridgefit/io/scene_file.hpp"
 #include "bridgefit/laws/law.hpp"
 #include "bridgefit/laws/rcurve_theory.hpp"
 #include "command.hpp"
@@ -49,8 +50,10 @@ class LawCommand final : public Command {
     sub.add_option("--sigma-c", sigma_c_, "Peak bridging stress, e.g. '0.45 MPa'");
     sub.add_option("--jb", J_B_, "Bridging toughness J_B, e.g. '500 J/m^2'");
     sub.add_option("--delta-c", delta_c_, "Critical opening, e.g. '2.57 mm'");
-    sub.add_option("--jtip", J_tip_c_, "Crack-tip toughness J_tip,c, e.g. '2210 J/m^2'")
-        ->required();
+    sub.add_option("--jtip", J_tip_c_, "Crack-tip toughness J_tip,c, e.g. '2210 J/m^2'");
+    sub.add_option("--scene", scene_,
+                   "Take the law and J_tip,c from a scene file ([bridging], [fracture])")
+        ->check(CLI::ExistingFile);
     sub.add_option("--peak-ratio", peak_ratio_,
                    "triangular: opening at the peak as a fraction of delta_c (u_e/delta_c)")
         ->default_val(0.1);
@@ -67,13 +70,44 @@ class LawCommand final : public Command {
   }
 
   int Run(const CommonOptions& common) override {
+    laws::LawShape shape;
+    laws::LawScales scales;
+    double J_tip_c = ParseOptionQuantity(J_tip_c_, Dimension::EnergyPerArea(), "--jtip");
+    if (!scene_.empty()) {
+      const Scene scene = io::ReadSceneFile(scene_);
+      if (!scene.bridging)
+        throw Error(ErrorKind::kInput, "the scene has no bridging law",
+                    {.file = scene_, .field = "bridging", .expected = "a [bridging] table"});
+      shape = scene.bridging->shape;
+      scales = scene.bridging->scales;
+      if (!std::isfinite(J_tip_c)) {
+        if (!scene.fracture)
+          throw Error(ErrorKind::kInput, "the scene has no crack-tip toughness",
+                      {.file = scene_, .field = "fracture.J_tip_c",
+                       .expected = "a [fracture] table, or --jtip"});
+        J_tip_c = scene.fracture->J_tip_c;
+      }
+    } else {
+      LawFromOptions(shape, scales);
+    }
+    if (!(J_tip_c > 0.0))
+      throw Error(ErrorKind::kUsage, "J_tip,c must be given and positive",
+                  {.field = "--jtip", .value = J_tip_c_,
+                   .expected = "a value > 0 such as '2210 J/m^2' (or --scene)"});
+    const laws::LawFamily family = shape.family;
+    const laws::BridgingLaw law{&shape, scales.sigma_c, scales.delta_c};
+    return Report(common, family, shape, scales, J_tip_c, law);
+  }
+
+ private:
+  // Builds the law from --law, --sigma-c, --jb, --delta-c and shape options.
+  void LawFromOptions(laws::LawShape& shape, laws::LawScales& scales) const {
     laws::LawFamily family;
     try {
       family = laws::ParseLawFamily(law_);
     } catch (const Error& e) {
       throw Error(ErrorKind::kUsage, e.message(), ErrorContext{.field = "--law", .value = law_, .expected = e.context().expected});
     }
-    laws::LawShape shape;
     laws::LawScales given{ParseOptionQuantity(sigma_c_, Dimension::Stress(), "--sigma-c"),
                           ParseOptionQuantity(delta_c_, Dimension::Length(), "--delta-c"),
                           ParseOptionQuantity(J_B_, Dimension::EnergyPerArea(), "--jb")};
@@ -113,17 +147,15 @@ class LawCommand final : public Command {
       if (e.kind() != ErrorKind::kInput || family == laws::LawFamily::kTable) throw;
       throw Error(ErrorKind::kUsage, e.message(), e.context());
     }
-    laws::LawScales scales;
     try {
       scales = laws::CompleteScales(shape, given);
     } catch (const Error& e) {  // the scales come from options: a usage error
       throw Error(ErrorKind::kUsage, e.message(), e.context());
     }
-    const double J_tip_c = ParseOptionQuantity(J_tip_c_, Dimension::EnergyPerArea(), "--jtip");
-    if (!(J_tip_c > 0.0))
-      throw Error(ErrorKind::kUsage, "J_tip,c must be positive",
-                  {.field = "--jtip", .value = J_tip_c_, .expected = "a value > 0 J/m^2"});
-    const laws::BridgingLaw law{&shape, scales.sigma_c, scales.delta_c};
+  }
+
+  int Report(const CommonOptions& common, laws::LawFamily family, const laws::LawShape& shape,
+             const laws::LawScales& scales, double J_tip_c, const laws::BridgingLaw& law) const {
 
     struct Row { double delta, sigma, R, J_ff; };
     std::vector<Row> rows;
@@ -173,7 +205,7 @@ class LawCommand final : public Command {
     return 0;
   }
 
- private:
+  std::string scene_;
   std::string law_, sigma_c_, J_B_, delta_c_, J_tip_c_, trilinear_, table_, csv_;
   double peak_ratio_ = 0.1;
   double alpha_ = 3.0;
