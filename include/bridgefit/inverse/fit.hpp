@@ -1,0 +1,119 @@
+#pragma once
+// Fitting a bridging law to a measured R curve (issue 7): NLopt and Ceres
+// optimizers, multi-start, identifiability, bounds and uncertainty.
+
+#include <array>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "bridgefit/core/records.hpp"
+#include "bridgefit/inverse/forward_model.hpp"
+#include "bridgefit/laws/law.hpp"
+#include "bridgefit/laws/rcurve_theory.hpp"
+
+namespace bridgefit::inverse {
+
+// Parameter order inside the fitter.
+enum ParameterIndex { kSigmaC = 0, kJB = 1, kJTipC = 2 };
+constexpr int kParameterCount = 3;
+const char* ParameterName(int index);  // "sigma_c", "J_B", "J_tip_c"
+
+enum class Optimizer { kCeresLm, kBobyqa, kNelderMead, kCobyla, kDirect, kCrs2 };
+const char* OptimizerName(Optimizer optimizer);
+Optimizer ParseOptimizer(const std::string& name);
+
+struct FitOptions {
+  Optimizer optimizer = Optimizer::kCeresLm;
+  int starts = 4;                 // Latin-hypercube multi-start points
+  int max_evaluations = 600;      // per local run
+  double relative_tolerance = 1e-8;
+  // Box [low, high] of each parameter (SI); a fixed parameter ignores it.
+  std::array<double, kParameterCount> lower = {0.02e6, 1.0, 50.0};
+  std::array<double, kParameterCount> upper = {20e6, 20000.0, 20000.0};
+  std::array<bool, kParameterCount> fixed = {false, false, false};
+  std::array<double, kParameterCount> fixed_value = {0.0, 0.0, 0.0};
+  // First start (physical values, SI) for the free parameters; NaN: read
+  // one off the data (J_tip,c from the first points, J_B from the rise).
+  std::array<double, kParameterCount> initial = {NAN, NAN, NAN};
+  bool profile_likelihood = true;
+  unsigned seed = 12345;          // Latin-hypercube design
+  bool progress = false;
+
+  bool IsValid(std::string* why) const;
+};
+
+// The data of a fit: R against crack length, with optional uncertainties.
+struct FitData {
+  std::vector<double> crack_length;   // [m]
+  std::vector<double> R;              // [J/m^2]
+  std::vector<double> R_uncertainty;  // [J/m^2], empty: equal weights, scale from residuals
+  RKind kind = RKind::kEnergy;
+  static FitData FromRCurve(const RCurve& curve, RKind kind);
+  void Validate() const;
+};
+
+struct ParameterEstimate {
+  double value = NAN;        // NaN when only a bound is known
+  double ci95_low = NAN;
+  double ci95_high = NAN;
+  double lower_bound = NAN;  // set when not identifiable from a truncated curve
+  bool identified = false;
+  bool fixed = false;
+  std::string decided_by;    // e.g. "ceres-lm + reduced", "PHYSICS 7 bound"
+  std::string note;
+};
+
+struct ProfilePoint {
+  double value;  // parameter value (SI)
+  double chi2;   // best chi^2 with the other parameters re-optimized
+  bool ok;
+};
+struct Profile {
+  int parameter = 0;
+  std::vector<ProfilePoint> points;
+  double chi2_threshold = 3.84;  // Delta chi^2 of a 95% interval (scaled when weights unknown)
+  bool flat = false;             // never rises past the threshold on one side
+};
+
+struct StartResult {
+  std::array<double, kParameterCount> start{};
+  std::array<double, kParameterCount> end{};
+  double cost = NAN;
+  int evaluations = 0;
+  std::string stop_reason;
+};
+
+struct FitSummary {
+  std::string model;
+  std::string optimizer;
+  std::string law;
+  int evaluations = 0;
+  int failed_evaluations = 0;     // forward runs that reported a failure
+  double wall_s = 0.0;
+  bool converged = false;
+  std::string stop_reason;
+  bool steady_state_reached = false;
+  double steady_state_crack_length = NAN;
+  double rms_residual = NAN;      // [J/m^2]
+  double chi2 = NAN;
+  int data_points = 0;
+  bool bridging_detected = true;
+  std::string verdict;            // one sentence for the report
+  ParameterEstimate sigma_c, J_B, delta_c, J_tip_c;
+  laws::TruncationBounds bounds;  // evidence when steady state was not reached
+  std::vector<StartResult> starts;
+  std::vector<Profile> profiles;
+  std::vector<double> fitted_R;   // model R at the data's crack lengths
+  std::vector<double> fitted_delta_root;
+
+  std::string BriefReport() const;
+};
+
+// Fits `shape`'s parameters to `data` with `model`. Never throws for a
+// failed forward run (counted and reported); throws Error for invalid
+// options or data.
+FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape,
+                          const FitData& data, const FitOptions& options);
+
+}  // namespace bridgefit::inverse

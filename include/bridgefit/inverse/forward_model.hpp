@@ -1,0 +1,98 @@
+#pragma once
+// Forward models behind one interface, shaped like a cost function: a failed
+// run is a reported status, never an exception, so one bad evaluation never
+// kills a long fit (STYLE habit 4).
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "bridgefit/core/records.hpp"
+#include "bridgefit/laws/law.hpp"
+
+namespace bridgefit::inverse {
+
+// Which R the data holds: energy released per unit growth (an energy-method
+// experiment, the model's R_energy) or the elastic-zone R of PHYSICS 3.
+enum class RKind { kEnergy, kElasticZone };
+const char* RKindName(RKind kind);
+RKind ParseRKind(const std::string& name);
+
+// The fitted parameters; delta_c = J_B / (k sigma_c) with k the shape area.
+struct LawParameters {
+  double sigma_c = 0.0;  // [Pa]
+  double J_B = 0.0;      // [J/m^2]; 0 means no bridging
+  double J_tip_c = 0.0;  // [J/m^2]
+};
+
+struct ForwardPrediction {
+  RunStatus status = RunStatus::kOk;
+  std::string message;
+  std::vector<double> R;           // at the requested crack lengths [J/m^2]
+  std::vector<double> delta_root;  // notch-root COD there [m]
+  bool steady_state_reached = false;
+  double steady_state_crack_length = NAN;  // [m]
+  bool ok() const { return status == RunStatus::kOk; }
+};
+
+class ForwardModel {
+ public:
+  virtual ~ForwardModel() = default;
+  virtual std::string Name() const = 0;
+  // R (and delta_root) at `crack_lengths` [m] for a law of `shape` with `p`.
+  virtual ForwardPrediction Predict(const laws::LawShape& shape, const LawParameters& p,
+                                    const std::vector<double>& crack_lengths,
+                                    RKind kind) const = 0;
+};
+
+// The analytic model: R(delta_root) of PHYSICS 3 with the small-scale
+// bridging map delta_root(Delta a): the LEFM opening a distance Delta a
+// behind the tip under the far-field J, delta = sqrt(32 J_ff Delta a / (pi E')),
+// solved for self-consistency with J_ff = J_tip,c + W(delta_root). It ignores
+// the closure of the opening by the tractions and the finite specimen, so it
+// is an approximation for short zones; it is templated so Ceres can
+// differentiate it (AnalyticR).
+class AnalyticForwardModel final : public ForwardModel {
+ public:
+  AnalyticForwardModel(double effective_modulus, double initial_crack_length);
+  std::string Name() const override { return "analytic"; }
+  ForwardPrediction Predict(const laws::LawShape& shape, const LawParameters& p,
+                            const std::vector<double>& crack_lengths, RKind kind) const override;
+  double effective_modulus() const { return modulus_; }
+  double initial_crack_length() const { return a0_; }
+
+ private:
+  double modulus_;
+  double a0_;
+};
+
+// delta_root for crack growth `growth` (fixed-point iterations; templated).
+template <class T>
+T AnalyticDeltaRoot(const laws::LawT<T>& law, const T& J_tip_c, double growth,
+                    double effective_modulus) {
+  using std::sqrt;
+  if (growth <= 0.0) return T(0.0);
+  const double c = 32.0 * growth / (3.14159265358979323846 * effective_modulus);
+  T delta = sqrt(T(c) * J_tip_c);
+  for (int i = 0; i < 30; ++i) delta = sqrt(T(c) * (J_tip_c + law.Work(delta)));
+  return delta;
+}
+
+// Any simulator that grows the crack and returns a SimulationResult (the
+// reduced model, MPM): its R or R_energy is interpolated at the data's crack
+// lengths. `simulate` gets the law (null for J_B = 0) and J_tip,c.
+class SimulationForwardModel final : public ForwardModel {
+ public:
+  using Simulator = std::function<SimulationResult(const laws::BridgingLaw* law, double J_tip_c)>;
+  SimulationForwardModel(std::string name, Simulator simulate);
+  std::string Name() const override { return name_; }
+  ForwardPrediction Predict(const laws::LawShape& shape, const LawParameters& p,
+                            const std::vector<double>& crack_lengths, RKind kind) const override;
+
+ private:
+  std::string name_;
+  Simulator simulate_;
+};
+
+}  // namespace bridgefit::inverse
