@@ -1,19 +1,284 @@
-// Placeholder until the issue that implements `bridgefit rcurve` lands: the
-// subcommand exists and says so, with exit code 1.
+// `bridgefit rcurve`: R curve from a load-displacement(-crack length) record
+// (module experiment, docs/RCURVE_METHODS.md).
+//   bridgefit rcurve data_samples/dcb_composite/DCB-01_Toughness.csv \
+//     --scene data_samples/dcb_composite/scene.toml --method mbt \
+//     --columns time=Time,displacement=Disp,load=Force,crack_length=CrackExt \
+//     --units time=s,displacement=mm,load=N,crack_length=mm --out rcurve.h5 --json
+//   bridgefit rcurve record.h5 --type ct --width 100mm --thickness 12.7mm --notch 30mm \
+//     --modulus 3GPa --method energy --csv rcurve.csv
+
+#include <cmath>
+#include <iostream>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "bridgefit/core/atomic_file.hpp"
 #include "bridgefit/core/error.hpp"
+#include "bridgefit/core/units.hpp"
+#include "bridgefit/experiment/rcurve.hpp"
+#include "bridgefit/io/csv.hpp"
+#include "bridgefit/io/hdf5.hpp"
+#include "bridgefit/io/scene_file.hpp"
 #include "command.hpp"
 
 namespace bridgefit::cli {
 namespace {
+
+double Quantity(const std::string& text, const Dimension& dimension, const char* option) {
+  if (text.empty()) return NAN;
+  try {
+    return ParseQuantity(text, dimension);
+  } catch (const Error& e) {
+    throw Error(ErrorKind::kUsage, e.message(), e.context()).WithContext({.field = option});
+  }
+}
+
+bool EndsWith(const std::string& text, const std::string& suffix) {
+  return text.size() >= suffix.size() &&
+         text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
 class RcurveCommand final : public Command {
  public:
   const char* name() const override { return "rcurve"; }
-  const char* description() const override { return "(not available in this version yet)"; }
-  void Register(CLI::App& sub) override { sub.allow_extras(); }
-  int Run(const CommonOptions&) override {
-    throw Error(ErrorKind::kRuntime, "'bridgefit rcurve' is not available in this version yet");
+  const char* description() const override {
+    return "R curve from a test record (energy, DCB beam/compliance, CT LEFM, equivalent crack)";
   }
+  void Register(CLI::App& sub) override {
+    sub.add_option("record", record_, "Test record: CSV (units in the header or --units) or HDF5")
+        ->required();
+    sub.add_option("--scene", scene_, "Scene TOML with [specimen] and [material]");
+    sub.add_option("--method", method_, "energy|mbt|cc|lefm|equivalent")->default_val("energy");
+    sub.add_option("--columns", columns_,
+                   "Column mapping, e.g. time=Time,displacement=Disp,load=Force,crack_length=CrackExt");
+    sub.add_option("--units", units_, "Unit mapping, e.g. displacement=mm,load=N,crack_length=mm");
+    sub.add_option("--out", out_, "Write the record and the R curve to this HDF5 file");
+    sub.add_option("--csv", csv_, "Write the R curve to this CSV file");
+    // Specimen options (without --scene, or overriding it).
+    sub.add_option("--type", type_, "Specimen type: ct|dcb");
+    sub.add_option("--width", width_, "CT: W; DCB: b (e.g. '25 mm')");
+    sub.add_option("--height", height_, "DCB: arm thickness h; CT: total height");
+    sub.add_option("--thickness", thickness_, "CT: thickness B");
+    sub.add_option("--length", length_, "DCB: total length L");
+    sub.add_option("--notch", notch_, "Initial crack length a0 from the load line");
+    sub.add_option("--modulus", modulus_, "Young's modulus E (along the crack), e.g. '19.3 GPa'");
+    sub.add_option("--nu", nu_, "Poisson's ratio");
+    sub.add_option("--g13", g13_, "DCB transverse shear modulus G13 (orthotropic scenes)");
+    sub.add_option("--plane", plane_, "stress|strain (CT LEFM)");
+    // Reduction settings.
+    sub.add_option("--load-noise", load_noise_, "Load noise, 1 sigma (default: estimated)");
+    sub.add_option("--displacement-noise", displacement_noise_, "Displacement noise, 1 sigma");
+    sub.add_option("--crack-noise", crack_noise_, "Crack-length noise, 1 sigma");
+    sub.add_option("--min-increment", min_increment_, "Energy method: smallest crack increment");
+    sub.add_option("--max-crack-length", max_crack_, "Validity limit (default CT 0.9 W, DCB L - 4h)");
+    sub.add_option("--coverage", coverage_, "Coverage factor of the reported uncertainty")
+        ->default_val(2.0);
+  }
+
+  int Run(const CommonOptions& common) override {
+    experiment::RCurveOptions options;
+    options.method = experiment::ParseRMethod(method_);
+    if (!scene_.empty()) {
+      const Scene scene = io::ReadSceneFile(scene_);
+      options.specimen = scene.specimen;
+      options.material = scene.material;
+    } else if (type_.empty()) {
+      throw Error(ErrorKind::kUsage, "the specimen is not given",
+                  {.field = "--scene", .expected = "--scene SCENE.toml or --type ct|dcb with sizes"});
+    }
+    ApplySpecimenOptions(options);
+    options.load_noise = Quantity(load_noise_, Dimension::Force(), "--load-noise");
+    options.displacement_noise = Quantity(displacement_noise_, Dimension::Length(), "--displacement-noise");
+    options.crack_length_noise = Quantity(crack_noise_, Dimension::Length(), "--crack-noise");
+    if (!min_increment_.empty())
+      options.min_crack_increment = Quantity(min_increment_, Dimension::Length(), "--min-increment");
+    options.max_crack_length = Quantity(max_crack_, Dimension::Length(), "--max-crack-length");
+    options.coverage_factor = coverage_;
+    std::string why;
+    if (!options.IsValid(&why)) throw Error(ErrorKind::kUsage, why);
+
+    const ExperimentRecord record = ReadRecord();
+    const experiment::RCurveResult result = experiment::ComputeRCurve(record, options);
+
+    if (!out_.empty()) {
+      io::H5Writer file(out_);
+      io::WriteRecordH5(file, record, "/experiment");
+      io::WriteRecordH5(file, result.curve, "/rcurve");
+      file.WriteVector("/rcurve/crack_growth", result.crack_growth, "m", "a - a0");
+      file.WriteVector("/rcurve/load", result.load, "N", "load at the point (end row for energy)");
+      file.WriteVector("/rcurve/displacement", result.displacement, "m", "load-point displacement");
+      std::vector<double> rows(result.rows.begin(), result.rows.end());
+      file.WriteVector("/rcurve/record_row", rows, "1", "0-based row of the cleaned record");
+      std::vector<std::string> reasons;
+      std::vector<double> counts;
+      for (const auto& [reason, count] : DroppedList(record, result)) {
+        reasons.push_back(reason);
+        counts.push_back(count);
+      }
+      file.WriteStrings("/rcurve/dropped_reasons", reasons);
+      file.WriteVector("/rcurve/dropped_counts", counts, "1", "rows dropped per reason");
+      file.WriteStrings("/rcurve/notes", result.notes.empty() ? std::vector<std::string>{"none"}
+                                                              : result.notes);
+      file.WriteAttribute("/rcurve", "points_used", static_cast<double>(result.points_used));
+      file.WriteAttribute("/rcurve", "coverage_factor", options.coverage_factor);
+      file.WriteAttribute("/rcurve", "load_noise_N", result.load_noise);
+      file.WriteAttribute("/rcurve", "displacement_noise_m", result.displacement_noise);
+      file.WriteAttribute("/rcurve", "crack_length_noise_m", result.crack_length_noise);
+      for (const auto& [key, value] : result.figures) file.WriteAttribute("/rcurve/figures", key, value);
+      file.WriteAttribute("/rcurve", "specimen", options.specimen.type == SpecimenType::kCT ? "ct" : "dcb");
+      file.Commit();
+    }
+    if (!csv_.empty()) {
+      std::string text =
+          "crack_length [mm], R [J/m^2], R_uncertainty [J/m^2], crack_growth [mm], load [N], "
+          "displacement [mm]\n";
+      for (std::size_t i = 0; i < result.curve.size(); ++i)
+        text += fmt::format("{:.8g}, {:.8g}, {:.8g}, {:.8g}, {:.8g}, {:.8g}\n",
+                            result.curve.crack_length[i] * 1e3, result.curve.R[i],
+                            result.curve.R_uncertainty[i], result.crack_growth[i] * 1e3,
+                            result.load[i], result.displacement[i] * 1e3);
+      WriteTextFileAtomic(csv_, text);
+    }
+
+    if (common.json) {
+      nlohmann::json out;
+      out["method"] = result.curve.method;
+      out["r_kind"] = result.curve.r_kind;
+      out["source"] = record.source;
+      out["specimen"] = options.specimen.type == SpecimenType::kCT ? "ct" : "dcb";
+      nlohmann::json points = nlohmann::json::array();
+      for (std::size_t i = 0; i < result.curve.size(); ++i)
+        points.push_back({{"crack_length_m", result.curve.crack_length[i]},
+                          {"crack_growth_m", result.crack_growth[i]},
+                          {"R_J_per_m2", result.curve.R[i]},
+                          {"R_uncertainty_J_per_m2", NumberOrNull(result.curve.R_uncertainty[i])},
+                          {"load_N", result.load[i]},
+                          {"record_row", result.rows[i]},
+                          {"displacement_m", result.displacement[i]}});
+      out["points"] = std::move(points);
+      out["initial_crack_length_m"] = NumberOrNull(result.curve.initial_crack_length);
+      out["initiation_R_J_per_m2"] = NumberOrNull(result.curve.initiation_R);
+      const experiment::Initiation& init = result.initiation;
+      out["initiation"] = {{"initial_compliance_m_per_N", NumberOrNull(init.initial_compliance)},
+                           {"nonlinearity_row", init.nonlinearity_row},
+                           {"offset_row", init.offset_row},
+                           {"max_load_row", init.max_load_row},
+                           {"visual_row", init.visual_row},
+                           {"R_nonlinearity_J_per_m2", NumberOrNull(init.R_nonlinearity)},
+                           {"R_offset_J_per_m2", NumberOrNull(init.R_offset)}};
+      out["points_used"] = result.points_used;
+      nlohmann::json dropped = nlohmann::json::array();
+      int total = 0;
+      for (const auto& [reason, count] : DroppedList(record, result)) {
+        dropped.push_back({{"reason", reason}, {"count", count}});
+        total += count;
+      }
+      out["points_dropped"] = std::move(dropped);
+      out["points_dropped_total"] = total;
+      out["rows_read"] = record.rows_read > 0 ? record.rows_read : static_cast<int>(record.size());
+      out["noise"] = {{"load_N", result.load_noise},
+                      {"displacement_m", result.displacement_noise},
+                      {"crack_length_m", result.crack_length_noise},
+                      {"coverage_factor", options.coverage_factor}};
+      nlohmann::json figures = nlohmann::json::object();
+      for (const auto& [key, value] : result.figures) figures[key] = NumberOrNull(value);
+      out["figures"] = std::move(figures);
+      out["notes"] = result.notes;
+      out["wall_s"] = result.wall_s;
+      if (!out_.empty()) out["out"] = out_;
+      if (!csv_.empty()) out["csv"] = csv_;
+      PrintJson(out);
+    } else {
+      std::cout << result.BriefReport() << "\n";
+      for (const auto& [reason, count] : DroppedList(record, result))
+        if (reason.find("on import") != std::string::npos)
+          std::cout << fmt::format("  dropped {:5d}: {}\n", count, reason);
+      std::cout << fmt::format("{:>12} {:>12} {:>14} {:>14}\n", "a [mm]", "da [mm]", "R [J/m^2]",
+                               "+- [J/m^2]");
+      const std::size_t stride = std::max<std::size_t>(1, result.curve.size() / 25);
+      for (std::size_t i = 0; i < result.curve.size(); ++i) {
+        if (i % stride != 0 && i + 1 != result.curve.size()) continue;
+        std::cout << fmt::format("{:12.4f} {:12.4f} {:14.5g} {:14.3g}\n",
+                                 result.curve.crack_length[i] * 1e3, result.crack_growth[i] * 1e3,
+                                 result.curve.R[i], result.curve.R_uncertainty[i]);
+      }
+    }
+    return 0;
+  }
+
+ private:
+  // Import cleaning (io) followed by the reduction's own reasons.
+  static std::vector<std::pair<std::string, int>> DroppedList(
+      const ExperimentRecord& record, const experiment::RCurveResult& result) {
+    std::vector<std::pair<std::string, int>> list;
+    if (record.rows_dropped_nan > 0)
+      list.emplace_back("missing value (NaN) in a used column, on import", record.rows_dropped_nan);
+    if (record.rows_repeated > 0)
+      list.emplace_back("exact repeat of the previous row, on import", record.rows_repeated);
+    for (const experiment::DroppedRows& d : result.dropped) list.emplace_back(d.reason, d.count);
+    return list;
+  }
+
+  ExperimentRecord ReadRecord() const {
+    if (EndsWith(record_, ".h5") || EndsWith(record_, ".hdf5")) {
+      if (!columns_.empty() || !units_.empty())
+        throw Error(ErrorKind::kUsage, "--columns/--units apply to CSV records only",
+                    {.field = "--columns", .value = record_});
+      const io::H5Reader file(record_);
+      ExperimentRecord record = io::ReadExperimentH5(file, "/experiment");
+      if (record.source.empty()) record.source = record_;
+      return record;
+    }
+    io::RecordColumns columns;
+    if (!columns_.empty()) io::ApplyColumnMapping(columns_, columns);
+    if (!units_.empty()) io::ApplyUnitMapping(units_, columns);
+    return io::ReadRecordCsv(record_, columns);
+  }
+
+  void ApplySpecimenOptions(experiment::RCurveOptions& o) const {
+    if (!type_.empty()) {
+      if (type_ == "ct" || type_ == "CT") o.specimen.type = SpecimenType::kCT;
+      else if (type_ == "dcb" || type_ == "DCB") o.specimen.type = SpecimenType::kDCB;
+      else
+        throw Error(ErrorKind::kUsage, "unknown specimen type",
+                    {.field = "--type", .value = type_, .expected = "ct or dcb"});
+    }
+    auto set = [](double& target, const std::string& text, const char* option) {
+      const double v = Quantity(text, Dimension::Length(), option);
+      if (std::isfinite(v)) target = v;
+    };
+    set(o.specimen.width, width_, "--width");
+    set(o.specimen.height, height_, "--height");
+    set(o.specimen.thickness, thickness_, "--thickness");
+    set(o.specimen.length, length_, "--length");
+    set(o.specimen.notch, notch_, "--notch");
+    const double E = Quantity(modulus_, Dimension::Stress(), "--modulus");
+    if (std::isfinite(E)) {
+      if (o.material.orthotropic) o.material.E1 = E;
+      else o.material.E = E;
+    }
+    if (std::isfinite(nu_)) o.material.nu = nu_;
+    const double G13 = Quantity(g13_, Dimension::Stress(), "--g13");
+    if (std::isfinite(G13)) o.material.G13 = G13;
+    if (!plane_.empty()) {
+      if (plane_ == "stress") o.specimen.plane = PlaneCondition::kPlaneStress;
+      else if (plane_ == "strain") o.specimen.plane = PlaneCondition::kPlaneStrain;
+      else
+        throw Error(ErrorKind::kUsage, "unknown plane condition",
+                    {.field = "--plane", .value = plane_, .expected = "stress or strain"});
+    }
+  }
+
+  std::string record_, scene_, method_ = "energy", columns_, units_, out_, csv_;
+  std::string type_, width_, height_, thickness_, length_, notch_, modulus_, g13_, plane_;
+  std::string load_noise_, displacement_noise_, crack_noise_, min_increment_, max_crack_;
+  double nu_ = NAN;
+  double coverage_ = 2.0;
 };
+
 }  // namespace
+
 std::unique_ptr<Command> MakeRcurveCommand() { return std::make_unique<RcurveCommand>(); }
+
 }  // namespace bridgefit::cli

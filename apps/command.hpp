@@ -34,6 +34,7 @@ std::unique_ptr<Command> MakeLawCommand();
 std::unique_ptr<Command> MakeSimulateCommand();
 std::unique_ptr<Command> MakeRcurveCommand();
 std::unique_ptr<Command> MakeDicCommand();
+std::unique_ptr<Command> MakeFitCommand();
 
 // Prints one JSON object on stdout (the only stdout output under --json).
 void PrintJson(const nlohmann::json& object);

@@ -47,6 +47,7 @@ int main(int argc, char** argv) {
   commands.push_back(cli::MakeSimulateCommand());
   commands.push_back(cli::MakeRcurveCommand());
   commands.push_back(cli::MakeDicCommand());
+  commands.push_back(cli::MakeFitCommand());
 
   std::vector<CLI::App*> subs;
   for (auto& command : commands) {

@@ -353,8 +353,6 @@ bool FitOptions::IsValid(std::string* why) const {
     if (!(lower[i] > 0.0 && upper[i] > lower[i] && std::isfinite(upper[i])))
       return fail(std::string("bounds of ") + ParameterName(i) + " must satisfy 0 < low < high");
   }
-  if (fixed[kJB] && fixed_value[kJB] == 0.0 && !fixed[kSigmaC])
-    ;  // J_B = 0: sigma_c has no effect; it is reported as not identifiable
   if (std::count(fixed.begin(), fixed.end(), false) == 0) return fail("every parameter is fixed");
   return true;
 }

@@ -1,0 +1,296 @@
+// `bridgefit fit`: bridging-law parameters from a measured R curve (issue 7).
+//   bridgefit fit rcurve.csv --scene scene.toml --law linear --json
+//   bridgefit fit rcurve.h5 --scene scene.toml --fix J_tip_c=2210J/m^2 --out fit.h5
+
+#include <cmath>
+#include <iostream>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "bridgefit/core/error.hpp"
+#include "bridgefit/inverse/fit.hpp"
+#include "bridgefit/io/csv.hpp"
+#include "bridgefit/io/hdf5.hpp"
+#include "bridgefit/io/scene_file.hpp"
+#include "bridgefit/models/reduced.hpp"
+#include "command.hpp"
+
+namespace bridgefit::cli {
+namespace {
+
+using inverse::FitSummary;
+using inverse::ParameterEstimate;
+
+int ParameterIndex(const std::string& name, const char* option) {
+  for (int i = 0; i < inverse::kParameterCount; ++i)
+    if (name == inverse::ParameterName(i)) return i;
+  throw Error(ErrorKind::kUsage, "unknown parameter",
+              {.field = option, .value = name, .expected = "sigma_c, J_B or J_tip_c"});
+}
+
+Dimension ParameterDimension(int index) {
+  return index == inverse::kSigmaC ? Dimension::Stress() : Dimension::EnergyPerArea();
+}
+
+std::vector<std::pair<std::string, std::string>> SplitAssignments(const std::string& text,
+                                                                  const char* option) {
+  std::vector<std::pair<std::string, std::string>> out;
+  std::stringstream stream(text);
+  std::string item;
+  while (std::getline(stream, item, ',')) {
+    const size_t eq = item.find('=');
+    if (eq == std::string::npos)
+      throw Error(ErrorKind::kUsage, "malformed assignment",
+                  {.field = option, .value = item, .expected = "name=value, e.g. J_tip_c=2210J/m^2"});
+    out.emplace_back(item.substr(0, eq), item.substr(eq + 1));
+  }
+  return out;
+}
+
+// R curve from CSV ('crack_length [mm], R [J/m^2][, R_uncertainty [J/m^2]]')
+// or from the HDF5 written by `bridgefit rcurve`.
+RCurve ReadRCurveInput(const std::string& path) {
+  if (path.size() > 3 && (path.ends_with(".h5") || path.ends_with(".hdf5"))) {
+    const io::H5Reader reader(path);
+    return io::ReadRCurveH5(reader);
+  }
+  const io::CsvTable table = io::ReadCsvTable(path);
+  RCurve curve;
+  curve.source = path;
+  curve.method = "csv";
+  curve.crack_length = table.ColumnSi("crack_length", Dimension::Length());
+  curve.R = table.ColumnSi("R", Dimension::EnergyPerArea());
+  if (table.Find("R_uncertainty") >= 0)
+    curve.R_uncertainty = table.ColumnSi("R_uncertainty", Dimension::EnergyPerArea());
+  for (size_t i = 0; i < curve.R.size(); ++i)
+    if (!std::isfinite(curve.R[i]) || !std::isfinite(curve.crack_length[i]))
+      throw Error(ErrorKind::kInput, "missing value in row " + std::to_string(i + 1),
+                  {.file = path, .expected = "a crack length and an R in every row"});
+  curve.Validate();
+  return curve;
+}
+
+nlohmann::json EstimateJson(const ParameterEstimate& e) {
+  return {{"value", NumberOrNull(e.value)},
+          {"ci95_low", NumberOrNull(e.ci95_low)},
+          {"ci95_high", NumberOrNull(e.ci95_high)},
+          {"lower_bound", NumberOrNull(e.lower_bound)},
+          {"identified", e.identified},
+          {"fixed", e.fixed},
+          {"decided_by", e.decided_by},
+          {"note", e.note}};
+}
+
+void WriteEstimate(io::H5Writer& file, const std::string& group, const ParameterEstimate& e,
+                   const std::string& units) {
+  file.WriteAttribute(group, "units", units);
+  file.WriteAttribute(group, "value", e.value);
+  file.WriteAttribute(group, "ci95_low", e.ci95_low);
+  file.WriteAttribute(group, "ci95_high", e.ci95_high);
+  file.WriteAttribute(group, "lower_bound", e.lower_bound);
+  file.WriteAttribute(group, "identified", e.identified ? 1.0 : 0.0);
+  file.WriteAttribute(group, "fixed", e.fixed ? 1.0 : 0.0);
+  file.WriteAttribute(group, "decided_by", e.decided_by);
+  file.WriteAttribute(group, "note", e.note);
+}
+
+class FitCommand final : public Command {
+ public:
+  const char* name() const override { return "fit"; }
+  const char* description() const override {
+    return "Fit a bridging law (sigma_c, J_B, J_tip,c) to a measured R curve";
+  }
+  void Register(CLI::App& sub) override {
+    sub.add_option("input", input_, "R curve: CSV 'crack_length [mm], R [J/m^2]' or rcurve.h5")
+        ->required();
+    sub.add_option("--scene", scene_, "Scene TOML: specimen and material")->required();
+    sub.add_option("--model", model_, "Forward model: reduced | analytic | auto")
+        ->default_val("reduced");
+    sub.add_option("--law", law_, "Law family: linear|cubic|triangular|exponential")
+        ->default_val("linear");
+    sub.add_option("--optimizer", optimizer_, "ceres-lm|bobyqa|neldermead|cobyla|direct|crs2")
+        ->default_val("ceres-lm");
+    sub.add_option("--fix", fix_, "Fixed parameters, e.g. 'J_tip_c=2210J/m^2'");
+    sub.add_option("--bounds", bounds_, "Bounds, e.g. 'sigma_c=0.05MPa..5MPa,J_B=1J/m^2..5kJ/m^2'");
+    sub.add_option("--starts", starts_, "Latin-hypercube starts")->default_val(4);
+    sub.add_option("--r-kind", r_kind_, "What the data holds: energy | elastic-zone")
+        ->default_val("energy");
+    sub.add_option("--resolution", resolution_, "Reduced model element size, e.g. '0.5 mm'");
+    sub.add_flag("--no-profile", no_profile_, "Skip the profile likelihood (faster)");
+    sub.add_option("--out", out_h5_, "Write the fit to this HDF5 file");
+  }
+
+  int Run(const CommonOptions& common) override {
+    const Scene scene = io::ReadSceneFile(scene_);
+    const RCurve curve = ReadRCurveInput(input_);
+    const inverse::RKind kind = inverse::ParseRKind(r_kind_);
+    const inverse::FitData data = inverse::FitData::FromRCurve(curve, kind);
+
+    laws::LawShape shape;
+    const laws::LawFamily family = [&] {
+      try {
+        return laws::ParseLawFamily(law_);
+      } catch (const Error& e) {
+        throw Error(ErrorKind::kUsage, e.message(), {.field = "--law", .value = law_});
+      }
+    }();
+    switch (family) {
+      case laws::LawFamily::kLinear: shape = laws::MakeLinearShape(); break;
+      case laws::LawFamily::kCubic: shape = laws::MakeCubicShape(); break;
+      case laws::LawFamily::kTriangular: shape = laws::MakeTriangularShape(0.1); break;
+      case laws::LawFamily::kExponential: shape = laws::MakeExponentialShape(3.0); break;
+      default:
+        if (scene.bridging && scene.bridging->shape.family == family) {
+          shape = scene.bridging->shape;  // trilinear/table shape from the scene
+        } else {
+          throw Error(ErrorKind::kUsage, "this law family needs its shape from the scene",
+                      {.field = "--law", .value = law_,
+                       .expected = "a scene whose [bridging] has this law"});
+        }
+    }
+
+    inverse::FitOptions options;
+    options.optimizer = inverse::ParseOptimizer(optimizer_);
+    options.starts = starts_;
+    options.profile_likelihood = !no_profile_;
+    options.progress = !common.quiet;
+    for (const auto& [key, value] : SplitAssignments(fix_, "--fix")) {
+      const int index = ParameterIndex(key, "--fix");
+      options.fixed[index] = true;
+      options.fixed_value[index] = ParseOptionQuantity(value, ParameterDimension(index), "--fix");
+    }
+    for (const auto& [key, value] : SplitAssignments(bounds_, "--bounds")) {
+      const int index = ParameterIndex(key, "--bounds");
+      const size_t dots = value.find("..");
+      if (dots == std::string::npos)
+        throw Error(ErrorKind::kUsage, "malformed bounds",
+                    {.field = "--bounds", .value = value, .expected = "low..high"});
+      options.lower[index] =
+          ParseOptionQuantity(value.substr(0, dots), ParameterDimension(index), "--bounds");
+      options.upper[index] =
+          ParseOptionQuantity(value.substr(dots + 2), ParameterDimension(index), "--bounds");
+    }
+    std::string why;
+    if (!options.IsValid(&why)) throw Error(ErrorKind::kUsage, "invalid fit options: " + why);
+
+    // The forward model: the cheapest that is accurate enough (README).
+    std::unique_ptr<inverse::ForwardModel> model;
+    std::string model_note;
+    const double plane_factor =
+        scene.specimen.plane == PlaneCondition::kPlaneStrain && !scene.material.orthotropic
+            ? 1.0 - scene.material.nu * scene.material.nu
+            : 1.0;
+    const double effective_modulus = scene.material.AxialModulus() / plane_factor;
+    if (model_ == "analytic") {
+      model = std::make_unique<inverse::AnalyticForwardModel>(effective_modulus,
+                                                              scene.specimen.notch);
+    } else if (model_ == "reduced" || model_ == "auto") {
+      models::ReducedOptions reduced;
+      if (!resolution_.empty())
+        reduced.mesh.resolution = ParseOptionQuantity(resolution_, Dimension::Length(), "--resolution");
+      reduced.mesh.max_crack_length = std::max(
+          data.crack_length.back() + 2e-3,
+          scene.run.max_crack_length.value_or(0.0));
+      auto reduced_model = std::make_shared<models::ReducedModel>(scene, reduced.mesh);
+      model = std::make_unique<inverse::SimulationForwardModel>(
+          "reduced", [reduced_model, reduced](const laws::BridgingLaw* law, double J_tip_c) {
+            return reduced_model->Run(law, J_tip_c, reduced);
+          });
+      if (model_ == "auto")
+        model_note = "auto: reduced model; the MPM check is not available in this build";
+    } else {
+      throw Error(ErrorKind::kUsage, "unknown model",
+                  {.field = "--model", .value = model_, .expected = "reduced, analytic or auto"});
+    }
+
+    const FitSummary s = inverse::FitBridgingLaw(*model, shape, data, options);
+
+    if (!out_h5_.empty()) {
+      io::H5Writer file(out_h5_);
+      WriteRecordH5(file, curve, "/rcurve");
+      const std::string g = "/fit";
+      file.WriteAttribute(g, "kind", "fit");
+      file.WriteAttribute(g, "scene", scene_);
+      file.WriteAttribute(g, "model", s.model);
+      file.WriteAttribute(g, "optimizer", s.optimizer);
+      file.WriteAttribute(g, "law", s.law);
+      file.WriteAttribute(g, "r_kind", inverse::RKindName(kind));
+      file.WriteAttribute(g, "verdict", s.verdict);
+      file.WriteAttribute(g, "stop_reason", s.stop_reason);
+      file.WriteAttribute(g, "evaluations", s.evaluations);
+      file.WriteAttribute(g, "failed_evaluations", s.failed_evaluations);
+      file.WriteAttribute(g, "wall_s", s.wall_s);
+      file.WriteAttribute(g, "converged", s.converged ? 1.0 : 0.0);
+      file.WriteAttribute(g, "steady_state_reached", s.steady_state_reached ? 1.0 : 0.0);
+      file.WriteAttribute(g, "bridging_detected", s.bridging_detected ? 1.0 : 0.0);
+      file.WriteAttribute(g, "rms_residual_J_per_m2", s.rms_residual);
+      file.WriteVector(g + "/crack_length", data.crack_length, "m", "data crack length");
+      file.WriteVector(g + "/R", data.R, "J/m^2", "data R");
+      if (!s.fitted_R.empty()) file.WriteVector(g + "/fitted_R", s.fitted_R, "J/m^2", "model R");
+      if (!s.fitted_delta_root.empty())
+        file.WriteVector(g + "/fitted_delta_root", s.fitted_delta_root, "m", "model notch-root COD");
+      WriteEstimate(file, g + "/parameters/sigma_c", s.sigma_c, "Pa");
+      WriteEstimate(file, g + "/parameters/J_B", s.J_B, "J/m^2");
+      WriteEstimate(file, g + "/parameters/delta_c", s.delta_c, "m");
+      WriteEstimate(file, g + "/parameters/J_tip_c", s.J_tip_c, "J/m^2");
+      for (const inverse::Profile& p : s.profiles) {
+        std::vector<double> values, chi2;
+        for (const auto& point : p.points) {
+          if (!point.ok) continue;
+          values.push_back(point.value);
+          chi2.push_back(point.chi2);
+        }
+        const std::string name = inverse::ParameterName(p.parameter);
+        const std::string pg = g + "/profiles/" + name;
+        file.WriteVector(pg + "/value", values, p.parameter == inverse::kSigmaC ? "Pa" : "J/m^2");
+        file.WriteVector(pg + "/chi2", chi2, "1", "best chi^2 with the others re-optimized");
+        file.WriteAttribute(pg, "chi2_threshold", p.chi2_threshold);
+        file.WriteAttribute(pg, "flat", p.flat ? 1.0 : 0.0);
+      }
+      file.Commit();
+    }
+
+    if (common.json) {
+      nlohmann::json out;
+      out["model"] = s.model;
+      out["model_note"] = model_note;
+      out["optimizer"] = s.optimizer;
+      out["law"] = s.law;
+      out["r_kind"] = inverse::RKindName(kind);
+      out["evaluations"] = s.evaluations;
+      out["failed_evaluations"] = s.failed_evaluations;
+      out["wall_s"] = s.wall_s;
+      out["converged"] = s.converged;
+      out["stop_reason"] = s.stop_reason;
+      out["steady_state_reached"] = s.steady_state_reached;
+      out["steady_state_crack_length_m"] = NumberOrNull(s.steady_state_crack_length);
+      out["bridging_detected"] = s.bridging_detected;
+      out["verdict"] = s.verdict;
+      out["rms_residual_J_per_m2"] = NumberOrNull(s.rms_residual);
+      out["data_points"] = s.data_points;
+      out["sigma_c_Pa"] = EstimateJson(s.sigma_c);
+      out["J_B_J_per_m2"] = EstimateJson(s.J_B);
+      out["delta_c_m"] = EstimateJson(s.delta_c);
+      out["J_tip_c_J_per_m2"] = EstimateJson(s.J_tip_c);
+      PrintJson(out);
+    } else {
+      std::cout << s.BriefReport();
+      if (!model_note.empty()) std::cout << "  " << model_note << "\n";
+      if (!out_h5_.empty()) std::cout << "  written: " << out_h5_ << "\n";
+    }
+    return s.converged ? 0 : 1;
+  }
+
+ private:
+  std::string input_, scene_, model_, law_, optimizer_, fix_, bounds_, r_kind_, resolution_,
+      out_h5_;
+  int starts_ = 4;
+  bool no_profile_ = false;
+};
+
+}  // namespace
+
+std::unique_ptr<Command> MakeFitCommand() { return std::make_unique<FitCommand>(); }
+
+}  // namespace bridgefit::cli

@@ -1,0 +1,83 @@
+#pragma once
+// Crack tip and crack length from a DIC displacement field (PHYSICS.md 9).
+//
+// The crack line (reference pixels) runs from (x0, y0) on the notch side
+// into the material. Stations along it carry the displacement jump (COD
+// profile): on each side a plane u(s, n) is fitted to the valid points just
+// outside the crack band and extrapolated to n = 0, so the elastic strain
+// between +-h is removed to first order. Tip methods:
+//  kWilliams: least-squares fit of the near-tip field (mode I terms n=1..N,
+//             mode II terms n=1,3,.., rigid motion), linear in the
+//             coefficients, 1-D search of the tip along the line on the
+//             residual; gives K_I / (2 mu) and the fit residual.
+//  kJump:     end of the opened region where the extrapolated opening drops
+//             below max(threshold floor, k * noise): biased ahead of the tip.
+//  kSqrtCod:  COD^2 linear in s behind the tip (LEFM COD ~ sqrt(r)); fallback.
+
+#include <string>
+#include <vector>
+
+#include "bridgefit/dic/correlation.hpp"
+
+namespace bridgefit::dic {
+
+enum class TipMethod { kWilliams, kJump, kSqrtCod };
+const char* TipMethodName(TipMethod method);
+// "williams" | "jump" | "sqrt"; throws Error(kUsage) otherwise.
+TipMethod ParseTipMethod(const std::string& text);
+
+struct CrackTipOptions {
+  CrackLine line;
+  double station_spacing_px = 5;    // COD profile spacing (use the grid step)
+  double band_half_width_px = 16;   // points closer to the line than this are ignored
+  double side_depth_px = 15;        // normal extent of the point rows used per side
+  double threshold_floor_px = 0.02; // physical floor of the jump threshold
+  double noise_factor = 5;          // threshold = max(floor, factor * noise of the jump)
+  int mode1_terms = 4;              // Williams mode I terms n = 1..N
+  int mode2_terms = 2;              // Williams mode II terms n = 1, 3, ..
+  double kappa = (3.0 - 0.3) / 1.3; // Kolosov constant (plane stress, nu = 0.3)
+  double fit_radius_px = 80;        // Williams fit: points within this radius
+  double sqrt_window_px = 60;       // sqrt COD fit: window behind the jump tip
+  bool IsValid(std::string* why) const;
+};
+
+struct CodProfile {
+  std::vector<double> s_px;        // station position along the line
+  std::vector<double> opening_px;  // normal jump (positive = open)
+  std::vector<double> sliding_px;  // tangential jump
+  std::vector<char> valid;         // enough points on both sides
+};
+
+struct TipEstimate {
+  bool found = false;
+  double s_px = 0;            // along the line from (x0, y0)
+  double x_px = 0, y_px = 0;  // image position
+  double uncertainty_px = 0;  // one standard deviation
+};
+
+struct CrackTipResult {
+  CodProfile cod;
+  bool opening_detected = false;  // some opening above the threshold
+  double threshold_px = 0;        // threshold actually used by kJump
+  double noise_px = 0;            // robust noise of the opening profile
+  TipEstimate williams, jump, sqrt_cod;
+  double k_over_2mu_sqrt_px = 0;  // Williams: K_I / (2 mu), px^0.5
+  double williams_residual_px = 0;  // RMS residual of the field fit
+  int williams_points = 0;
+  TipMethod method = TipMethod::kWilliams;  // the method that gave `tip`
+  TipEstimate tip;
+  bool methods_disagree = false;  // spread of the found tips > one station
+};
+
+// Throws Error(kUsage) for invalid options.
+CrackTipResult LocateCrackTip(const DisplacementField& field, const CrackTipOptions& options,
+                              TipMethod preferred);
+
+// Weighted isotonic (non-decreasing) regression by pool-adjacent-violators.
+// Entries with valid[i] == 0 are skipped and returned unchanged; weights are
+// 1 / sigma^2.
+std::vector<double> MonotoneNonDecreasing(const std::vector<double>& values,
+                                          const std::vector<double>& sigmas,
+                                          const std::vector<char>& valid);
+
+}  // namespace bridgefit::dic

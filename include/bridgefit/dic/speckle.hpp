@@ -1,0 +1,69 @@
+#pragma once
+// Synthetic speckle images with an exactly known motion, for tests and data
+// samples. A speckle pattern is a sum of Gaussian dots integrated exactly over
+// each pixel (erf), so a rigid translation of the pattern is rendered without
+// interpolation error. Deformed images are rendered by inverting x = X + u(X)
+// per pixel (fixed-point iteration); pixels with no material point (an open
+// crack) get the gap intensity.
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "bridgefit/dic/image.hpp"
+
+namespace bridgefit::dic {
+
+struct SpeckleOptions {
+  int width = 256, height = 256;   // px
+  double speckle_radius_px = 2.0;  // 1/e radius of one dot
+  double density = 0.6;            // dots per dot area (pi r^2)
+  double background = 0.2;         // fraction of full scale
+  double contrast = 0.6;           // dot amplitude, fraction of full scale
+  double noise_std = 0.005;        // Gaussian noise, fraction of full scale
+  double gap_intensity = 0.02;     // inside an open crack, fraction of full scale
+  int bit_depth = 8;               // 8 or 16: quantization of the output
+  int margin_px = 64;              // pattern extends this far outside the image
+  std::uint64_t seed = 1;          // dot positions
+
+  bool IsValid(std::string* why) const;
+};
+
+// Displacement (px) of the material point at reference position (X, Y).
+using DisplacementFunction = std::function<void(double X, double Y, double* u, double* v)>;
+
+class SpeckleRenderer {
+ public:
+  explicit SpeckleRenderer(const SpeckleOptions& options);  // throws Error(kUsage)
+  ~SpeckleRenderer();
+  SpeckleRenderer(SpeckleRenderer&&) noexcept;
+  // Reference image (no motion) or deformed image; `noise_seed` draws the
+  // noise (use different seeds for different frames).
+  Image Render(const DisplacementFunction& displacement, std::uint64_t noise_seed) const;
+  Image RenderReference(std::uint64_t noise_seed) const;
+  const SpeckleOptions& options() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// Mode I LEFM near-tip field plus rigid motion, in pixels:
+//   u_x' = A sqrt(r / 2 pi) cos(t/2) [kappa - 1 + 2 sin^2(t/2)]
+//   u_y' = A sqrt(r / 2 pi) sin(t/2) [kappa + 1 - 2 cos^2(t/2)]
+// with A = K_I / (2 mu) (px^0.5), (r, t) polar about the tip in the frame
+// whose x' axis points in the growth direction (crack faces at t = +-pi).
+struct ModeICrackField {
+  double tip_x = 0, tip_y = 0;            // px
+  double direction_x = 1, direction_y = 0; // growth direction (unit after normalizing)
+  double k_over_2mu = 0.05;               // K_I / (2 mu), px^0.5
+  double kappa = (3.0 - 0.3) / 1.3;       // plane stress, nu = 0.3
+  double translation_x = 0, translation_y = 0, rotation = 0;  // rigid motion (rad)
+
+  void operator()(double X, double Y, double* u, double* v) const;
+  // Crack opening displacement at distance r behind the tip: (kappa + 1) A sqrt(2 r / pi).
+  double OpeningAt(double r) const;
+};
+
+}  // namespace bridgefit::dic

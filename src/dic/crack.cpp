@@ -1,0 +1,428 @@
+// Crack tip location from a displacement field: COD profile, jump
+// threshold, sqrt COD fit and Williams-series field fit.
+#include "bridgefit/dic/crack.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include <Eigen/Dense>
+#include <fmt/format.h>
+
+#include "bridgefit/core/error.hpp"
+
+namespace bridgefit::dic {
+
+const char* TipMethodName(TipMethod method) {
+  switch (method) {
+    case TipMethod::kWilliams: return "williams";
+    case TipMethod::kJump: return "jump";
+    case TipMethod::kSqrtCod: return "sqrt";
+  }
+  return "unknown";
+}
+
+TipMethod ParseTipMethod(const std::string& text) {
+  if (text == "williams") return TipMethod::kWilliams;
+  if (text == "jump") return TipMethod::kJump;
+  if (text == "sqrt") return TipMethod::kSqrtCod;
+  throw Error(ErrorKind::kUsage, "unknown tip method",
+              {.field = "--tip-method", .value = text, .expected = "williams, jump or sqrt"});
+}
+
+bool CrackTipOptions::IsValid(std::string* why) const {
+  auto fail = [&](const char* m) {
+    if (why) *why = m;
+    return false;
+  };
+  if (!(line.Length() > 1)) return fail("crack line must be longer than 1 px");
+  if (!(station_spacing_px > 0)) return fail("station spacing must be > 0");
+  if (!(band_half_width_px >= 0) || !(side_depth_px > 0)) return fail("band sizes must be > 0");
+  if (!(threshold_floor_px >= 0) || !(noise_factor >= 0)) return fail("threshold must be >= 0");
+  if (mode1_terms < 1 || mode1_terms > 8 || mode2_terms < 0 || mode2_terms > 4)
+    return fail("Williams terms: mode I 1..8, mode II 0..4");
+  if (!(kappa > 1 && kappa <= 3)) return fail("kappa must lie in (1, 3]");
+  if (!(fit_radius_px > 0) || !(sqrt_window_px > 0)) return fail("fit windows must be > 0");
+  return true;
+}
+
+namespace {
+
+struct LocalPoint {
+  double s, n;    // along / normal to the line, px
+  double us, un;  // displacement components along / normal, px
+  double x, y;    // image position
+  double u, v;    // displacement, image axes
+};
+
+std::vector<LocalPoint> ValidPoints(const DisplacementField& f, const CrackLine& line) {
+  std::vector<LocalPoint> pts;
+  const double L = line.Length();
+  const double tx = (line.x1 - line.x0) / L, ty = (line.y1 - line.y0) / L;
+  for (size_t i = 0; i < f.size(); ++i) {
+    if (!f.ok(i)) continue;
+    LocalPoint p;
+    line.ToLocal(f.x[i], f.y[i], &p.s, &p.n);
+    p.us = f.u[i] * tx + f.v[i] * ty;
+    p.un = -f.u[i] * ty + f.v[i] * tx;
+    p.x = f.x[i];
+    p.y = f.y[i];
+    p.u = f.u[i];
+    p.v = f.v[i];
+    pts.push_back(p);
+  }
+  return pts;
+}
+
+double Median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  const size_t m = v.size() / 2;
+  std::nth_element(v.begin(), v.begin() + m, v.end());
+  return v[m];
+}
+
+// Plane fit value at (s0, n = 0) of component (us or un) for one side.
+bool SideExtrapolation(const std::vector<const LocalPoint*>& side, double s0, double* ns,
+                       double* nn) {
+  if (side.size() < 4) return false;
+  Eigen::MatrixXd A(side.size(), 3);
+  Eigen::MatrixXd b(side.size(), 2);
+  double nmin = 1e300, nmax = -1e300;
+  for (size_t k = 0; k < side.size(); ++k) {
+    A(k, 0) = 1;
+    A(k, 1) = side[k]->s - s0;
+    A(k, 2) = side[k]->n;
+    b(k, 0) = side[k]->us;
+    b(k, 1) = side[k]->un;
+    nmin = std::min(nmin, side[k]->n);
+    nmax = std::max(nmax, side[k]->n);
+  }
+  if (nmax - nmin < 1e-6) {  // one row only: no extrapolation in n
+    A.col(2).setZero();
+    Eigen::MatrixXd A2 = A.leftCols(2);
+    const Eigen::MatrixXd c = A2.colPivHouseholderQr().solve(b);
+    *ns = c(0, 0);
+    *nn = c(0, 1);
+    return true;
+  }
+  const Eigen::MatrixXd c = A.colPivHouseholderQr().solve(b);
+  *ns = c(0, 0);
+  *nn = c(0, 1);
+  return std::isfinite(*ns) && std::isfinite(*nn);
+}
+
+CodProfile BuildCodProfile(const std::vector<LocalPoint>& pts, const CrackTipOptions& o) {
+  CodProfile cod;
+  const double L = o.line.Length();
+  const double ds = o.station_spacing_px;
+  const double n_in = o.band_half_width_px, n_out = o.band_half_width_px + o.side_depth_px;
+  for (double s0 = 0; s0 <= L + 1e-9; s0 += ds) {
+    std::vector<const LocalPoint*> above, below;
+    for (const LocalPoint& p : pts) {
+      if (std::abs(p.s - s0) > ds * 1.01) continue;
+      const double an = std::abs(p.n);
+      if (an < n_in || an > n_out) continue;
+      (p.n > 0 ? above : below).push_back(&p);
+    }
+    double as = 0, an = 0, bs = 0, bn = 0;
+    const bool ok = SideExtrapolation(above, s0, &as, &an) && SideExtrapolation(below, s0, &bs, &bn);
+    cod.s_px.push_back(s0);
+    cod.opening_px.push_back(ok ? an - bn : 0.0);
+    cod.sliding_px.push_back(ok ? as - bs : 0.0);
+    cod.valid.push_back(ok ? 1 : 0);
+  }
+  return cod;
+}
+
+// Williams basis (Yoneyama et al. 2006 form without 1/(2 mu)), local frame.
+void WilliamsModeI(int n, double r, double t, double kappa, double* fx, double* fy) {
+  const double h = 0.5 * n, rn = std::pow(r, h), sgn = (n % 2 == 0) ? 1.0 : -1.0;
+  *fx = rn * (kappa * std::cos(h * t) - h * std::cos((h - 2) * t) + (h + sgn) * std::cos(h * t));
+  *fy = rn * (kappa * std::sin(h * t) + h * std::sin((h - 2) * t) - (h + sgn) * std::sin(h * t));
+}
+void WilliamsModeII(int n, double r, double t, double kappa, double* fx, double* fy) {
+  const double h = 0.5 * n, rn = std::pow(r, h), sgn = (n % 2 == 0) ? 1.0 : -1.0;
+  *fx = -rn * (kappa * std::sin(h * t) - h * std::sin((h - 2) * t) + (h - sgn) * std::sin(h * t));
+  *fy = rn * (kappa * std::cos(h * t) + h * std::cos((h - 2) * t) - (h - sgn) * std::cos(h * t));
+}
+
+struct WilliamsFit {
+  double ssr = std::numeric_limits<double>::infinity();
+  double c1 = 0;  // mode I n = 1 coefficient in units of (fit radius)^-0.5 px
+  int rows = 0, cols = 0;
+};
+
+WilliamsFit FitWilliams(const std::vector<const LocalPoint*>& pts, double s_tip,
+                        const CrackTipOptions& o) {
+  WilliamsFit fit;
+  const double L = o.line.Length();
+  const double tx = (o.line.x1 - o.line.x0) / L, ty = (o.line.y1 - o.line.y0) / L;
+  const int n1 = o.mode1_terms, n2 = o.mode2_terms;
+  const int cols = 3 + n1 + n2;
+  const int rows = 2 * static_cast<int>(pts.size());
+  if (rows < 2 * cols) return fit;
+  Eigen::MatrixXd A(rows, cols);
+  Eigen::VectorXd b(rows);
+  const double R = o.fit_radius_px;  // normalizes r for conditioning
+  for (size_t k = 0; k < pts.size(); ++k) {
+    const LocalPoint& p = *pts[k];
+    const double xl = (p.s - s_tip) / R, yl = p.n / R;
+    const double r = std::hypot(xl, yl), t = std::atan2(yl, xl);
+    const int ru = 2 * static_cast<int>(k), rv = ru + 1;
+    // Rigid motion in image axes: translation, rotation about the tip.
+    A(ru, 0) = 1; A(rv, 0) = 0;
+    A(ru, 1) = 0; A(rv, 1) = 1;
+    const double dx = xl * tx - yl * ty, dy = xl * ty + yl * tx;
+    A(ru, 2) = -dy; A(rv, 2) = dx;
+    int c = 3;
+    auto put = [&](double fx, double fy) {  // local -> image axes
+      A(ru, c) = fx * tx - fy * ty;
+      A(rv, c) = fx * ty + fy * tx;
+      ++c;
+    };
+    for (int n = 1; n <= n1; ++n) {
+      double fx, fy;
+      WilliamsModeI(n, r, t, o.kappa, &fx, &fy);
+      put(fx, fy);
+    }
+    for (int m = 0; m < n2; ++m) {
+      double fx, fy;
+      WilliamsModeII(2 * m + 1, r, t, o.kappa, &fx, &fy);
+      put(fx, fy);
+    }
+    b(ru) = p.u;
+    b(rv) = p.v;
+  }
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(A);
+  const Eigen::VectorXd c = qr.solve(b);
+  fit.ssr = (A * c - b).squaredNorm();
+  fit.c1 = c(3);
+  fit.rows = rows;
+  fit.cols = cols;
+  return fit;
+}
+
+void SetPosition(const CrackLine& line, TipEstimate* tip) {
+  line.FromLocal(tip->s_px, 0.0, &tip->x_px, &tip->y_px);
+}
+
+}  // namespace
+
+CrackTipResult LocateCrackTip(const DisplacementField& field, const CrackTipOptions& o,
+                              TipMethod preferred) {
+  std::string why;
+  if (!o.IsValid(&why)) throw Error(ErrorKind::kUsage, "invalid crack-tip options: " + why);
+  CrackTipResult res;
+  const std::vector<LocalPoint> pts = ValidPoints(field, o.line);
+  res.cod = BuildCodProfile(pts, o);
+  const CodProfile& cod = res.cod;
+  const size_t ns = cod.s_px.size();
+  const double ds = o.station_spacing_px;
+
+  // Robust noise of the opening: MAD of consecutive differences.
+  std::vector<double> diffs;
+  for (size_t k = 1; k < ns; ++k)
+    if (cod.valid[k] && cod.valid[k - 1]) diffs.push_back(cod.opening_px[k] - cod.opening_px[k - 1]);
+  {
+    std::vector<double> absd;
+    const double med = Median(diffs);
+    for (double d : diffs) absd.push_back(std::abs(d - med));
+    res.noise_px = 1.4826 * Median(absd) / std::sqrt(2.0);
+  }
+  res.threshold_px = std::max(o.threshold_floor_px, o.noise_factor * res.noise_px);
+  const double thr = res.threshold_px;
+
+  // Jump: the first opened run from the notch side, allowing one-station gaps.
+  int first = -1, last = -1, gap = 0;
+  for (size_t k = 0; k < ns; ++k) {
+    if (!cod.valid[k]) {
+      if (first >= 0 && ++gap > 2) break;
+      continue;
+    }
+    if (cod.opening_px[k] >= thr) {
+      if (first < 0) first = static_cast<int>(k);
+      last = static_cast<int>(k);
+      gap = 0;
+    } else if (first >= 0) {
+      if (++gap > 1) break;
+    }
+  }
+  // An opening must span at least two stations to count as a crack.
+  int above = 0;
+  for (int k = std::max(first, 0); first >= 0 && k <= last; ++k)
+    if (cod.valid[k] && cod.opening_px[k] >= thr) ++above;
+  res.opening_detected = above >= 2;
+  if (!res.opening_detected) return res;
+
+  {
+    TipEstimate& t = res.jump;
+    t.s_px = cod.s_px[last];
+    size_t next = last + 1;
+    while (next < ns && !cod.valid[next]) ++next;
+    if (next < ns) {
+      const double o1 = cod.opening_px[last], o2 = cod.opening_px[next];
+      const double frac = o1 > o2 ? std::clamp((o1 - thr) / (o1 - o2), 0.0, 1.0) : 0.0;
+      t.s_px = cod.s_px[last] + frac * (cod.s_px[next] - cod.s_px[last]);
+      const double slope = std::abs(o1 - o2) / (cod.s_px[next] - cod.s_px[last]);
+      t.uncertainty_px = std::hypot(ds / std::sqrt(12.0), slope > 0 ? res.noise_px / slope : ds);
+    } else {
+      t.uncertainty_px = ds;
+    }
+    t.found = true;
+    SetPosition(o.line, &t);
+  }
+
+  // sqrt COD: COD^2 = A^2 (s_tip - s) on stations behind the jump tip.
+  {
+    std::vector<double> s, o2;
+    for (size_t k = 0; k < ns; ++k)
+      if (cod.valid[k] && static_cast<int>(k) <= last && cod.opening_px[k] >= thr &&
+          cod.s_px[k] >= res.jump.s_px - o.sqrt_window_px) {
+        s.push_back(cod.s_px[k]);
+        o2.push_back(cod.opening_px[k] * cod.opening_px[k]);
+      }
+    if (s.size() >= 3) {
+      const double n = static_cast<double>(s.size());
+      double sm = 0, om = 0;
+      for (size_t k = 0; k < s.size(); ++k) {
+        sm += s[k];
+        om += o2[k];
+      }
+      sm /= n;
+      om /= n;
+      double sxx = 0, sxy = 0;
+      for (size_t k = 0; k < s.size(); ++k) {
+        sxx += (s[k] - sm) * (s[k] - sm);
+        sxy += (s[k] - sm) * (o2[k] - om);
+      }
+      const double beta = sxy / sxx, alpha = om - beta * sm;
+      if (beta < 0) {
+        TipEstimate& t = res.sqrt_cod;
+        t.s_px = -alpha / beta;
+        double sse = 0;
+        for (size_t k = 0; k < s.size(); ++k) {
+          const double e = o2[k] - alpha - beta * s[k];
+          sse += e * e;
+        }
+        const double sigma2 = s.size() > 2 ? sse / (n - 2) : 0;
+        // Delta method on s_tip = -alpha / beta (intercept of the fitted line).
+        const double var_beta = sigma2 / sxx;
+        const double ds_dbeta = (sm - t.s_px) / beta;  // d s_tip / d beta with alpha = om - beta sm
+        t.uncertainty_px = std::sqrt(sigma2 / n / (beta * beta) + ds_dbeta * ds_dbeta * var_beta);
+        t.found = std::isfinite(t.s_px) && t.s_px > 0 && t.s_px < o.line.Length() * 1.5;
+        SetPosition(o.line, &t);
+      }
+    }
+  }
+
+  // Williams: fixed point set around the starting tip, 1-D search in s.
+  {
+    const double s_start = res.sqrt_cod.found ? std::clamp(res.sqrt_cod.s_px, res.jump.s_px - o.fit_radius_px, res.jump.s_px)
+                                              : res.jump.s_px;
+    double xs, ys;
+    o.line.FromLocal(s_start, 0, &xs, &ys);
+    std::vector<const LocalPoint*> set;
+    for (const LocalPoint& p : pts)
+      if (std::hypot(p.x - xs, p.y - ys) <= o.fit_radius_px && std::abs(p.n) >= o.band_half_width_px)
+        set.push_back(&p);
+    res.williams_points = static_cast<int>(set.size());
+    const double lo = std::max(0.0, s_start - 0.5 * o.fit_radius_px);
+    const double hi = std::min(o.line.Length(), s_start + 0.5 * o.fit_radius_px);
+    const double h = std::max(0.5, 0.25 * ds);
+    std::vector<double> grid_s, grid_ssr;
+    for (double s = lo; s <= hi + 1e-9; s += h) {
+      grid_s.push_back(s);
+      grid_ssr.push_back(FitWilliams(set, s, o).ssr);
+    }
+    size_t best = 0;
+    for (size_t k = 1; k < grid_s.size(); ++k)
+      if (grid_ssr[k] < grid_ssr[best]) best = k;
+    if (!grid_s.empty() && std::isfinite(grid_ssr[best])) {
+      // Golden-section refinement on [s_best - h, s_best + h].
+      double a = grid_s[best] - h, c = grid_s[best] + h;
+      const double g = 0.5 * (std::sqrt(5.0) - 1.0);
+      double x1 = c - g * (c - a), x2 = a + g * (c - a);
+      double f1 = FitWilliams(set, x1, o).ssr, f2 = FitWilliams(set, x2, o).ssr;
+      for (int it = 0; it < 30 && c - a > 1e-3; ++it) {
+        if (f1 < f2) {
+          c = x2; x2 = x1; f2 = f1; x1 = c - g * (c - a); f1 = FitWilliams(set, x1, o).ssr;
+        } else {
+          a = x1; x1 = x2; f1 = f2; x2 = a + g * (c - a); f2 = FitWilliams(set, x2, o).ssr;
+        }
+      }
+      const double s_tip = 0.5 * (a + c);
+      const WilliamsFit fit = FitWilliams(set, s_tip, o);
+      // Uncertainty: Delta SSR = sigma^2 (one standard deviation), SSR ~ curvature.
+      const double e = std::max(h, 1.0);
+      const double fp = FitWilliams(set, s_tip + e, o).ssr, fm = FitWilliams(set, s_tip - e, o).ssr;
+      const double curv = (fp + fm - 2 * fit.ssr) / (e * e);
+      const double sigma2 = fit.ssr / std::max(1, fit.rows - fit.cols - 1);
+      TipEstimate& t = res.williams;
+      t.s_px = s_tip;
+      t.uncertainty_px = curv > 0 ? std::sqrt(2.0 * sigma2 / curv) : ds;
+      res.k_over_2mu_sqrt_px = fit.c1 * std::sqrt(2.0 * std::numbers::pi) / std::sqrt(o.fit_radius_px);
+      res.williams_residual_px = std::sqrt(fit.ssr / std::max(1, fit.rows));
+      const bool interior = s_tip > lo + 0.5 * h || lo <= 0.0;
+      const bool interior_hi = s_tip < hi - 0.5 * h || hi >= o.line.Length();
+      t.found = std::isfinite(s_tip) && res.k_over_2mu_sqrt_px > 0 && interior && interior_hi;
+      SetPosition(o.line, &t);
+    }
+  }
+
+  // Preferred method, then the fallbacks: Williams -> sqrt -> jump.
+  const TipEstimate* chosen = nullptr;
+  auto pick = [&](TipMethod m) {
+    const TipEstimate& t = m == TipMethod::kWilliams ? res.williams
+                           : m == TipMethod::kJump   ? res.jump
+                                                     : res.sqrt_cod;
+    if (!chosen && t.found) {
+      chosen = &t;
+      res.method = m;
+    }
+  };
+  pick(preferred);
+  pick(TipMethod::kWilliams);
+  pick(TipMethod::kSqrtCod);
+  pick(TipMethod::kJump);
+  if (chosen) res.tip = *chosen;
+  double smin = 1e300, smax = -1e300;
+  for (const TipEstimate* t : {&res.williams, &res.jump, &res.sqrt_cod})
+    if (t->found) {
+      smin = std::min(smin, t->s_px);
+      smax = std::max(smax, t->s_px);
+    }
+  res.methods_disagree = smax - smin > ds;
+  return res;
+}
+
+std::vector<double> MonotoneNonDecreasing(const std::vector<double>& values,
+                                          const std::vector<double>& sigmas,
+                                          const std::vector<char>& valid) {
+  BF_CHECK_INPUT(values.size() == sigmas.size() && values.size() == valid.size(),
+                 "monotone fit: values, sigmas and flags differ in length");
+  struct Block { double mean, weight; size_t count; };
+  std::vector<Block> blocks;
+  std::vector<size_t> index;
+  for (size_t i = 0; i < values.size(); ++i) {
+    if (!valid[i]) continue;
+    index.push_back(i);
+    const double s = std::max(sigmas[i], 1e-12);
+    blocks.push_back({values[i], 1.0 / (s * s), 1});
+    while (blocks.size() >= 2 && blocks[blocks.size() - 2].mean > blocks.back().mean) {
+      const Block b = blocks.back();
+      blocks.pop_back();
+      Block& a = blocks.back();
+      a.mean = (a.mean * a.weight + b.mean * b.weight) / (a.weight + b.weight);
+      a.weight += b.weight;
+      a.count += b.count;
+    }
+  }
+  std::vector<double> out = values;
+  size_t k = 0;
+  for (const Block& b : blocks)
+    for (size_t j = 0; j < b.count; ++j) out[index[k++]] = b.mean;
+  return out;
+}
+
+}  // namespace bridgefit::dic
