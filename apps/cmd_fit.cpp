@@ -273,6 +273,12 @@ class FitCommand final : public Command {
       out["J_B_J_per_m2"] = EstimateJson(s.J_B);
       out["delta_c_m"] = EstimateJson(s.delta_c);
       out["J_tip_c_J_per_m2"] = EstimateJson(s.J_tip_c);
+      nlohmann::json starts = nlohmann::json::array();
+      for (const inverse::StartResult& start : s.starts)
+        starts.push_back({{"start", start.start}, {"end", start.end}, {"chi2", NumberOrNull(start.cost)},
+                          {"evaluations", start.evaluations}, {"stop_reason", start.stop_reason}});
+      out["starts"] = std::move(starts);
+      out["parameter_order"] = {"sigma_c_Pa", "J_B_J_per_m2", "J_tip_c_J_per_m2"};
       PrintJson(out);
     } else {
       std::cout << s.BriefReport();

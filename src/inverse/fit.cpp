@@ -145,7 +145,8 @@ nlopt::algorithm NloptAlgorithm(Optimizer o) {
 
 // Minimizes chi^2 over the free box coordinates (one of them may be pinned).
 LocalResult MinimizeNlopt(const Objective& objective, Optimizer optimizer, std::vector<double> x0,
-                          int max_evaluations, int pinned = -1, double pinned_value = 0.0) {
+                          int max_evaluations, int pinned = -1, double pinned_value = 0.0,
+                          double xtol = 0.0) {
   const int n = static_cast<int>(x0.size());
   LocalResult result;
   const int before = objective.evaluations();
@@ -164,8 +165,8 @@ LocalResult MinimizeNlopt(const Objective& objective, Optimizer optimizer, std::
   opt.set_min_objective(f, &context);
   const bool global = optimizer == Optimizer::kDirect || optimizer == Optimizer::kCrs2;
   if (!global) {  // a global search runs to its budget
-    opt.set_xtol_rel(objective.options().relative_tolerance);
-    opt.set_ftol_rel(1e-12);
+    opt.set_xtol_rel(xtol > 0.0 ? xtol : objective.options().relative_tolerance);
+    opt.set_ftol_rel(1e-10);
   }
   opt.set_maxeval(max_evaluations);
   if (optimizer == Optimizer::kBobyqa || optimizer == Optimizer::kNelderMead ||
@@ -193,7 +194,8 @@ LocalResult MinimizeCeres(const Objective& objective, std::vector<double> x0, in
   const int m = static_cast<int>(objective.data().R.size());
   LocalResult result;
   const int before = objective.evaluations();
-  auto* cost = new ceres::DynamicNumericDiffCostFunction<CeresResiduals, ceres::CENTRAL>(
+  // Forward differences: n + 1 forward runs per Jacobian instead of 2 n + 1.
+  auto* cost = new ceres::DynamicNumericDiffCostFunction<CeresResiduals, ceres::FORWARD>(
       new CeresResiduals{&objective, pinned, pinned_value});
   cost->AddParameterBlock(n);
   cost->SetNumResiduals(m);
@@ -207,9 +209,10 @@ LocalResult MinimizeCeres(const Objective& objective, std::vector<double> x0, in
   options.minimizer_type = ceres::TRUST_REGION;
   options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
   options.linear_solver_type = ceres::DENSE_QR;
-  options.max_num_iterations = std::max(5, max_evaluations / (2 * n + 1));
-  options.function_tolerance = 1e-12;
-  options.parameter_tolerance = objective.options().relative_tolerance;
+  options.max_num_iterations = std::max(5, max_evaluations / (n + 2));
+  // The forward models solve to ~1e-10: tighter tolerances only add runs.
+  options.function_tolerance = 1e-9;
+  options.parameter_tolerance = std::max(objective.options().relative_tolerance, 1e-7);
   options.gradient_tolerance = 1e-14;
   options.logging_type = ceres::SILENT;
   options.minimizer_progress_to_stdout = false;
@@ -523,15 +526,18 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
       auto profile_chi2 = [&](double x) {
         const double value = FromBox(index, x, options);
         double chi2 = kFailedCost;
+        std::vector<double> at = full;
+        at[index] = value;
         if (n_free == 1) {
-          std::vector<double> pinned_full = full;
-          pinned_full[index] = value;
-          chi2 = objective.Chi2(pinned_full);
+          chi2 = objective.Chi2(at);
         } else {
           // The pinned coordinate stays in the vector; its value is overridden.
-          chi2 = MinimizeNlopt(objective, Optimizer::kBobyqa, best.x, 150, index, value).chi2;
+          const LocalResult r =
+              MinimizeNlopt(objective, Optimizer::kBobyqa, best.x, 80, index, value, 1e-4);
+          chi2 = r.chi2;
+          at = objective.Expand(r.x.data(), index, value);
         }
-        profile.points.push_back({value, chi2, chi2 < kFailedCost});
+        profile.points.push_back({value, chi2, chi2 < kFailedCost, {at[0], at[1], at[2]}});
         return chi2;
       };
       const auto inside = [&](double chi2) {
@@ -546,7 +552,7 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
           if (out == in) return NAN;  // reached the box edge while inside
           if (!inside(profile_chi2(out))) {
             double lo = in, hi = out;
-            for (int b = 0; b < 6; ++b) {
+            for (int b = 0; b < 5; ++b) {
               const double mid = 0.5 * (lo + hi);
               (inside(profile_chi2(mid)) ? lo : hi) = mid;
             }
@@ -557,7 +563,7 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
         }
       };
       const double x_low = edge(-1.0), x_high = edge(+1.0);
-      profile.points.push_back({full[index], best.chi2, true});
+      profile.points.push_back({full[index], best.chi2, true, {full[0], full[1], full[2]}});
       std::sort(profile.points.begin(), profile.points.end(),
                 [](const ProfilePoint& a, const ProfilePoint& b) { return a.value < b.value; });
       ParameterEstimate& e = EstimateOf(s, index);
@@ -633,11 +639,30 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
   const Profile* jb_profile = nullptr;
   for (const auto& p : s.profiles)
     if (p.parameter == kJB) jb_profile = &p;
-  const bool jb_bounded_above = !jb_profile || !(jb_profile->flat && std::isnan(s.J_B.ci95_high));
-  int past = 0;
-  if (prediction.steady_state_reached)
-    for (double a : data.crack_length) past += a >= prediction.steady_state_crack_length;
-  s.steady_state_reached = prediction.steady_state_reached && past >= 3 && jb_bounded_above;
+  // Steady state is established by the data only when every statistically
+  // acceptable parameter set reaches it inside the window: check the best
+  // fit and the largest J_B inside the profile's 95% region.
+  auto reaches_in_window = [&](const ForwardPrediction& p) {
+    int past = 0;
+    if (p.steady_state_reached)
+      for (double a : data.crack_length) past += a >= p.steady_state_crack_length;
+    return p.steady_state_reached && past >= 3;
+  };
+  bool reached = reaches_in_window(prediction);
+  if (reached && jb_profile) {
+    if (jb_profile->flat && std::isnan(s.J_B.ci95_high)) reached = false;
+    const ProfilePoint* largest = nullptr;
+    for (const auto& point : jb_profile->points)
+      if (point.ok && point.chi2 - best.chi2 <= threshold && (!largest || point.value > largest->value))
+        largest = &point;
+    if (reached && largest) {
+      std::vector<double> r(m);
+      ForwardPrediction edge;
+      const std::vector<double> at(largest->parameters.begin(), largest->parameters.end());
+      if (objective.Residuals(at, r.data(), &edge)) reached = reaches_in_window(edge);
+    }
+  }
+  s.steady_state_reached = reached;
   s.steady_state_crack_length = s.steady_state_reached ? prediction.steady_state_crack_length : NAN;
 
   const double k_area = shape.Area();
@@ -645,13 +670,11 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
   s.delta_c.decided_by = s.J_B.decided_by;
   if (!options.fixed[kJB] && !options.fixed[kSigmaC] && s.J_B.identified && s.sigma_c.identified &&
       std::isfinite(s.J_B.ci95_low) && std::isfinite(s.J_B.ci95_high)) {
-    // delta_c = J_B / (k sigma_c): first-order propagation of the two CIs.
-    const double rel = std::hypot((s.J_B.ci95_high - s.J_B.ci95_low) / (2 * s.J_B.value),
-                                  (s.sigma_c.ci95_high - s.sigma_c.ci95_low) / (2 * s.sigma_c.value));
-    s.delta_c.ci95_low = s.delta_c.value * (1 - rel);
-    s.delta_c.ci95_high = s.delta_c.value * (1 + rel);
+    // delta_c = J_B / (k sigma_c): the extremes of the two intervals (conservative).
+    s.delta_c.ci95_low = s.J_B.ci95_low / (k_area * s.sigma_c.ci95_high);
+    s.delta_c.ci95_high = s.J_B.ci95_high / (k_area * s.sigma_c.ci95_low);
     s.delta_c.identified = true;
-    s.delta_c.note = "from J_B / (k sigma_c)";
+    s.delta_c.note = "from J_B / (k sigma_c), interval from the extremes of both";
   }
 
   if (!s.steady_state_reached && !options.fixed[kJB]) {

@@ -27,7 +27,7 @@ struct FitOptions {
   Optimizer optimizer = Optimizer::kCeresLm;
   int starts = 4;                 // Latin-hypercube multi-start points
   int max_evaluations = 600;      // per local run
-  double relative_tolerance = 1e-8;
+  double relative_tolerance = 1e-6;  // on the box coordinates
   // Box [low, high] of each parameter (SI); a fixed parameter ignores it.
   std::array<double, kParameterCount> lower = {0.02e6, 1.0, 50.0};
   std::array<double, kParameterCount> upper = {20e6, 20000.0, 20000.0};
@@ -68,6 +68,7 @@ struct ProfilePoint {
   double value;  // parameter value (SI)
   double chi2;   // best chi^2 with the other parameters re-optimized
   bool ok;
+  std::array<double, 3> parameters;  // the full (sigma_c, J_B, J_tip_c) there
 };
 struct Profile {
   int parameter = 0;
