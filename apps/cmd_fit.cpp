@@ -225,8 +225,11 @@ class FitCommand final : public Command {
       file.WriteAttribute(g, "steady_state_reached", s.steady_state_reached ? 1.0 : 0.0);
       file.WriteAttribute(g, "bridging_detected", s.bridging_detected ? 1.0 : 0.0);
       file.WriteAttribute(g, "rms_residual_J_per_m2", s.rms_residual);
+      file.WriteVector(g + "/outlier_crack_length", s.outlier_crack_lengths, "m", "removed points");
+      file.WriteVector(g + "/outlier_R", s.outlier_R, "J/m^2", "removed points");
       file.WriteVector(g + "/crack_length", data.crack_length, "m", "data crack length");
       file.WriteVector(g + "/R", data.R, "J/m^2", "data R");
+      file.WriteVector(g + "/fitted_crack_length", s.fitted_crack_length, "m", "points used");
       if (!s.fitted_R.empty()) file.WriteVector(g + "/fitted_R", s.fitted_R, "J/m^2", "model R");
       if (!s.fitted_delta_root.empty())
         file.WriteVector(g + "/fitted_delta_root", s.fitted_delta_root, "m", "model notch-root COD");
@@ -278,6 +281,10 @@ class FitCommand final : public Command {
         starts.push_back({{"start", start.start}, {"end", start.end}, {"chi2", NumberOrNull(start.cost)},
                           {"evaluations", start.evaluations}, {"stop_reason", start.stop_reason}});
       out["starts"] = std::move(starts);
+      nlohmann::json outliers = nlohmann::json::array();
+      for (size_t i = 0; i < s.outlier_R.size(); ++i)
+        outliers.push_back({{"crack_length_m", s.outlier_crack_lengths[i]}, {"R_J_per_m2", s.outlier_R[i]}});
+      out["outliers_removed"] = std::move(outliers);
       out["parameter_order"] = {"sigma_c_Pa", "J_B_J_per_m2", "J_tip_c_J_per_m2"};
       PrintJson(out);
     } else {

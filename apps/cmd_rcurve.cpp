@@ -1,11 +1,11 @@
 // `bridgefit rcurve`: R curve from a load-displacement(-crack length) record
 // (module experiment, docs/RCURVE_METHODS.md).
-//   bridgefit rcurve data_samples/dcb_composite/DCB-01_Toughness.csv \
-//     --scene data_samples/dcb_composite/scene.toml --method mbt \
-//     --columns time=Time,displacement=Disp,load=Force,crack_length=CrackExt \
-//     --units time=s,displacement=mm,load=N,crack_length=mm --out rcurve.h5 --json
-//   bridgefit rcurve record.h5 --type ct --width 100mm --thickness 12.7mm --notch 30mm \
-//     --modulus 3GPa --method energy --csv rcurve.csv
+//   bridgefit rcurve data_samples/dcb_composite/DCB-01_Toughness.csv
+//       --scene data_samples/dcb_composite/scene.toml --method mbt
+//       --columns time=Time,displacement=Disp,load=Force,crack_length=CrackExt
+//       --units time=s,displacement=mm,load=N,crack_length=mm --out rcurve.h5 --json
+//   bridgefit rcurve record.h5 --type ct --width 100mm --thickness 12.7mm --notch 30mm
+//       --modulus 3GPa --method energy --csv rcurve.csv
 
 #include <cmath>
 #include <iostream>
@@ -127,6 +127,12 @@ class RcurveCommand final : public Command {
       file.WriteAttribute("/rcurve", "crack_length_noise_m", result.crack_length_noise);
       for (const auto& [key, value] : result.figures) file.WriteAttribute("/rcurve/figures", key, value);
       file.WriteAttribute("/rcurve", "specimen", options.specimen.type == SpecimenType::kCT ? "ct" : "dcb");
+      file.WriteAttribute("/rcurve", "specimen_width_m", options.specimen.width);
+      file.WriteAttribute("/rcurve", "specimen_height_m", options.specimen.height);
+      file.WriteAttribute("/rcurve", "specimen_thickness_m", options.specimen.thickness);
+      file.WriteAttribute("/rcurve", "specimen_length_m", options.specimen.length);
+      file.WriteAttribute("/rcurve", "crack_front_width_m", options.specimen.CrackFrontWidth());
+      if (!scene_.empty()) file.WriteAttribute("/rcurve", "scene", scene_);
       file.Commit();
     }
     if (!csv_.empty()) {

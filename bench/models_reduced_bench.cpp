@@ -3,7 +3,8 @@
 // CT of the issues (W = 100 mm, a0 = 30 mm, B = 12.7 mm, E = 3 GPa, plane
 // stress), linear softening sigma_c = 0.45 MPa, J_B = 500 J/m^2, crack grown
 // to 80 mm. For each resolution h: time to build the crack-plane model (once
-// per geometry), median time per R curve on one core, and the error of R at
+// per geometry), median time per R curve on one core (default hybrid solver,
+// and the dense and bordered solvers for comparison), and the error of R at
 // the probe crack lengths against the Richardson extrapolation of the three finest
 // resolutions (with the observed order). Probes at a = 46, 54, 62, 70 mm.
 
@@ -26,7 +27,7 @@ namespace {
 const double kProbe[4] = {0.046, 0.054, 0.062, 0.070};  // on every grid
 
 struct Row {
-  double h = 0, build_s = 0, curve_s = 0, curve_min_s = 0;
+  double h = 0, build_s = 0, curve_s = 0, curve_min_s = 0, dense_s = 0, bordered_s = 0;
   int points = 0, dofs = 0;
   double R[4] = {0, 0, 0, 0};
   double err_R = 0, err_bridging = 0;
@@ -113,15 +114,27 @@ int main(int argc, char** argv) {
     const models::ReducedModel model(scene, mesh);
     row.build_s = build.Seconds();
     row.dofs = model.crack_plane().dofs;
-    std::vector<double> times;
     SimulationResult result;
-    Stopwatch total;
-    while (times.size() < 3 || (total.Seconds() < 1.0 && times.size() < 200)) {
-      Stopwatch one;
-      result = model.Run(&law, J_tip_c, {});
-      times.push_back(one.Seconds());
-    }
-    std::sort(times.begin(), times.end());
+    auto time_runs = [&](const models::ReducedOptions& options, std::vector<double>& times) {
+      Stopwatch total;
+      while (times.size() < 3 || (total.Seconds() < 1.0 && times.size() < 200)) {
+        Stopwatch one;
+        result = model.Run(&law, J_tip_c, options);
+        times.push_back(one.Seconds());
+      }
+      std::sort(times.begin(), times.end());
+    };
+    std::vector<double> dense_times, times;
+    models::ReducedOptions dense;
+    dense.solver = models::ReducedOptions::Solver::kDense;
+    time_runs(dense, dense_times);
+    row.dense_s = dense_times[dense_times.size() / 2];
+    std::vector<double> bordered_times;
+    models::ReducedOptions bordered;
+    bordered.solver = models::ReducedOptions::Solver::kBordered;
+    time_runs(bordered, bordered_times);
+    row.bordered_s = bordered_times[bordered_times.size() / 2];
+    time_runs({}, times);  // the default (hybrid) solver last: `result` is its
     row.curve_s = times[times.size() / 2];
     row.curve_min_s = times.front();
     row.points = static_cast<int>(result.points.size());
@@ -148,7 +161,8 @@ int main(int argc, char** argv) {
          "a to 80 mm; observed order "
       << order_sum / 4 << "\n";
   csv << "resolution [mm], dofs, build [s], R curve median [ms], R curve min [ms], crack lengths, "
-         "median per 100 lengths [ms], max error R [%], max error R-J_tip_c [%]\n";
+         "median per 100 lengths [ms], max error R [%], max error R-J_tip_c [%], "
+         "dense solver median [ms], bordered solver median [ms]\n";
   for (Row& r : rows) {
     for (int i = 0; i < 4; ++i) {
       r.err_R = std::max(r.err_R, std::abs(r.R[i] - reference[i]) / reference[i]);
@@ -156,9 +170,10 @@ int main(int argc, char** argv) {
           std::max(r.err_bridging, std::abs(r.R[i] - reference[i]) / (reference[i] - J_tip_c));
     }
     char line[256];
-    std::snprintf(line, sizeof line, "%g, %d, %.4f, %.4f, %.4f, %d, %.4f, %.4f, %.4f\n", r.h * 1e3,
-                  r.dofs, r.build_s, r.curve_s * 1e3, r.curve_min_s * 1e3, r.points,
-                  r.curve_s * 1e3 * 100.0 / r.points, 100 * r.err_R, 100 * r.err_bridging);
+    std::snprintf(line, sizeof line, "%g, %d, %.4f, %.4f, %.4f, %d, %.4f, %.4f, %.4f, %.4f, %.4f\n",
+                  r.h * 1e3, r.dofs, r.build_s, r.curve_s * 1e3, r.curve_min_s * 1e3, r.points,
+                  r.curve_s * 1e3 * 100.0 / r.points, 100 * r.err_R, 100 * r.err_bridging,
+                  r.dense_s * 1e3, r.bordered_s * 1e3);
     csv << line;
     std::printf("%s", line);
   }

@@ -13,7 +13,7 @@ for f in DCB-01 DCB-02; do
       --method $m $MAP --csv "$TMP/${f}_$m.csv" --quiet > /dev/null
   done
   "$BF" rcurve tests/data/experiment/${f}_Toughness.csv --scene data_samples/dcb_composite/scene.toml \
-    --method energy --min-increment 5mm $MAP --csv "$TMP/${f}_energy5.csv" --quiet > /dev/null
+    --method energy $MAP --csv "$TMP/${f}_energy.csv" --quiet > /dev/null
 done
 gnuplot <<GP
 set terminal pngcairo size 1400,560 font "DejaVu Sans,11"
@@ -28,7 +28,7 @@ set grid
 set yrange [0:1800]
 do for [f in "DCB-01 DCB-02"] {
   set title f
-  plot "$TMP/".f."_energy5.csv" every ::1 u 1:2:3 w yerrorbars pt 7 ps 0.8 lc rgb "#d62728" t "energy, da >= 5 mm (+- k=2)", \
+  plot "$TMP/".f."_energy.csv" every ::1 u 1:2:3 w yerrorbars pt 7 ps 1.0 lw 1.5 lc rgb "#d62728" t "energy (default increments, +- k=2)", \
        "tests/data/experiment/".f."_Toughness.csv" every ::1 u 4:(\$5 > 0 ? 1000*\$5 : 1/0) w l lw 4 lc rgb "#bbbbbb" t "authors' G_I", \
        "$TMP/".f."_mbt.csv" every ::1 u 1:2 w l lw 1.5 lc rgb "#1f77b4" t "MBT", \
        "$TMP/".f."_cc.csv" every ::1 u 1:2 w l lw 1.5 lc rgb "#2ca02c" t "CC", \

@@ -194,11 +194,16 @@ PointResult SolveIcgn(const InterpolatedImage& ref, const InterpolatedImage& def
   const double fmean = fsum / n;
   double fss = 0;
   Eigen::Matrix<double, NP, NP> H = Eigen::Matrix<double, NP, NP>::Zero();
-  for (int k = 0; k < n; ++k) {
-    ws.f[k] -= static_cast<float>(fmean);
-    fss += static_cast<double>(ws.f[k]) * ws.f[k];
-    const Eigen::Map<const Eigen::Matrix<float, NP, 1>> j(ws.J.data() + static_cast<size_t>(k) * NP);
-    H.noalias() += (j * j.transpose()).template cast<double>();
+  // Hessian sum J J^T: float partial sums per subset row, double across rows.
+  for (int k0 = 0; k0 < n; k0 += side) {
+    Eigen::Matrix<float, NP, NP> Hrow = Eigen::Matrix<float, NP, NP>::Zero();
+    for (int k = k0; k < k0 + side; ++k) {
+      ws.f[k] -= static_cast<float>(fmean);
+      fss += static_cast<double>(ws.f[k]) * ws.f[k];
+      const Eigen::Map<const Eigen::Matrix<float, NP, 1>> j(ws.J.data() + static_cast<size_t>(k) * NP);
+      Hrow.noalias() += j * j.transpose();
+    }
+    H += Hrow.template cast<double>();
   }
   const double fnorm = std::sqrt(fss);
   Eigen::LDLT<Eigen::Matrix<double, NP, NP>> ldlt(H);
@@ -226,22 +231,41 @@ PointResult SolveIcgn(const InterpolatedImage& ref, const InterpolatedImage& def
     std::vector<float>& gbuf = ws.g;
     gbuf.resize(n);
     bool outside = false;
-    for (int k = 0, dy = -M; dy <= M && !outside; ++dy)
-      for (int dx = -M; dx <= M; ++dx, ++k) {
-        double X = xc + dx + p[0] + p[1] * dx + p[2] * dy;
-        double Y = yc + dy + p[6] + p[7] * dx + p[8] * dy;
-        if constexpr (kSecond) {
-          X += 0.5 * p[3] * dx * dx + p[4] * dx * dy + 0.5 * p[5] * dy * dy;
-          Y += 0.5 * p[9] * dx * dx + p[10] * dx * dy + 0.5 * p[11] * dy * dy;
+    if constexpr (kSecond) {
+      for (int k = 0, dy = -M; dy <= M && !outside; ++dy)
+        for (int dx = -M; dx <= M; ++dx, ++k) {
+          const double X = xc + dx + p[0] + p[1] * dx + p[2] * dy + 0.5 * p[3] * dx * dx +
+                           p[4] * dx * dy + 0.5 * p[5] * dy * dy;
+          const double Y = yc + dy + p[6] + p[7] * dx + p[8] * dy + 0.5 * p[9] * dx * dx +
+                           p[10] * dx * dy + 0.5 * p[11] * dy * dy;
+          if (!def.Inside(X, Y)) {
+            outside = true;
+            break;
+          }
+          const float v = def.Value(X, Y);
+          gbuf[k] = v;
+          gsum += v;
         }
-        if (!def.Inside(X, Y)) {
-          outside = true;
-          break;
+    } else {
+      // Affine warp: the subset is inside when its four corners are; the
+      // positions advance by constant steps along a row.
+      const double ax = 1 + p[1], bx = p[2], ay = p[7], by = 1 + p[8];
+      for (int cy = -M; cy <= M && !outside; cy += 2 * M)
+        for (int cx = -M; cx <= M; cx += 2 * M)
+          if (!def.Inside(xc + p[0] + ax * cx + bx * cy, yc + p[6] + ay * cx + by * cy))
+            outside = true;
+      if (!outside)
+        for (int k = 0, dy = -M; dy <= M; ++dy) {
+          const double X0 = xc + p[0] - ax * M + bx * dy, Y0 = yc + p[6] - ay * M + by * dy;
+          float row_sum = 0.0f;
+          for (int j = 0; j < side; ++j, ++k) {
+            const float v = def.Value(X0 + ax * j, Y0 + ay * j);
+            gbuf[k] = v;
+            row_sum += v;
+          }
+          gsum += row_sum;
         }
-        const float v = def.Value(X, Y);
-        gbuf[k] = v;
-        gsum += v;
-      }
+    }
     if (outside) {
       out.status = PointStatus::kOutOfImage;
       return out;
@@ -434,192 +458,243 @@ struct Correlator::Impl {
       cy[i] = grid.y[i] + ref_p[i][6];
     }
     std::size_t count = 0;
-    // Phase 1: all points with a guess, in parallel.
-    std::vector<size_t> list;
-    for (size_t i = 0; i < n; ++i)
-      if (active[i] && has_guess[i]) list.push_back(i);
+    // Points with a guess, in parallel; converged ones are done.
+    auto solve_guessed = [&](const std::vector<Params>& g, const std::vector<char>& hg) {
+      std::vector<size_t> list;
+      for (size_t i = 0; i < n; ++i)
+        if (active[i] && !done[i] && hg[i]) list.push_back(i);
 #pragma omp parallel num_threads(nthreads) reduction(+ : count)
-    {
-      Workspace ws;
+      {
+        Workspace ws;
 #pragma omp for schedule(dynamic, 16)
-      for (size_t k = 0; k < list.size(); ++k) {
-        const size_t i = list[k];
-        PointResult r = Solve(ref_interp, def_interp, cx[i], cy[i], guess[i], opt, ws);
-        ++count;
-        if (r.status == PointStatus::kOk) {
-          res[i] = r;
-          done[i] = 1;
+        for (size_t k = 0; k < list.size(); ++k) {
+          const size_t i = list[k];
+          PointResult r = Solve(ref_interp, def_interp, cx[i], cy[i], g[i], opt, ws);
+          ++count;
+          if (r.status == PointStatus::kOk) {
+            res[i] = r;
+            done[i] = 1;
+          }
         }
       }
-    }
-    auto neighbours = [&](size_t i, size_t* out) {
-      int m = 0;
-      const int ix = static_cast<int>(i % grid.nx), iy = static_cast<int>(i / grid.nx);
-      if (ix > 0) out[m++] = i - 1;
-      if (ix + 1 < grid.nx) out[m++] = i + 1;
-      if (iy > 0) out[m++] = i - grid.nx;
-      if (iy + 1 < grid.ny) out[m++] = i + grid.nx;
-      return m;
     };
-    auto frontier_of = [&](const std::vector<size_t>& from) {
-      std::vector<size_t> front;
-      std::vector<char> in_front(n, 0);
-      for (size_t i : from) {
-        if (res[i].status != PointStatus::kOk) continue;
-        size_t nb[4];
-        const int m = neighbours(i, nb);
-        for (int k = 0; k < m; ++k)
-          if (active[nb[k]] && !done[nb[k]] && !in_front[nb[k]]) {
-            in_front[nb[k]] = 1;
-            front.push_back(nb[k]);
-          }
-      }
-      return front;
-    };
-    std::vector<size_t> good;
-    for (size_t i = 0; i < n; ++i)
-      if (done[i] && res[i].status == PointStatus::kOk) good.push_back(i);
-    std::vector<size_t> front = frontier_of(good);
-    int seed_attempts = 0;
-    for (;;) {
-      while (!front.empty()) {
-        std::vector<PointResult> out(front.size());
-        // Small fronts run serially: a parallel region costs more than they do.
-#pragma omp parallel num_threads(nthreads) reduction(+ : count) if (front.size() >= 48)
-        {
-          Workspace ws;
-#pragma omp for schedule(dynamic, 8)
-          for (size_t k = 0; k < front.size(); ++k) {
-            const size_t i = front[k];
-            size_t nb[4];
-            const int m = neighbours(i, nb);
-            int best = -1;
-            for (int j = 0; j < m; ++j)
-              if (done[nb[j]] && res[nb[j]].status == PointStatus::kOk &&
-                  (best < 0 || res[nb[j]].zncc > res[nb[best]].zncc))
-                best = j;
-            Params p{};
-            if (best >= 0) {
-              const size_t b = nb[best];
-              p = res[b].p;
-              const double dx = cx[i] - cx[b], dy = cy[i] - cy[b];
-              p[0] += p[1] * dx + p[2] * dy;
-              p[6] += p[7] * dx + p[8] * dy;
+    // Wavefront propagation over the points flagged in `act` on a lattice of
+    // the given stride, then seeds for what no front reached.
+    auto propagate = [&](const std::vector<char>& act, int stride) {
+      auto neighbours = [&](size_t i, size_t* out) {
+        int m = 0;
+        const int ix = static_cast<int>(i % grid.nx), iy = static_cast<int>(i / grid.nx);
+        if (ix >= stride) out[m++] = i - stride;
+        if (ix + stride < grid.nx) out[m++] = i + stride;
+        if (iy >= stride) out[m++] = i - static_cast<size_t>(stride) * grid.nx;
+        if (iy + stride < grid.ny) out[m++] = i + static_cast<size_t>(stride) * grid.nx;
+        return m;
+      };
+      auto frontier_of = [&](const std::vector<size_t>& from) {
+        std::vector<size_t> front;
+        std::vector<char> in_front(n, 0);
+        for (size_t i : from) {
+          if (res[i].status != PointStatus::kOk) continue;
+          size_t nb[4];
+          const int m = neighbours(i, nb);
+          for (int k = 0; k < m; ++k)
+            if (act[nb[k]] && !done[nb[k]] && !in_front[nb[k]]) {
+              in_front[nb[k]] = 1;
+              front.push_back(nb[k]);
             }
-            PointResult r = Solve(ref_interp, def_interp, cx[i], cy[i], p, opt, ws);
-            ++count;
-            if (r.status != PointStatus::kOk && r.status != PointStatus::kOutOfImage) {
-              double u, v, peak;
-              if (IntegerSearch(ref_image, def_image, cx[i], cy[i], p[0], p[6], M,
-                                opt.local_search_radius, &u, &v, &peak)) {
-                Params q{};
-                q[0] = u;
-                q[6] = v;
-                PointResult r2 = Solve(ref_interp, def_interp, cx[i], cy[i], q, opt, ws);
-                ++count;
-                if (r2.status == PointStatus::kOk || r2.zncc > r.zncc) r = r2;
+        }
+        return front;
+      };
+      std::vector<size_t> good;
+      for (size_t i = 0; i < n; ++i)
+        if (done[i] && res[i].status == PointStatus::kOk) good.push_back(i);
+      std::vector<size_t> front = frontier_of(good);
+      int seed_attempts = 0;
+      for (;;) {
+        while (!front.empty()) {
+          std::vector<PointResult> out(front.size());
+          // Small fronts run serially: a parallel region costs more than they do.
+  #pragma omp parallel num_threads(nthreads) reduction(+ : count) if (front.size() >= 48)
+          {
+            Workspace ws;
+  #pragma omp for schedule(dynamic, 8)
+            for (size_t k = 0; k < front.size(); ++k) {
+              const size_t i = front[k];
+              size_t nb[4];
+              const int m = neighbours(i, nb);
+              int best = -1;
+              for (int j = 0; j < m; ++j)
+                if (done[nb[j]] && res[nb[j]].status == PointStatus::kOk &&
+                    (best < 0 || res[nb[j]].zncc > res[nb[best]].zncc))
+                  best = j;
+              Params p{};
+              if (best >= 0) {
+                const size_t b = nb[best];
+                p = res[b].p;
+                const double dx = cx[i] - cx[b], dy = cy[i] - cy[b];
+                p[0] += p[1] * dx + p[2] * dy;
+                p[6] += p[7] * dx + p[8] * dy;
+              }
+              PointResult r = Solve(ref_interp, def_interp, cx[i], cy[i], p, opt, ws);
+              ++count;
+              if (r.status != PointStatus::kOk && r.status != PointStatus::kOutOfImage) {
+                double u, v, peak;
+                if (IntegerSearch(ref_image, def_image, cx[i], cy[i], p[0], p[6], M,
+                                  opt.local_search_radius, &u, &v, &peak)) {
+                  Params q{};
+                  q[0] = u;
+                  q[6] = v;
+                  PointResult r2 = Solve(ref_interp, def_interp, cx[i], cy[i], q, opt, ws);
+                  ++count;
+                  if (r2.status == PointStatus::kOk || r2.zncc > r.zncc) r = r2;
+                }
+              }
+              out[k] = r;
+            }
+          }
+          for (size_t k = 0; k < front.size(); ++k) {
+            res[front[k]] = out[k];
+            done[front[k]] = 1;
+          }
+          front = frontier_of(front);
+        }
+        // Unprocessed points whose subset, moved like the converged points on
+        // average, would leave the image: out of image, no seed attempt.
+        {
+          double mu = 0, mv = 0;
+          size_t m = 0;
+          for (size_t i = 0; i < n; ++i)
+            if (done[i] && eligible[i] && res[i].status == PointStatus::kOk) {
+              mu += res[i].p[0];
+              mv += res[i].p[6];
+              ++m;
+            }
+          if (m > 0) {
+            mu /= m;
+            mv /= m;
+            for (size_t i = 0; i < n; ++i) {
+              if (!act[i] || done[i]) continue;
+              const double gu = has_guess[i] ? guess[i][0] : mu, gv = has_guess[i] ? guess[i][6] : mv;
+              if (!def_interp.Inside(cx[i] + gu - M, cy[i] + gv - M) ||
+                  !def_interp.Inside(cx[i] + gu + M, cy[i] + gv + M)) {
+                res[i].status = PointStatus::kOutOfImage;
+                done[i] = 1;
               }
             }
-            out[k] = r;
           }
         }
-        for (size_t k = 0; k < front.size(); ++k) {
-          res[front[k]] = out[k];
-          done[front[k]] = 1;
-        }
-        front = frontier_of(front);
-      }
-      // Unprocessed points whose subset, moved like the converged points on
-      // average, would leave the image: out of image, no seed attempt.
-      {
-        double mu = 0, mv = 0;
-        size_t m = 0;
+        // Seed the most interior unprocessed point (grid distance transform).
+        std::vector<int> dist(n, -1);
+        std::vector<size_t> queue;
         for (size_t i = 0; i < n; ++i)
-          if (done[i] && eligible[i] && res[i].status == PointStatus::kOk) {
-            mu += res[i].p[0];
-            mv += res[i].p[6];
-            ++m;
+          if (!(act[i] && !done[i])) {
+            dist[i] = 0;
+            queue.push_back(i);
           }
-        if (m > 0) {
-          mu /= m;
-          mv /= m;
-          for (size_t i = 0; i < n; ++i) {
-            if (!active[i] || done[i]) continue;
-            const double gu = has_guess[i] ? guess[i][0] : mu, gv = has_guess[i] ? guess[i][6] : mv;
-            if (!def_interp.Inside(cx[i] + gu - M, cy[i] + gv - M) ||
-                !def_interp.Inside(cx[i] + gu + M, cy[i] + gv + M)) {
-              res[i].status = PointStatus::kOutOfImage;
-              done[i] = 1;
+        if (queue.size() == n) break;  // nothing left
+        if (seed_attempts >= opt.max_seed_attempts) break;
+        for (size_t q = 0; q < queue.size(); ++q) {
+          size_t nb[4];
+          const int m = neighbours(queue[q], nb);
+          for (int k = 0; k < m; ++k)
+            if (dist[nb[k]] < 0) {
+              dist[nb[k]] = dist[queue[q]] + 1;
+              queue.push_back(nb[k]);
+            }
+        }
+        // Unprocessed points on the image border get distance from the edge too.
+        size_t seed = n;
+        int best_d = -1;
+        for (size_t i = 0; i < n; ++i) {
+          if (!(act[i] && !done[i])) continue;
+          const int ix = static_cast<int>(i % grid.nx), iy = static_cast<int>(i / grid.nx);
+          const int di = dist[i] < 0 ? std::numeric_limits<int>::max() : dist[i];
+          const int d = std::min({di, ix + 1, iy + 1, grid.nx - ix, grid.ny - iy});
+          if (d > best_d) {
+            best_d = d;
+            seed = i;
+          }
+        }
+        ++seed_attempts;
+        // Guess: the mean motion of converged points (0 when none).
+        double gu = 0, gv = 0;
+        size_t ng = 0;
+        for (size_t i = 0; i < n; ++i)
+          if (done[i] && res[i].status == PointStatus::kOk && eligible[i]) {
+            gu += res[i].p[0];
+            gv += res[i].p[6];
+            ++ng;
+          }
+        if (ng) {
+          gu /= ng;
+          gv /= ng;
+        }
+        if (has_guess[seed]) {
+          gu = guess[seed][0];
+          gv = guess[seed][6];
+        }
+        Workspace ws;
+        double u, v, peak;
+        PointResult r;
+        r.status = PointStatus::kOutOfImage;  // unless the search window fits
+        if (IntegerSearch(ref_image, def_image, cx[seed], cy[seed], gu, gv, M,
+                          opt.seed_search_radius, &u, &v, &peak)) {
+          Params q{};
+          q[0] = u;
+          q[6] = v;
+          r = Solve(ref_interp, def_interp, cx[seed], cy[seed], q, opt, ws);
+          ++count;
+        }
+        res[seed] = r;
+        done[seed] = 1;
+        front = frontier_of({seed});
+      }
+    };
+    const int coarse_stride = 4;
+    bool any_guess = false;
+    size_t n_active = 0;
+    for (size_t i = 0; i < n; ++i) {
+      any_guess = any_guess || (active[i] && has_guess[i]);
+      n_active += active[i] ? 1 : 0;
+    }
+    if (!any_guess && n_active >= 1500) {
+      // Coarse lattice first (few, serial-ish fronts), then every other point
+      // from its nearest converged lattice point in one parallel loop.
+      std::vector<char> coarse(n, 0);
+      for (size_t i = 0; i < n; ++i) {
+        const int ix = static_cast<int>(i % grid.nx), iy = static_cast<int>(i / grid.nx);
+        coarse[i] = active[i] && ix % coarse_stride == 0 && iy % coarse_stride == 0;
+      }
+      propagate(coarse, coarse_stride);
+      std::vector<Params> g2(n);
+      std::vector<char> hg2(n, 0);
+      for (size_t i = 0; i < n; ++i) {
+        if (!active[i] || done[i]) continue;
+        const int ix = static_cast<int>(i % grid.nx), iy = static_cast<int>(i / grid.nx);
+        const int bx = ix - ix % coarse_stride, by = iy - iy % coarse_stride;
+        double best_d = 1e300;
+        for (int jy : {by, by + coarse_stride})
+          for (int jx : {bx, bx + coarse_stride}) {
+            if (jx >= grid.nx || jy >= grid.ny) continue;
+            const size_t j = static_cast<size_t>(jy) * grid.nx + jx;
+            if (!done[j] || res[j].status != PointStatus::kOk) continue;
+            const double d = std::hypot(jx - ix, jy - iy);
+            if (d < best_d) {
+              best_d = d;
+              Params p = res[j].p;
+              const double dx = cx[i] - cx[j], dy = cy[i] - cy[j];
+              p[0] += p[1] * dx + p[2] * dy;
+              p[6] += p[7] * dx + p[8] * dy;
+              g2[i] = p;
+              hg2[i] = 1;
             }
           }
-        }
       }
-      // Seed the most interior unprocessed point (grid distance transform).
-      std::vector<int> dist(n, -1);
-      std::vector<size_t> queue;
-      for (size_t i = 0; i < n; ++i)
-        if (!(active[i] && !done[i])) {
-          dist[i] = 0;
-          queue.push_back(i);
-        }
-      if (queue.size() == n) break;  // nothing left
-      if (seed_attempts >= opt.max_seed_attempts) break;
-      for (size_t q = 0; q < queue.size(); ++q) {
-        size_t nb[4];
-        const int m = neighbours(queue[q], nb);
-        for (int k = 0; k < m; ++k)
-          if (dist[nb[k]] < 0) {
-            dist[nb[k]] = dist[queue[q]] + 1;
-            queue.push_back(nb[k]);
-          }
-      }
-      // Unprocessed points on the image border get distance from the edge too.
-      size_t seed = n;
-      int best_d = -1;
-      for (size_t i = 0; i < n; ++i) {
-        if (!(active[i] && !done[i])) continue;
-        const int ix = static_cast<int>(i % grid.nx), iy = static_cast<int>(i / grid.nx);
-        const int di = dist[i] < 0 ? std::numeric_limits<int>::max() : dist[i];
-        const int d = std::min({di, ix + 1, iy + 1, grid.nx - ix, grid.ny - iy});
-        if (d > best_d) {
-          best_d = d;
-          seed = i;
-        }
-      }
-      ++seed_attempts;
-      // Guess: the mean motion of converged points (0 when none).
-      double gu = 0, gv = 0;
-      size_t ng = 0;
-      for (size_t i = 0; i < n; ++i)
-        if (done[i] && res[i].status == PointStatus::kOk && eligible[i]) {
-          gu += res[i].p[0];
-          gv += res[i].p[6];
-          ++ng;
-        }
-      if (ng) {
-        gu /= ng;
-        gv /= ng;
-      }
-      if (has_guess[seed]) {
-        gu = guess[seed][0];
-        gv = guess[seed][6];
-      }
-      Workspace ws;
-      double u, v, peak;
-      PointResult r;
-      r.status = PointStatus::kOutOfImage;  // unless the search window fits
-      if (IntegerSearch(ref_image, def_image, cx[seed], cy[seed], gu, gv, M,
-                        opt.seed_search_radius, &u, &v, &peak)) {
-        Params q{};
-        q[0] = u;
-        q[6] = v;
-        r = Solve(ref_interp, def_interp, cx[seed], cy[seed], q, opt, ws);
-        ++count;
-      }
-      res[seed] = r;
-      done[seed] = 1;
-      front = frontier_of({seed});
+      solve_guessed(g2, hg2);
+    } else {
+      solve_guessed(guess, has_guess);
     }
+    propagate(active, 1);
     *solves += count;
     return res;
   }

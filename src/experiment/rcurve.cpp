@@ -360,6 +360,36 @@ RCurveResult ComputeRCurve(const ExperimentRecord& record, const RCurveOptions& 
                                          Mm(a0), Mm(spec.notch)));
   }
   result.curve.initial_crack_length = a0;
+  // DCB: tracked crack lengths often lag and jump (errors correlated over many
+  // rows, invisible to the local scatter). Their distance from the fitted
+  // compliance law C^(1/3) = s (a + Delta), in crack-length units, bounds that
+  // error from below; the larger estimate is used.
+  if (!is_ct && first_growth >= 0 && std::isnan(options.crack_length_noise)) {
+    std::vector<double> x, y;
+    for (int k = first_growth; k < m; ++k)
+      if (w.P[k] > 0 && w.d[k] > 0) {
+        x.push_back(w.a_raw[k]);
+        y.push_back(std::cbrt(w.d[k] / w.P[k]));
+      }
+    const LinearFit fit = x.size() >= 10 ? FitLine(x, y) : LinearFit{};
+    if (fit.slope > 0) {
+      double ss = 0.0;
+      for (std::size_t k = 0; k < x.size(); ++k) {
+        const double r = (y[k] - fit.intercept - fit.slope * x[k]) / fit.slope;
+        ss += r * r;
+      }
+      const double residual = std::sqrt(ss / x.size());
+      result.figures["crack_compliance_residual_m"] = residual;
+      if (residual > sigma_a) {
+        sigma_a = residual;
+        result.crack_length_noise = sigma_a;
+        result.notes.push_back(fmt::format(
+            "crack-length noise taken from the scatter about the compliance law C^(1/3) "
+            "linear in a ({}), larger than the local scatter",
+            Mm(residual)));
+      }
+    }
+  }
   result.figures["initial_compliance_m_per_N"] = lin.slope;
   result.figures["displacement_offset_m"] = lin.intercept;
   const double k_cov = options.coverage_factor;
@@ -383,11 +413,25 @@ RCurveResult ComputeRCurve(const ExperimentRecord& record, const RCurveOptions& 
     for (int k = 0; k < m; ++k) ds[k] = w.d[k] - lin.intercept;  // elastic unloading to d0
     const int start = std::max(0, first_growth - 1);
     AddDropped(result, "before initiation (no crack growth yet)", start);
-    int i = start, last_end = start;
-    while (true) {
+    // Increments [i, j]: each the shortest run with da >= da_min; rows left
+    // over at the end (growth < da_min) join the last increment.
+    std::vector<std::pair<int, int>> increments;
+    for (int i = start;;) {
       int j = i + 1;
       while (j < m && w.a[j] - w.a[i] < da_min) ++j;
       if (j >= m) break;
+      increments.emplace_back(i, j);
+      i = j;
+    }
+    if (!increments.empty() && increments.back().second < m - 1 &&
+        w.a[m - 1] > w.a[increments.back().second]) {
+      result.notes.push_back(fmt::format("the last {} rows (growth {}) joined the last increment",
+                                         m - 1 - increments.back().second,
+                                         Mm(w.a[m - 1] - w.a[increments.back().second])));
+      increments.back().second = m - 1;
+    }
+    int last_end = start;
+    for (const auto& [i, j] : increments) {
       const double da = w.a[j] - w.a[i];
       const double dU = EnergyReleased(w.P, ds, i, j);
       const double R = dU / (B * da);
@@ -414,10 +458,9 @@ RCurveResult ComputeRCurve(const ExperimentRecord& record, const RCurveOptions& 
       result.displacement.push_back(w.d[j]);
       result.rows.push_back(w.row[j]);
       last_end = j;
-      i = j;
     }
     result.points_used = result.curve.size() > 0 ? last_end - start + 1 : 0;
-    AddDropped(result, "tail shorter than one resolvable increment",
+    AddDropped(result, "tail without crack growth after the last increment",
                result.curve.size() > 0 ? m - 1 - last_end : m - start);
     if (result.curve.size() == 0)
       throw Error(ErrorKind::kInput, "no crack increment is resolvable against the crack-length noise",

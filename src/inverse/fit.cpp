@@ -479,7 +479,46 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
   std::vector<double> residuals(m);
   ForwardPrediction prediction;
   objective.Residuals(full, residuals.data(), &prediction);
+
+  // Outliers: residuals beyond the threshold in robust standard deviations.
+  if (options.outlier_threshold > 0.0) {
+    std::vector<double> magnitude(m);
+    for (int i = 0; i < m; ++i) magnitude[i] = std::abs(residuals[i]);
+    std::vector<double> sorted = magnitude;
+    std::nth_element(sorted.begin(), sorted.begin() + m / 2, sorted.end());
+    const double robust_sd = 1.4826 * sorted[m / 2];
+    const double limit = options.outlier_threshold * std::max(robust_sd, weighted ? 1.0 : 1e-300);
+    FitData kept = data;
+    kept.crack_length.clear();
+    kept.R.clear();
+    kept.R_uncertainty.clear();
+    std::vector<double> removed_a, removed_R;
+    for (int i = 0; i < m; ++i) {
+      if (magnitude[i] > limit) {
+        removed_a.push_back(data.crack_length[i]);
+        removed_R.push_back(data.R[i]);
+        continue;
+      }
+      kept.crack_length.push_back(data.crack_length[i]);
+      kept.R.push_back(data.R[i]);
+      if (weighted) kept.R_uncertainty.push_back(data.R_uncertainty[i]);
+    }
+    if (!removed_a.empty() && removed_a.size() * 5 <= static_cast<size_t>(m)) {
+      FitOptions again = options;
+      again.outlier_threshold = 0.0;
+      FitSummary refit = FitBridgingLaw(model, shape, kept, again);
+      refit.outlier_crack_lengths = removed_a;
+      refit.outlier_R = removed_R;
+      refit.evaluations += objective.evaluations();
+      refit.failed_evaluations += objective.failures();
+      refit.wall_s = clock.Seconds();
+      refit.verdict += fmt::format("; {} outlier(s) removed (residual > {:g} robust SD)",
+                                   removed_a.size(), options.outlier_threshold);
+      return refit;
+    }
+  }
   s.chi2 = best.chi2;
+  s.fitted_crack_length = data.crack_length;
   s.fitted_R = prediction.R;
   s.fitted_delta_root = prediction.delta_root;
   double sum_sq = 0.0;

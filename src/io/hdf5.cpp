@@ -88,7 +88,7 @@ struct H5Writer::Impl {
   // Calls f on the group or dataset at `path`; a missing path becomes a group.
   template <class F>
   void WithObject(const std::string& path, F&& f) {
-    if (path != "/" && !path.empty() && !file->nameExists(path)) EnsureGroup(path);
+    if (path != "/" && !path.empty()) EnsureGroup(path);  // creates only what is missing
     VisitObject(*file, path, f);
   }
 

@@ -173,6 +173,84 @@ class GrowingLdlt {
   int m_ = 0;
 };
 
+// One crack length in the flexibility form (1) restricted to the bridged
+// nodes z0..t-1 (k of them): Newton on (u_zone, p) with a dense LU, O(k^3).
+// F is the flexibility of nodes 0..t-1, Fg = F g, v = F s_t. On success `u`
+// (nodes 0..t-1) and `p` hold the solution.
+bool SolveZoneDense(const Eigen::MatrixXd& F, const Eigen::VectorXd& Fg, const Eigen::VectorXd& v,
+                    double phi, double alpha, double psi, double tip_force, int z0, int t, double h,
+                    const laws::BridgingLaw& law, const std::vector<double>& delta_max,
+                    double J_tip_c, const ReducedOptions& options, Eigen::VectorXd& u, double& p,
+                    int& newton_total) {
+  const int k = t - z0;
+  auto face_length = [&](int r) { return r == 1 ? 0.5 * h : h; };
+  Eigen::VectorXd b(k), db(k);
+  Eigen::VectorXd uz = u.segment(z0, k);
+  auto evaluate = [&](const Eigen::VectorXd& x_u, double x_p, Eigen::VectorXd* residual,
+                      Eigen::MatrixXd* jacobian) {
+    for (int i = 0; i < k; ++i) {
+      const int r = z0 + i;
+      const TractionSlope ts = BridgingTraction(law, 2.0 * x_u[i], delta_max[r]);
+      b[i] = face_length(r) * ts.sigma;
+      db[i] = 2.0 * face_length(r) * ts.slope;
+    }
+    const auto F_zz = F.block(z0, z0, k, k);
+    const auto F_back = F.row(t - 1).segment(z0, k);
+    const double reaction = alpha * x_p + tip_force - v.segment(z0, k).dot(b);
+    const double u_back = Fg[t - 1] * x_p - F_back.dot(b);
+    const double G = (reaction * reaction * phi + u_back * u_back / psi) / (2.0 * h);
+    residual->resize(k + 1);
+    residual->head(k).noalias() = x_u - Fg.segment(z0, k) * x_p;
+    residual->head(k).noalias() += F_zz * b;
+    const double sqrtG = std::sqrt(std::max(G, 1e-300));
+    (*residual)[k] = sqrtG / std::sqrt(J_tip_c) - 1.0;
+    if (!jacobian) return;
+    jacobian->resize(k + 1, k + 1);
+    jacobian->topLeftCorner(k, k).noalias() = F_zz * db.asDiagonal();
+    jacobian->topLeftCorner(k, k).diagonal().array() += 1.0;
+    jacobian->col(k).head(k) = -Fg.segment(z0, k);
+    const double scale = 1.0 / (2.0 * sqrtG * std::sqrt(J_tip_c) * h);
+    jacobian->row(k).head(k) =
+        -scale * (reaction * phi * v.segment(z0, k).transpose() + u_back / psi * F_back)
+                     .cwiseProduct(db.transpose());
+    (*jacobian)(k, k) = scale * (reaction * phi * alpha + u_back / psi * Fg[t - 1]);
+  };
+  auto norm = [&](const Eigen::VectorXd& r, const Eigen::VectorXd& x_u) {
+    const double u_scale = std::max(x_u.cwiseAbs().maxCoeff(), 1e-12);
+    return std::max(r.head(k).cwiseAbs().maxCoeff() / u_scale, std::abs(r[k]));
+  };
+  Eigen::VectorXd residual, trial_residual, trial_u;
+  Eigen::MatrixXd jacobian;
+  evaluate(uz, p, &residual, &jacobian);
+  double current = norm(residual, uz);
+  bool converged = false;
+  for (int it = 0; it < options.max_newton_iterations; ++it) {
+    ++newton_total;
+    if (current < options.tolerance) {
+      converged = true;
+      break;
+    }
+    const Eigen::VectorXd step = jacobian.partialPivLu().solve(-residual);
+    double lambda = 1.0, trial_p = p, trial = INFINITY;
+    for (int ls = 0; ls < 30; ++ls, lambda *= 0.5) {
+      trial_u = uz + lambda * step.head(k);
+      trial_p = p + lambda * step[k];
+      evaluate(trial_u, trial_p, &trial_residual, nullptr);
+      trial = norm(trial_residual, trial_u);
+      if (trial < current * (1.0 - 1e-4 * lambda) || trial < options.tolerance) break;
+    }
+    uz = trial_u;
+    p = trial_p;
+    evaluate(uz, p, &residual, &jacobian);
+    current = norm(residual, uz);
+  }
+  if (!converged && current < options.tolerance) converged = true;
+  if (!converged) return false;
+  evaluate(uz, p, &residual, nullptr);  // tractions b at the solution
+  u.head(t).noalias() = Fg.head(t) * p - F.block(0, z0, t, k) * b;
+  return true;
+}
+
 // Growth with the stiffness form of (1): S_ff u + b(u) = g p, solved by
 // (chord) Newton on (u, p) with the LDL^T factor of S_ff + diag(b') kept
 // across crack lengths (bordering, rank-one updates where a slope changed),
@@ -196,6 +274,12 @@ void GrowBordered(const CrackPlaneModel& m, const laws::BridgingLaw* law, double
   Eigen::VectorXd trial_u(n), trial_r(n), trial_a(n);
   double p = 0.0;
   const double force_scale = S.diagonal().cwiseAbs().maxCoeff();
+  // The flexibility of the free nodes too (bordering, O(t^2) per crack length)
+  // for crack lengths whose bridged zone is short: there the dense zone solve
+  // (O(k^3)) is cheaper than O(t^2) iterations on all free nodes.
+  Eigen::MatrixXd F = Eigen::MatrixXd::Zero(n, n);
+  F(0, 0) = 1.0 / S(0, 0);
+  Eigen::VectorXd v(n), Fg(n);
   Progress progress("reduced model", static_cast<size_t>(n - 1), options.progress);
 
   for (int t = 1; t < n; ++t) {
@@ -251,8 +335,17 @@ void GrowBordered(const CrackPlaneModel& m, const laws::BridgingLaw* law, double
       return std::max(ru.head(t).cwiseAbs().maxCoeff() / (force_scale * u_scale), std::abs(rg));
     };
 
+    v.head(t).noalias() = F.topLeftCorner(t, t) * s_t;
+    const int zone_size = law ? t - z0 : 0;
+    const bool dense_zone = options.solver == ReducedOptions::Solver::kHybrid && zone_size > 0 &&
+                            p > 0.0 && std::pow(zone_size, 3) < 6.0 * t * t;
     bool converged = false;
-    if (!law) {
+    if (dense_zone) {
+      Fg.head(t).noalias() = F.topLeftCorner(t, t) * g.head(t);
+      const double alpha = v.head(t).dot(g.head(t)) - g[t];
+      converged = SolveZoneDense(F, Fg, v, phi, alpha, F(t - 1, t - 1), tip_force, z0, t, h, *law,
+                                 delta_max, J_tip_c, options, u, p, newton_total);
+    } else if (!law) {
       // Linear in p: u = p S^-1 g, J_tip quadratic in p.
       x2.head(t) = g.head(t);
       tangent.Solve(x2.head(t));
@@ -323,6 +416,10 @@ void GrowBordered(const CrackPlaneModel& m, const laws::BridgingLaw* law, double
     progress.Update(static_cast<size_t>(t));
 
     if (t + 1 < n) {
+      F.topLeftCorner(t, t).noalias() += phi * v.head(t) * v.head(t).transpose();
+      F.col(t).head(t) = -phi * v.head(t);
+      F.row(t).head(t) = -phi * v.head(t).transpose();
+      F(t, t) = phi;
       elastic.Border(S.col(t), S(t, t), work);
       // Node t joins shut; its slope is the envelope's at zero opening.
       double slope_t = 0.0;
@@ -434,8 +531,6 @@ SimulationResult ReducedModel::Run(const laws::BridgingLaw* law, double J_tip_c,
   const double h = m.resolution;
   const Eigen::Map<const Eigen::MatrixXd> S(m.stiffness.data(), n, n);
   const Eigen::Map<const Eigen::VectorXd> g(m.load.data(), n);
-  const Eigen::Map<const Eigen::VectorXd> q(m.load_coupling.data(), n);
-  const Eigen::Map<const Eigen::VectorXd> qm(m.mouth_coupling.data(), n);
 
   SimulationResult result;
   result.model = "reduced";
@@ -445,7 +540,7 @@ SimulationResult ReducedModel::Run(const laws::BridgingLaw* law, double J_tip_c,
   result.figures["crack_plane_nodes"] = n;
   result.figures["model_build_s"] = m.build_s;
 
-  if (options.solver == ReducedOptions::Solver::kBordered) {
+  if (options.solver != ReducedOptions::Solver::kDense) {
     int newton_total = 0;
     GrowBordered(m, law, J_tip_c, options, result, newton_total);
     FillEnergyR(result.points, m.thickness);

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <numeric>
+#include <type_traits>
 
 #include <fmt/format.h>
 
@@ -66,20 +67,21 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// uGIMP weight and gradient in cell units: d = (x_p - x_i)/h, l = l_p/h.
-inline void Gimp1D(double d, double l, double& s, double& g) {
+// uGIMP weight and gradient in cell units: d = (x_p - x_i)/h, l = l_p/h,
+// inv_l = 1/l (no divisions in the hot loop).
+inline void Gimp1D(double d, double l, double inv_l, double& s, double& g) {
   const double ad = std::abs(d);
   const double sgn = d < 0.0 ? -1.0 : 1.0;
   if (ad < l) {
-    s = 1.0 - (d * d + l * l) / (2.0 * l);
-    g = -d / l;
+    s = 1.0 - 0.5 * (d * d + l * l) * inv_l;
+    g = -d * inv_l;
   } else if (ad < 1.0 - l) {
     s = 1.0 - ad;
     g = -sgn;
   } else if (ad < 1.0 + l) {
     const double t = 1.0 + l - ad;
-    s = t * t / (4.0 * l);
-    g = -sgn * t / (2.0 * l);
+    s = 0.25 * t * t * inv_l;
+    g = -0.5 * sgn * t * inv_l;
   } else {
     s = 0.0;
     g = 0.0;
@@ -132,7 +134,8 @@ struct Solver::Impl {
 
   // Particles (SoA).
   std::size_t P = 0;
-  double lp = 0;  // half size in cell units (uGIMP)
+  double lp = 0;      // half size in cell units (uGIMP)
+  double inv_lp = 0;  // 1 / lp
   std::vector<double> px, py, vx, vy, mass, vol, sxx, syy, sxy, hxx, hxy, hyx, hyy, ux, uy,
       w, dexx, deyy, dgxy;
   std::vector<std::uint16_t> mask;
@@ -180,6 +183,7 @@ struct Solver::Impl {
     for (std::size_t c = 0; c < model.constraints.size(); ++c)
       for (int n : model.constraints[c].nodes) node_constraint[n] = static_cast<int>(c);
     lp = opt.shape == ShapeFunction::kGimp ? 0.5 / model.ppc : 0.0;
+    inv_lp = lp > 0.0 ? 1.0 / lp : 0.0;
 
     // Particles sorted by row then column: each thread's chunk covers a band
     // of grid rows, so its private scatter buffer is a band, not the grid.
@@ -377,11 +381,11 @@ struct Solver::Impl {
     wt.j0 = static_cast<int>(std::floor(fy - lp));
     for (int a = 0; a < 3; ++a) {
       double s, g;
-      if constexpr (kGimp) Gimp1D(fx - (wt.i0 + a), lp, s, g);
+      if constexpr (kGimp) Gimp1D(fx - (wt.i0 + a), lp, inv_lp, s, g);
       else Linear1D(fx - (wt.i0 + a), s, g);
       wt.sx[a] = s;
       wt.gx[a] = g * inv_h;
-      if constexpr (kGimp) Gimp1D(fy - (wt.j0 + a), lp, s, g);
+      if constexpr (kGimp) Gimp1D(fy - (wt.j0 + a), lp, inv_lp, s, g);
       else Linear1D(fy - (wt.j0 + a), s, g);
       wt.sy[a] = s;
       wt.gy[a] = g * inv_h;
@@ -390,8 +394,8 @@ struct Solver::Impl {
 
   // ------------------------------------------------------------ stage 1
   // ParticlesToGrid: m_i = sum S m_p, p_i = sum S m_p v_p, f_i = -sum V_p sigma_p grad S.
-  template <bool kGimp>
-  void ParticlesToGrid(bool mass_momentum, bool force) {
+  template <bool kGimp, bool mass_momentum, bool force>
+  void ParticlesToGrid() {
     const bool direct = threads == 1;
     if (mass_momentum) {
       std::fill(gm.begin(), gm.end(), 0.0);
@@ -455,24 +459,32 @@ struct Solver::Impl {
           bits = mask[p];
         }
         const double mp = mass[p], mvx = mp * vx[p], mvy = mp * vy[p];
-        const double V = vol[p], s11 = sxx[p], s22 = syy[p], s12 = sxy[p];
-        for (int b = 0; b < 3; ++b) {
-          const std::size_t row = static_cast<std::size_t>(wt.j0 + b - row0) * nx + wt.i0;
-          for (int a = 0; a < 3; ++a) {
-            const double S = wt.sx[a] * wt.sy[b];
-            const std::size_t k = row + a + (((bits >> (b * 3 + a)) & 1u) ? stride : 0);
-            if (mass_momentum) {
-              m_[k] += S * mp;
-              px_[k] += S * mvx;
-              py_[k] += S * mvy;
-            }
-            if (force) {
-              const double gxs = wt.gx[a] * wt.sy[b], gys = wt.sx[a] * wt.gy[b];
-              fx_[k] -= V * (s11 * gxs + s12 * gys);
-              fy_[k] -= V * (s12 * gxs + s22 * gys);
+        const double V = vol[p];
+        const double s11 = V * sxx[p], s22 = V * syy[p], s12 = V * sxy[p];
+        // Most particles are away from the crack (bits == 0): no field offsets.
+        auto scatter = [&](auto cracked) {
+          for (int b = 0; b < 3; ++b) {
+            const std::size_t row = static_cast<std::size_t>(wt.j0 + b - row0) * nx + wt.i0;
+            const double syb = wt.sy[b], gyb = wt.gy[b];
+            for (int a = 0; a < 3; ++a) {
+              const double S = wt.sx[a] * syb;
+              std::size_t k = row + a;
+              if constexpr (decltype(cracked)::value) k += ((bits >> (b * 3 + a)) & 1u) * stride;
+              if constexpr (mass_momentum) {
+                m_[k] += S * mp;
+                px_[k] += S * mvx;
+                py_[k] += S * mvy;
+              }
+              if constexpr (force) {
+                const double gxs = wt.gx[a] * syb, gys = wt.sx[a] * gyb;
+                fx_[k] -= s11 * gxs + s12 * gys;
+                fy_[k] -= s12 * gxs + s22 * gys;
+              }
             }
           }
-        }
+        };
+        if (bits == 0) scatter(std::false_type{});
+        else scatter(std::true_type{});
       }
       if (!direct) {
 #pragma omp barrier
@@ -508,14 +520,11 @@ struct Solver::Impl {
 
   // Prescribed velocities on the constrained nodes' own field (field 0) in
   // momentum `qx, qy` at rate `rate`.
-  void ConstrainMomentum(std::vector<double>& qx, std::vector<double>& qy, double rate) {
+  void ConstrainVelocities(double rate) {
     const double mfloor = MassFloor();
     for (const auto& c : model.constraints)
-      for (int n : c.nodes) {
-        const double m = gm[n];
-        if (m <= mfloor) continue;
-        ApplyConstraint(c, n, m, rate, qx[n], qy[n]);
-      }
+      for (int n : c.nodes)
+        if (gm[n] > mfloor) ApplyConstraint(c, n, 1.0, rate, gvx[n], gvy[n]);
   }
 
   // Sets the constrained components of momentum (qx, qy) of node n; returns
@@ -676,6 +685,7 @@ struct Solver::Impl {
     const double ylo = y0 + (1.0 + lp) * h, yhi = y0 + (ny - 2.0 - lp) * h;
     int left_grid = 0;
     double ke = 0.0;
+    const double beta_dt = dt * (opt.particle_damping >= 0.0 ? opt.particle_damping : alpha);
     const double* __restrict vxg = gvx.data();
     const double* __restrict vyg = gvy.data();
     const double* __restrict dvxg = gdvx.data();
@@ -686,30 +696,36 @@ struct Solver::Impl {
       ComputeWeights<kGimp>(px[p], py[p], wt);
       const std::uint16_t bits = mask[p];
       double dvx = 0, dvy = 0, nvx = 0, nvy = 0, lxx = 0, lxy = 0, lyx = 0, lyy = 0;
-      for (int b = 0; b < 3; ++b) {
-        const std::size_t row = static_cast<std::size_t>(wt.j0 + b) * nx + wt.i0;
-        for (int a = 0; a < 3; ++a) {
-          const std::size_t k = row + a + (((bits >> (b * 3 + a)) & 1u) ? N : 0);
-          const double S = wt.sx[a] * wt.sy[b];
-          const double vxi = vxg[k], vyi = vyg[k];
-          if (kinematics) {
-            dvx += S * dvxg[k];
-            dvy += S * dvyg[k];
-            nvx += S * vxi;
-            nvy += S * vyi;
-          }
-          if (gradient) {
-            const double gxs = wt.gx[a] * wt.sy[b], gys = wt.sx[a] * wt.gy[b];
-            lxx += vxi * gxs;
-            lxy += vxi * gys;
-            lyx += vyi * gxs;
-            lyy += vyi * gys;
+      auto gather = [&](auto cracked) {
+        for (int b = 0; b < 3; ++b) {
+          const std::size_t row = static_cast<std::size_t>(wt.j0 + b) * nx + wt.i0;
+          const double syb = wt.sy[b], gyb = wt.gy[b];
+          for (int a = 0; a < 3; ++a) {
+            std::size_t k = row + a;
+            if constexpr (decltype(cracked)::value) k += ((bits >> (b * 3 + a)) & 1u) * N;
+            const double S = wt.sx[a] * syb;
+            const double vxi = vxg[k], vyi = vyg[k];
+            if (kinematics) {
+              dvx += S * dvxg[k];
+              dvy += S * dvyg[k];
+              nvx += S * vxi;
+              nvy += S * vyi;
+            }
+            if (gradient) {
+              const double gxs = wt.gx[a] * syb, gys = wt.sx[a] * gyb;
+              lxx += vxi * gxs;
+              lxy += vxi * gys;
+              lyx += vyi * gxs;
+              lyy += vyi * gys;
+            }
           }
         }
-      }
+      };
+      if (bits == 0) gather(std::false_type{});
+      else gather(std::true_type{});
       if (kinematics) {
-        vx[p] += dvx;
-        vy[p] += dvy;
+        vx[p] += dvx - beta_dt * vx[p];
+        vy[p] += dvy - beta_dt * vy[p];
         px[p] += dt * nvx;
         py[p] += dt * nvy;
         ux[p] += dt * nvx;
@@ -809,7 +825,7 @@ struct Solver::Impl {
     bool inside = true;
     switch (opt.scheme) {
       case UpdateScheme::kUSL:
-        ParticlesToGrid<kGimp>(true, true);
+        ParticlesToGrid<kGimp, true, true>();
         lap(0);
         GridUpdate();
         lap(1);
@@ -821,15 +837,17 @@ struct Solver::Impl {
       case UpdateScheme::kUSF:
       case UpdateScheme::kUSAVG: {
         const double first = opt.scheme == UpdateScheme::kUSF ? 1.0 : 0.5;
-        ParticlesToGrid<kGimp>(true, false);
-        ConstrainMomentum(gpx, gpy, Rate(t));
+        ParticlesToGrid<kGimp, true, false>();
         lap(0);
+        // Strain from the velocities before the force update, constrained
+        // (the momenta stay as mapped, so FLIP sees the whole change).
         NodeVelocities(true);
+        ConstrainVelocities(Rate(t));
         GridToParticles<kGimp>(false, true, first, nullptr);
         lap(2);
         StressUpdate();
         lap(3);
-        ParticlesToGrid<kGimp>(false, true);
+        ParticlesToGrid<kGimp, false, true>();
         lap(0);
         GridUpdate();
         lap(1);

@@ -154,8 +154,9 @@ TEST(RealSequence, AldicFracHeter) {
                 f.crack_length_m / opt.scale_m_per_px);
     // The specimen moves up by about 56 px: points near the top of the crop
     // leave the image. Away from the notch and the grip boundary (x >= 100)
-    // every other point must correlate; near them (sheared subsets, the
-    // opened gap) a few may fail.
+    // and from the rows that leave the image (y >= 80) every point must
+    // correlate; near them (sheared subsets, the opened gap, the image edge)
+    // a few may fail.
     size_t used = 0, good = 0, used_far = 0, good_far = 0;
     int hist[7] = {0, 0, 0, 0, 0, 0, 0};
     for (size_t i = 0; i < f.field.size(); ++i) {
@@ -166,8 +167,7 @@ TEST(RealSequence, AldicFracHeter) {
         continue;
       ++used;
       good += f.field.ok(i) ? 1 : 0;
-      if (f.field.x[i] >= 100 && !f.field.ok(i)) std::printf("(%.0f,%.0f,%d) ", f.field.x[i], f.field.y[i], static_cast<int>(st));
-      if (f.field.x[i] >= 100) {
+      if (f.field.x[i] >= 100 && f.field.y[i] >= 80) {
         ++used_far;
         good_far += f.field.ok(i) ? 1 : 0;
       }

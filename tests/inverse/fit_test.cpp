@@ -190,6 +190,32 @@ TEST(Fit, StartFarFromTheOptimum) {
   EXPECT_NEAR(s.sigma_c.value, truth.sigma_c, 0.02 * truth.sigma_c);
 }
 
+TEST(Fit, OutliersAreRemovedAndListed) {
+  const laws::LawShape shape = laws::MakeLinearShape();
+  const LawParameters truth{1.0e6, 500.0, 2210.0};
+  FitData data = MakeData(shape, truth, kA0 + 0.08, 40, 0.01, 21);
+  data.R[5] *= 1.3;  // three gross outliers (30, 20 and 25 % off)
+  data.R[20] *= 0.8;
+  data.R[33] *= 1.25;
+  FitOptions options = FastOptions();
+  const FitSummary s = FitBridgingLaw(AnalyticForwardModel(kModulus, kA0), shape, data, options);
+  ASSERT_EQ(s.outlier_crack_lengths.size(), 3u) << s.verdict;
+  EXPECT_DOUBLE_EQ(s.outlier_crack_lengths[0], data.crack_length[5]);
+  EXPECT_DOUBLE_EQ(s.outlier_R[1], data.R[20]);
+  EXPECT_NE(s.verdict.find("3 outlier(s) removed"), std::string::npos);
+  EXPECT_EQ(s.data_points, 37);
+  const ParameterEstimate* e[] = {&s.sigma_c, &s.J_B, &s.J_tip_c};
+  const double values[] = {truth.sigma_c, truth.J_B, truth.J_tip_c};
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_LE(e[i]->ci95_low, values[i]) << ParameterName(i);
+    EXPECT_GE(e[i]->ci95_high, values[i]) << ParameterName(i);
+  }
+  // Without the check the outliers pull the fit away.
+  options.outlier_threshold = 0.0;
+  const FitSummary raw = FitBridgingLaw(AnalyticForwardModel(kModulus, kA0), shape, data, options);
+  EXPECT_GT(raw.rms_residual, 3.0 * s.rms_residual);
+}
+
 TEST(Fit, FixedParameterStaysFixed) {
   const laws::LawShape shape = laws::MakeCubicShape();
   const LawParameters truth{1.0e6, 500.0, 2210.0};

@@ -116,6 +116,19 @@ TEST(Hdf5, RoundTripOfEveryRecordType) {
   }
 }
 
+TEST(Hdf5, AttributesOnNewNestedGroups) {
+  const auto path = TempDir() / "nested.h5";
+  {
+    H5Writer writer(path);
+    writer.WriteAttribute("/fit/parameters/sigma_c", "units", "Pa");
+    writer.WriteAttribute("/fit/parameters/sigma_c", "value", 0.45e6);
+    writer.Commit();
+  }
+  H5Reader reader(path);
+  EXPECT_EQ(reader.ReadStringAttribute("/fit/parameters/sigma_c", "units"), "Pa");
+  EXPECT_DOUBLE_EQ(reader.ReadNumberAttribute("/fit/parameters/sigma_c", "value"), 0.45e6);
+}
+
 TEST(Hdf5, UncommittedWriterLeavesNoFile) {
   const auto dir = TempDir() / "uncommitted";
   std::filesystem::create_directories(dir);

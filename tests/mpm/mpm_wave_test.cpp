@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 #include "bridgefit/mpm/solver.hpp"
@@ -72,6 +73,8 @@ BarResult RunBar(ShapeFunction shape, UpdateScheme scheme) {
   }
   EXPECT_EQ(solver.status(), RunStatus::kOk) << solver.message();
   if (crossings.size() >= 2) r.period = crossings[1] - crossings[0];
+  std::printf("%s %s: period %.6g s, analytic %.6g s, ratio %.5f\n", ShapeFunctionName(shape),
+              UpdateSchemeName(scheme), r.period, r.expected, r.period / r.expected);
   return r;
 }
 

@@ -37,6 +37,11 @@ struct FitOptions {
   // one off the data (J_tip,c from the first points, J_B from the rise).
   std::array<double, kParameterCount> initial = {NAN, NAN, NAN};
   bool profile_likelihood = true;
+  // Points whose residual exceeds `outlier_threshold` robust standard
+  // deviations (1.4826 x median |residual|) after a first fit are removed
+  // (at most a fifth of the data), listed in the summary, and the fit is
+  // repeated without them. 0 disables the check.
+  double outlier_threshold = 5.0;
   unsigned seed = 12345;          // Latin-hypercube design
   bool progress = false;
 
@@ -104,8 +109,11 @@ struct FitSummary {
   ParameterEstimate sigma_c, J_B, delta_c, J_tip_c;
   laws::TruncationBounds bounds;  // evidence when steady state was not reached
   std::vector<StartResult> starts;
+  std::vector<double> outlier_crack_lengths;  // removed points [m]
+  std::vector<double> outlier_R;              // their R [J/m^2]
   std::vector<Profile> profiles;
-  std::vector<double> fitted_R;   // model R at the data's crack lengths
+  std::vector<double> fitted_crack_length;  // the data points used (outliers removed) [m]
+  std::vector<double> fitted_R;   // model R there [J/m^2]
   std::vector<double> fitted_delta_root;
 
   std::string BriefReport() const;

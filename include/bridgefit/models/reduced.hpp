@@ -9,7 +9,7 @@
 // elastic unloading toward the origin. The load p = P/B is fixed by the tip
 // criterion J_tip = J_tip,c, J_tip being the energy released per unit growth
 // with the tractions frozen: the mean of the nodal-release energies of the
-// step behind and the step ahead of the tip (centred, O(h^2)):
+// step behind and the step ahead of the tip (centred on the tip):
 //   J_tip = (R_t^2 phi_t + u_{t-1}^2 / psi_t) / (2 h)                   (2)
 // (R_t: reaction that holds the tip node shut; phi_t: its flexibility once
 // released; psi_t: flexibility of the node behind the tip). Both releases are
@@ -17,7 +17,9 @@
 // carries the traction of its full face length; that symmetric choice cancels
 // the O(sqrt h) work of the near-tip tractions (face-pressure check: K within
 // 0.7% at a/h = 20, against 4% with the node's half share). (1)-(2) is solved
-// by Newton on (u_zone, p), warm-started from the previous crack length.
+// by Newton on (u, p), warm-started from the previous crack length, either in
+// the stiffness form S u + b(u) = g p with factors kept across crack lengths
+// (ReducedOptions::Solver::kBordered) or in the form (1) (kDense).
 
 #include <memory>
 #include <string>
@@ -33,9 +35,11 @@ namespace bridgefit::models {
 struct ReducedOptions {
   // kBordered: stiffness form with an LDL^T factor grown across crack lengths,
   // O(t^2) per crack length. kDense: flexibility form, dense LU of the zone
-  // Jacobian, O(k^3). Same equations, same answers (a test checks).
-  enum class Solver { kBordered, kDense };
-  Solver solver = Solver::kBordered;
+  // Jacobian, O(k^3). kHybrid: per crack length the cheaper of the two
+  // (dense while the bridged zone is short, k^3 < 6 t^2). Same equations,
+  // same answers (a test checks).
+  enum class Solver { kHybrid, kBordered, kDense };
+  Solver solver = Solver::kHybrid;
   specimen::CrackPlaneOptions mesh;  // resolution, largest crack length
   int max_newton_iterations = 60;
   double tolerance = 1e-10;          // relative residual

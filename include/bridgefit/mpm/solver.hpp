@@ -49,6 +49,10 @@ struct SolverOptions {
   // KE/SE tends to kinetic_target (d alpha/dt = gain omega_1^2 (KE/SE/target - 1)).
   double damping = -1.0;
   double damping_ratio = 1.0;
+  // Particle damping [1/s]: v_p -= dt beta v_p in the gather; it also damps
+  // particle-velocity modes the grid does not see (FLIP noise). < 0: equal
+  // to the grid damping alpha.
+  double particle_damping = 0.0;
   bool feedback_damping = false;
   double kinetic_target = 1e-3;
   double feedback_gain = 0.5;

@@ -1,0 +1,5 @@
+# DIC speed-vs-accuracy bench (included by bench/CMakeLists.txt when
+# BRIDGEFIT_BUILD_BENCH=ON).
+add_executable(dic_speed ${CMAKE_CURRENT_LIST_DIR}/dic_speed.cpp)
+target_link_libraries(dic_speed PRIVATE bf_dic OpenMP::OpenMP_CXX)
+target_compile_definitions(dic_speed PRIVATE BRIDGEFIT_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
