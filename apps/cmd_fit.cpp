@@ -2,6 +2,7 @@
 //   bridgefit fit rcurve.csv --scene scene.toml --law linear --json
 //   bridgefit fit rcurve.h5 --scene scene.toml --fix J_tip_c=2210J/m^2 --out fit.h5
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <sstream>
@@ -107,7 +108,7 @@ class FitCommand final : public Command {
     sub.add_option("--scene", scene_, "Scene TOML: specimen and material")->required();
     sub.add_option("--model", model_, "Forward model: reduced | analytic | auto")
         ->default_val("reduced");
-    sub.add_option("--law", law_, "Law family: linear|cubic|triangular|exponential")
+    sub.add_option("--law", law_, "Law family: linear|cubic|triangular|exponential|compare (AICc)")
         ->default_val("linear");
     sub.add_option("--optimizer", optimizer_, "ceres-lm|bobyqa|neldermead|cobyla|direct|crs2")
         ->default_val("ceres-lm");
@@ -127,27 +128,32 @@ class FitCommand final : public Command {
     const inverse::RKind kind = inverse::ParseRKind(r_kind_);
     const inverse::FitData data = inverse::FitData::FromRCurve(curve, kind);
 
+    // The law family, or "compare": every family, ranked by AICc.
+    const bool compare = law_ == "compare";
     laws::LawShape shape;
-    const laws::LawFamily family = [&] {
-      try {
-        return laws::ParseLawFamily(law_);
-      } catch (const Error& e) {
-        throw Error(ErrorKind::kUsage, e.message(), {.field = "--law", .value = law_});
-      }
-    }();
-    switch (family) {
-      case laws::LawFamily::kLinear: shape = laws::MakeLinearShape(); break;
-      case laws::LawFamily::kCubic: shape = laws::MakeCubicShape(); break;
-      case laws::LawFamily::kTriangular: shape = laws::MakeTriangularShape(0.1); break;
-      case laws::LawFamily::kExponential: shape = laws::MakeExponentialShape(3.0); break;
-      default:
-        if (scene.bridging && scene.bridging->shape.family == family) {
-          shape = scene.bridging->shape;  // trilinear/table shape from the scene
-        } else {
-          throw Error(ErrorKind::kUsage, "this law family needs its shape from the scene",
-                      {.field = "--law", .value = law_,
-                       .expected = "a scene whose [bridging] has this law"});
+    if (!compare) {
+      const laws::LawFamily family = [&] {
+        try {
+          return laws::ParseLawFamily(law_);
+        } catch (const Error& e) {
+          throw Error(ErrorKind::kUsage, e.message(),
+                      {.field = "--law", .value = law_, .expected = e.context().expected + " or compare"});
         }
+      }();
+      switch (family) {
+        case laws::LawFamily::kLinear: shape = laws::MakeLinearShape(); break;
+        case laws::LawFamily::kCubic: shape = laws::MakeCubicShape(); break;
+        case laws::LawFamily::kTriangular: shape = laws::MakeTriangularShape(0.1); break;
+        case laws::LawFamily::kExponential: shape = laws::MakeExponentialShape(3.0); break;
+        default:
+          if (scene.bridging && scene.bridging->shape.family == family) {
+            shape = scene.bridging->shape;  // trilinear/table shape from the scene
+          } else {
+            throw Error(ErrorKind::kUsage, "this law family needs its shape from the scene",
+                        {.field = "--law", .value = law_,
+                         .expected = "a scene whose [bridging] has this law"});
+          }
+      }
     }
 
     inverse::FitOptions options;
@@ -204,7 +210,22 @@ class FitCommand final : public Command {
                   {.field = "--model", .value = model_, .expected = "reduced, analytic or auto"});
     }
 
-    const FitSummary s = inverse::FitBridgingLaw(*model, shape, data, options);
+    std::vector<inverse::LawComparison> comparison;
+    FitSummary s;
+    if (compare) {
+      comparison = inverse::CompareLawFamilies(
+          *model,
+          {laws::MakeLinearShape(), laws::MakeCubicShape(), laws::MakeTriangularShape(0.1),
+           laws::MakeExponentialShape(3.0)},
+          data, options);
+      const auto best = std::min_element(
+          comparison.begin(), comparison.end(), [](const auto& a, const auto& b) {
+            return !std::isnan(a.aicc) && (std::isnan(b.aicc) || a.aicc < b.aicc);
+          });
+      s = best->summary;
+    } else {
+      s = inverse::FitBridgingLaw(*model, shape, data, options);
+    }
 
     if (!out_h5_.empty()) {
       io::H5Writer file(out_h5_);
@@ -285,9 +306,23 @@ class FitCommand final : public Command {
       for (size_t i = 0; i < s.outlier_R.size(); ++i)
         outliers.push_back({{"crack_length_m", s.outlier_crack_lengths[i]}, {"R_J_per_m2", s.outlier_R[i]}});
       out["outliers_removed"] = std::move(outliers);
+      nlohmann::json families = nlohmann::json::array();
+      for (const auto& c : comparison)
+        families.push_back({{"law", c.law}, {"aicc", NumberOrNull(c.aicc)},
+                            {"delta_aicc", NumberOrNull(c.delta_aicc)},
+                            {"chi2", NumberOrNull(c.summary.chi2)},
+                            {"converged", c.summary.converged}});
+      out["law_comparison"] = std::move(families);
       out["parameter_order"] = {"sigma_c_Pa", "J_B_J_per_m2", "J_tip_c_J_per_m2"};
       PrintJson(out);
     } else {
+      if (!comparison.empty()) {
+        std::cout << "law families by AICc (smaller is better):\n";
+        for (const auto& c : comparison)
+          std::cout << fmt::format("  {:<12} AICc {:10.2f}  delta {:7.2f}  chi2 {:10.2f}{}\n", c.law,
+                                   c.aicc, c.delta_aicc, c.summary.chi2,
+                                   c.summary.converged ? "" : "  (not converged)");
+      }
       std::cout << s.BriefReport();
       if (!model_note.empty()) std::cout << "  " << model_note << "\n";
       if (!out_h5_.empty()) std::cout << "  written: " << out_h5_ << "\n";

@@ -556,9 +556,12 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
   //    95% interval edges are found by stepping out from the optimum in the
   //    box coordinate until Delta chi^2 > threshold, then bisecting.
   const double threshold = 3.84 * scale2;
-  if (options.profile_likelihood) {
+  {
     for (int k = 0; k < n_free; ++k) {
       const int index = free[k];
+      // J_B's profile decides identifiability (steady state in the window):
+      // it always runs; the others only when asked for.
+      if (!options.profile_likelihood && index != kJB) continue;
       Profile profile;
       profile.parameter = index;
       profile.chi2_threshold = threshold;
@@ -743,6 +746,38 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
   s.failed_evaluations = objective.failures();
   s.wall_s = clock.Seconds();
   return s;
+}
+
+std::vector<LawComparison> CompareLawFamilies(const ForwardModel& model,
+                                              const std::vector<laws::LawShape>& shapes,
+                                              const FitData& data, const FitOptions& options) {
+  std::vector<LawComparison> out;
+  for (const laws::LawShape& shape : shapes) {
+    LawComparison c;
+    c.law = std::string(laws::LawFamilyName(shape.family));
+    c.summary = FitBridgingLaw(model, shape, data, options);
+    out.push_back(std::move(c));
+  }
+  const bool weighted = !data.R_uncertainty.empty();
+  double scale2 = 1.0;
+  if (!weighted) {
+    double best = INFINITY;
+    for (const auto& c : out)
+      if (c.summary.converged) best = std::min(best, c.summary.chi2 / std::max(1, c.summary.data_points - 3));
+    scale2 = std::isfinite(best) && best > 0 ? best : 1.0;
+  }
+  double best_aicc = INFINITY;
+  for (auto& c : out) {
+    if (!c.summary.converged) continue;
+    const int k = c.summary.bridging_detected
+                      ? static_cast<int>(std::count(options.fixed.begin(), options.fixed.end(), false))
+                      : (options.fixed[kJTipC] ? 0 : 1);
+    const int n = c.summary.data_points;
+    c.aicc = c.summary.chi2 / scale2 + 2.0 * k + (n - k - 1 > 0 ? 2.0 * k * (k + 1) / (n - k - 1) : 0.0);
+    best_aicc = std::min(best_aicc, c.aicc);
+  }
+  for (auto& c : out) c.delta_aicc = c.aicc - best_aicc;
+  return out;
 }
 
 }  // namespace bridgefit::inverse

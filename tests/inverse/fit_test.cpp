@@ -216,6 +216,26 @@ TEST(Fit, OutliersAreRemovedAndListed) {
   EXPECT_GT(raw.rms_residual, 3.0 * s.rms_residual);
 }
 
+TEST(Fit, InformationCriterionPrefersTheTrueFamily) {
+  const LawParameters truth{1.0e6, 500.0, 2210.0};
+  const AnalyticForwardModel model(kModulus, kA0);
+  for (const laws::LawShape& true_shape : {laws::MakeLinearShape(), laws::MakeCubicShape()}) {
+    const FitData data = MakeData(true_shape, truth, kA0 + 0.08, 40, 0.005, 31);
+    FitOptions options = FastOptions();
+    options.profile_likelihood = false;
+    const auto comparison = CompareLawFamilies(
+        model, {laws::MakeLinearShape(), laws::MakeCubicShape(), laws::MakeExponentialShape(3.0)},
+        data, options);
+    ASSERT_EQ(comparison.size(), 3u);
+    const auto best = std::min_element(comparison.begin(), comparison.end(),
+                                       [](const auto& a, const auto& b) { return a.aicc < b.aicc; });
+    EXPECT_EQ(best->law, laws::LawFamilyName(true_shape.family));
+    EXPECT_DOUBLE_EQ(best->delta_aicc, 0.0);
+    for (const auto& c : comparison)
+      if (&c != &*best) EXPECT_GT(c.delta_aicc, 2.0) << c.law;
+  }
+}
+
 TEST(Fit, FixedParameterStaysFixed) {
   const laws::LawShape shape = laws::MakeCubicShape();
   const LawParameters truth{1.0e6, 500.0, 2210.0};

@@ -36,6 +36,8 @@ struct FitOptions {
   // First start (physical values, SI) for the free parameters; NaN: read
   // one off the data (J_tip,c from the first points, J_B from the rise).
   std::array<double, kParameterCount> initial = {NAN, NAN, NAN};
+  // Profile-likelihood intervals for every free parameter. J_B's profile
+  // runs regardless: it decides whether steady state was reached.
   bool profile_likelihood = true;
   // Points whose residual exceeds `outlier_threshold` robust standard
   // deviations (1.4826 x median |residual|) after a first fit are removed
@@ -124,5 +126,18 @@ struct FitSummary {
 // options or data.
 FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape,
                           const FitData& data, const FitOptions& options);
+
+// Law families compared by Akaike's information criterion with the small-
+// sample correction: AICc = chi2 / s^2 + 2k + 2k(k+1)/(n-k-1), s^2 = 1 with
+// reported uncertainties (else the best family's reduced chi^2).
+struct LawComparison {
+  std::string law;
+  FitSummary summary;
+  double aicc = NAN;
+  double delta_aicc = NAN;  // against the best family
+};
+std::vector<LawComparison> CompareLawFamilies(const ForwardModel& model,
+                                              const std::vector<laws::LawShape>& shapes,
+                                              const FitData& data, const FitOptions& options);
 
 }  // namespace bridgefit::inverse
