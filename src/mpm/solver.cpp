@@ -226,7 +226,11 @@ struct Solver::Impl {
     // Time step: CFL on the largest wave speed.
     const double c = model.law->MaxWaveSpeed(model.density);
     BF_CHECK_INPUT(std::isfinite(c) && c > 0.0, "wave speed is not positive");
-    dt = opt.cfl_factor * h / c;
+    // uGIMP nodes at the edge of a particle's support have mass ~ t^2 and
+    // stiffness ~ t^2 / l: omega^2 ~ c^2 / (l h^2), so particles smaller than
+    // the ppc = 2 size (l = 1/4) need a proportionally shorter step.
+    const double gimp_factor = lp > 0.0 ? std::min(1.0, std::sqrt(4.0 * lp)) : 1.0;
+    dt = opt.cfl_factor * gimp_factor * h / c;
     omega1 = model.lowest_frequency > 0.0 ? model.lowest_frequency : 0.0;
     if (opt.ramp_time > 0.0) {
       ramp_time = opt.ramp_time;
@@ -516,6 +520,7 @@ struct Solver::Impl {
     }
   }
 
+  // Nodes with less mass than this are left out (v = 0).
   double MassFloor() const { return 1e-9 * model.density * h * h; }
 
   // Prescribed velocities on the constrained nodes' own field (field 0) in
@@ -1131,8 +1136,10 @@ Summary Solver::Run() {
     if (m.opt.max_steps > 0 && m.step - start_step >= m.opt.max_steps) break;
   }
   progress.Finish();
+  // The last state is recorded also when the run stopped unstable (for the
+  // diagnosis; its numbers may be non-finite).
+  if (m.history.empty() || m.history.back().step != m.step) record();
   if (m.status == RunStatus::kOk) {
-    if (m.history.empty() || m.history.back().step != m.step) record();
     if (m.opt.fields_every > 0 && m.step % m.opt.fields_every != 0) fields();
     if (settled) {
       m.message = fmt::format("settled: KE/SE < {:g} over one lowest-mode period",

@@ -56,8 +56,11 @@ TEST(MpmCrack, CrackPointOpeningMatchesNearbyParticles) {
   }
   // Opening decreases towards the tip and vanishes there.
   const auto points = solver.CrackPoints();
-  for (std::size_t k = 1; k < points.size(); ++k)
-    if (points[k].x > -0.02) EXPECT_LE(points[k].cod_normal, points[k - 1].cod_normal + 1e-9);
+  for (std::size_t k = 1; k < points.size(); ++k) {
+    if (points[k].x > -0.02) {
+      EXPECT_LE(points[k].cod_normal, points[k - 1].cod_normal + 1e-9);
+    }
+  }
 }
 
 struct ClosingResult {

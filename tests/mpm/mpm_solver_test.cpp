@@ -55,6 +55,32 @@ TEST(MpmSolver, CflAboveOneIsDetectedAndReported) {
   for (int k = 0; k < 2000; ++k) ASSERT_TRUE(stable.Step()) << stable.message();
 }
 
+TEST(MpmSolver, ParticleLeavingTheGridIsReported) {
+  // A free block thrown at 200 m/s towards the grid edge 3 cells away.
+  const double h = 0.005;
+  Model m;
+  m.grid = {.x0 = 0.0, .y0 = 0.0, .cell = h, .nx = 12, .ny = 12};
+  m.particles = FillParticles(m.grid, 2, [&](double x, double y) {
+    return x > 4 * h && x < 8 * h && y > 4 * h && y < 8 * h;
+  });
+  for (auto& v : m.particles.vx) v = 200.0;
+  m.law = std::make_shared<LinearElastic>(
+      LinearElastic::Isotropic(1e9, 0.3, PlaneCondition::kPlaneStress));
+  m.density = 1000.0;
+  SolverOptions opt;
+  opt.threads = 1;
+  opt.damping = 0.0;
+  opt.settle_ratio = 0.0;
+  opt.max_time = 1e-3;  // 0.2 m of travel: far beyond the grid
+  opt.contour_cells = {};
+  Solver solver(m, opt);
+  const Summary s = solver.Run();
+  EXPECT_EQ(s.status, RunStatus::kUnstable);
+  EXPECT_NE(s.message.find("left the grid"), std::string::npos) << s.message;
+  // It stops within the step that crossed: 3 cells at 200 m/s.
+  EXPECT_LT(s.time, 3 * h / 200.0 + 2 * s.dt);
+}
+
 TEST(MpmSolver, TwoInstancesSideBySideMatchOneAlone) {
   const Model model = BuildSpecimenModel(testing::CtScene(), kCoarse, 2);
   Solver alone(model, CtOptions());
@@ -151,13 +177,16 @@ namespace {
 TEST(MpmSolver, DISABLED_Explore) {
   const double cell = std::getenv("CELL") ? std::atof(std::getenv("CELL")) : 0.005;
   const double a0 = std::getenv("A0") ? std::atof(std::getenv("A0")) : 0.03;
-  Model model = BuildSpecimenModel(testing::CtScene(a0), cell, 2,
+  const int ppc = std::getenv("PPC") ? std::atoi(std::getenv("PPC")) : 2;
+  Model model = BuildSpecimenModel(testing::CtScene(a0), cell, ppc,
                                    std::getenv("PATCH") ? PinModel::kPatches : PinModel::kHoles);
   if (std::getenv("NOCRACK")) model.crack.clear();
   SolverOptions opt = CtOptions();
   if (std::getenv("USF")) opt.scheme = UpdateScheme::kUSF;
   if (std::getenv("USAVG")) opt.scheme = UpdateScheme::kUSAVG;
   if (std::getenv("LINEAR")) opt.shape = ShapeFunction::kLinear;
+  if (std::getenv("CFL")) opt.cfl_factor = std::atof(std::getenv("CFL"));
+  if (std::getenv("ELIM")) opt.energy_growth_limit = std::atof(std::getenv("ELIM"));
   if (std::getenv("PDAMP")) opt.particle_damping = std::atof(std::getenv("PDAMP"));
   const Summary s = Solver(model, opt).Run();
   std::printf("%s\n", s.BriefReport().c_str());

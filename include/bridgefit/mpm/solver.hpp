@@ -30,7 +30,8 @@ const char* UpdateSchemeName(UpdateScheme scheme);
 struct SolverOptions {
   ShapeFunction shape = ShapeFunction::kGimp;
   UpdateScheme scheme = UpdateScheme::kUSL;
-  double cfl_factor = 0.5;  // dt = cfl_factor h / c_max
+  // dt = cfl_factor h / c_max (uGIMP with ppc > 2: times sqrt(2/ppc))
+  double cfl_factor = 0.5;
   int threads = 0;          // 0: OpenMP default
 
   // Loading: the load-point displacement rises from 0 to target_displacement
