@@ -1,6 +1,6 @@
 // `bridgefit dic`: crack length from a DIC image sequence (PHYSICS 9).
 //   bridgefit dic frames/ --crack-line 235,580,780,580 --scale 0.05mm/px
-//   bridgefit dic "img_*.png" --crack-line 20,100,300,100 --scale 0.05mm/px --subset 31 \
+//   bridgefit dic "img_*.png" --crack-line 20,100,300,100 --scale 0.05mm/px --subset 31
 //       --step 5 --tip-method williams --threshold 0.02px --offset 10mm --out crack.h5 --json
 
 #include <cmath>

@@ -3,3 +3,6 @@
 add_executable(dic_speed ${CMAKE_CURRENT_LIST_DIR}/dic_speed.cpp)
 target_link_libraries(dic_speed PRIVATE bf_dic OpenMP::OpenMP_CXX)
 target_compile_definitions(dic_speed PRIVATE BRIDGEFIT_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+add_executable(dic_sample15 ${CMAKE_CURRENT_LIST_DIR}/dic_sample15.cpp)
+target_link_libraries(dic_sample15 PRIVATE bf_dic)
+target_compile_definitions(dic_sample15 PRIVATE BRIDGEFIT_SOURCE_DIR="${PROJECT_SOURCE_DIR}")

@@ -83,6 +83,8 @@ TEST_P(TranslationTest, SubpixelShiftRecovered) {
   EXPECT_LT(s.std_v, 0.01);
   RecordProperty("mean_u_px", std::to_string(s.mean_u));
   RecordProperty("std_u_px", std::to_string(s.std_u));
+  RecordProperty("mean_v_px", std::to_string(s.mean_v));
+  RecordProperty("std_v_px", std::to_string(s.std_v));
 }
 
 INSTANTIATE_TEST_SUITE_P(Shifts, TranslationTest,
