@@ -35,6 +35,7 @@ std::unique_ptr<Command> MakeSimulateCommand();
 std::unique_ptr<Command> MakeRcurveCommand();
 std::unique_ptr<Command> MakeDicCommand();
 std::unique_ptr<Command> MakeFitCommand();
+std::unique_ptr<Command> MakeReportCommand();  std::unique_ptr<Command> MakeSynthCommand();
 
 // Prints one JSON object on stdout (the only stdout output under --json).
 void PrintJson(const nlohmann::json& object);

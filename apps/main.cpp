@@ -5,6 +5,8 @@
 //   bridgefit law --law cubic --sigma-c "0.45 MPa" --jb "500 J/m^2" --jtip "2210 J/m^2"
 //   bridgefit law --law linear --sigma-c 1MPa --delta-c 1mm --jtip 2210J/m^2 --json
 
+#include <glog/logging.h>
+
 #include <cstdio>
 #include <iostream>
 #include <vector>
@@ -36,6 +38,9 @@ double ParseOptionQuantity(const std::string& text, const Dimension& dimension,
 
 int main(int argc, char** argv) {
   using namespace bridgefit;
+  // Ceres logs through glog; a failed evaluation inside a fit is reported in
+  // the fit summary, so its internal messages are not shown.
+  FLAGS_minloglevel = google::GLOG_FATAL;
   CLI::App app{"bridgefit: R curves and bridging laws from fracture tests of fibrous materials"};
   app.set_version_flag("--version", std::string("bridgefit ") + VersionString());
   app.require_subcommand(1);
@@ -48,6 +53,7 @@ int main(int argc, char** argv) {
   commands.push_back(cli::MakeRcurveCommand());
   commands.push_back(cli::MakeDicCommand());
   commands.push_back(cli::MakeFitCommand());
+  commands.push_back(cli::MakeReportCommand()); commands.push_back(cli::MakeSynthCommand());
 
   std::vector<CLI::App*> subs;
   for (auto& command : commands) {
