@@ -111,7 +111,7 @@ class FitCommand final : public Command {
     sub.add_option("--law", law_, "Law family: linear|cubic|triangular|exponential|compare (AICc)")
         ->default_val("linear");
     sub.add_option("--optimizer", optimizer_, "ceres-lm|bobyqa|neldermead|cobyla|direct|crs2")
-        ->default_val("ceres-lm");
+        ->default_val("bobyqa");
     sub.add_option("--fix", fix_, "Fixed parameters, e.g. 'J_tip_c=2210J/m^2'");
     sub.add_option("--bounds", bounds_, "Bounds, e.g. 'sigma_c=0.05MPa..5MPa,J_B=1J/m^2..5kJ/m^2'");
     sub.add_option("--starts", starts_, "Latin-hypercube starts")->default_val(4);

@@ -35,6 +35,20 @@ run_sample() {
     "$BF" dic "$dir/images" --crack-line 0,150,399,150 --scale 0.15mm/px --offset 20mm \
       --csv "$o.work/dic.csv" --quiet > "$o.work/dic.txt"
     report_extra+=(--dic "$o.work/dic.csv")
+    if [[ -f $dir/images/truth.csv ]]; then
+      python3 - "$o.work/dic.csv" "$dir/images/truth.csv" <<'EOF'
+import csv, sys
+def rows(path):
+    with open(path) as f:
+        return [{k.strip(): (v or "").strip() for k, v in r.items()} for r in csv.DictReader(f, skipinitialspace=True)]
+dic, truth = rows(sys.argv[1]), rows(sys.argv[2])
+err = [float(d["crack_length [mm]"]) - float(t["crack_length [mm]"])
+       for d, t in zip(dic, truth) if d["crack_length [mm]"] not in ("", "nan")]
+if err:
+    print(f"   DIC crack length vs truth: {len(err)} frames, max |error| {max(map(abs, err)):.2f} mm, "
+          f"mean {sum(err) / len(err):+.2f} mm")
+EOF
+    fi
   fi
   if grep -q '^\[bridging\]' "$scene"; then report_extra+=(--truth "$scene"); fi
   echo "-- R curve: bridgefit rcurve $record $rcurve_args --method energy"

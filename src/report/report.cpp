@@ -215,7 +215,12 @@ laws::LawShape ShapeOf(const std::string& law, std::vector<std::string>* notes) 
   return laws::MakeLinearShape();
 }
 
-const char* kTerminal = "set terminal pngcairo size 860,520 enhanced font 'Sans,11'\n";
+// Each figure starts from the same state (multiplot leaves size/origin/margins set).
+const char* kTerminal =
+    "set terminal pngcairo size 860,520 enhanced font 'Sans,11'\n"
+    "set size 1,1\nset origin 0,0\nunset tmargin\nunset bmargin\nunset lmargin\n"
+    "set format x '%g'\nset format y '%g'\nunset logscale\nset autoscale\nunset title\n"
+    "set xtics norotate font ''\nset ytics in\nunset x2tics\nset xtics mirror\nset key top left\n";
 
 }  // namespace
 
@@ -379,8 +384,11 @@ ReportSummary WriteFitReport(const fs::path& fit_h5, const fs::path& out_dir,
   }
 
   // 4. Load-displacement and crack length against frame from the record.
-  if (!options.record_h5.empty()) {
-    const io::H5Reader r(options.record_h5);
+  // The record: --record, else the fit file itself when it carries /experiment.
+  fs::path record_h5 = options.record_h5;
+  if (record_h5.empty() && io::H5Reader(fit_h5).Exists("/experiment/load")) record_h5 = fit_h5;
+  if (!record_h5.empty()) {
+    const io::H5Reader r(record_h5);
     const ExperimentRecord rec = io::ReadExperimentH5(r, "/experiment");
     std::string dat = "# frame displacement[mm] load[N] crack_length[mm]\n";
     for (size_t i = 0; i < rec.load.size(); ++i)
@@ -404,7 +412,7 @@ ReportSummary WriteFitReport(const fs::path& fit_h5, const fs::path& out_dir,
         std::string d = "# frame crack_length[mm]\n";
         for (size_t i = 0; i < a.size(); ++i) d += fmt::format("{} {:.8g}\n", i, a[i] * 1e3);
         WriteFile(tmp / "dic.dat", d);
-        dic_plot = ", 'dic.dat' u 1:2 w lp pt 6 ps 1 lw 2 lc rgb '#2ca02c' t 'DIC (image frames)'";
+        dic_plot = ", 'dic.dat' u 1:2 axes x2y1 w lp pt 6 ps 1 lw 2 lc rgb '#2ca02c' t 'DIC (image index, top axis)'";
         have_crack = true;
       } else {
         summary.notes.push_back("DIC CSV has no crack_length column: " + options.dic_csv.string());
@@ -413,10 +421,11 @@ ReportSummary WriteFitReport(const fs::path& fit_h5, const fs::path& out_dir,
     if (have_crack) {
       gp += kTerminal;
       gp += "set output 'crack_length.png'\nset title 'Crack length against frame'\n";
-      gp += "set xlabel 'frame (record row / image index)'\nset ylabel 'crack length a [mm]'\n";
+      gp += "set xlabel 'record row'\nset ylabel 'crack length a [mm]'\n";
+      if (!dic_plot.empty()) gp += "set xtics nomirror\nset x2tics\nset x2label 'image index (DIC)'\n";
       gp += "plot ";
       gp += rec.crack_length.empty() ? "1/0 notitle" : "'record.dat' u 1:4 w p pt 7 ps 0.4 lc rgb '#1f77b4' t 'record'";
-      gp += dic_plot + "\nunset title\n";
+      gp += dic_plot + "\nunset title\nunset x2label\n";
       summary.figures.push_back("crack_length.png");
     }
   } else {

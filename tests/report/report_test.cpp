@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <algorithm>
 #include <fstream>
 #include <regex>
 #include <sstream>
@@ -50,9 +51,19 @@ void WriteEstimate(io::H5Writer& f, const std::string& g, double value, double l
 
 // A fit file in the layout of `bridgefit fit --out` (docs/FORMATS.md):
 // sigma_c identified in [0.43, 0.47] MPa, delta_c >= 1.5 mm, J_B >= 340 J/m^2.
-fs::path WriteFitFile(const fs::path& dir) {
+fs::path WriteFitFile(const fs::path& dir, bool with_record = false) {
   const fs::path path = dir / "fit.h5";
   io::H5Writer f(path);
+  if (with_record) {
+    // Linear loading then growth: 30 rows of load, displacement, crack length.
+    ExperimentRecord record;
+    for (int i = 0; i < 30; ++i) {
+      record.displacement.push_back(1e-4 * i);
+      record.load.push_back(i < 10 ? 100.0 * i : 1000.0 - 20.0 * (i - 10));
+      record.crack_length.push_back(i < 10 ? 0.030 : 0.030 + 0.001 * (i - 10));
+    }
+    io::WriteRecordH5(f, record, "/experiment");
+  }
   std::vector<double> a, R, fa, fR;
   for (int i = 0; i < 30; ++i) {
     a.push_back(0.030 + 0.04 * i / 29.0);
@@ -168,6 +179,31 @@ TEST(Report, PageFiguresAndTableWithUnits) {
   EXPECT_NE(html.find("lower bound only"), std::string::npos);
   EXPECT_NE(html.find("&ge; 1.5"), std::string::npos);  // delta_c bound in mm
   EXPECT_NE(html.find("<td>0.45</td>"), std::string::npos);  // sigma_c in MPa
+  fs::remove_all(dir);
+}
+
+TEST(Report, RecordInTheFitFileGivesLoadAndCrackFigures) {
+  const fs::path dir = TempDir("record");
+  const report::ReportSummary s = report::WriteFitReport(WriteFitFile(dir, true), dir / "report");
+  const auto sources = ImageSources(ReadText(s.index_html));
+  EXPECT_EQ(sources.size(), 5u);
+  for (const char* fig : {"load_displacement.png", "crack_length.png"}) {
+    EXPECT_NE(std::find(sources.begin(), sources.end(), fig), sources.end()) << fig;
+    EXPECT_GT(PngSize(dir / "report" / fig).first, 100) << fig;
+  }
+  // The plotted table is the record in mm and N.
+  std::ifstream in(dir / "report" / "record.dat");
+  std::string header;
+  std::getline(in, header);
+  int frame;
+  double d, p, a;
+  int rows = 0;
+  while (in >> frame >> d >> p >> a) {
+    EXPECT_NEAR(d, 0.1 * frame, 1e-9);
+    EXPECT_NEAR(a, frame < 10 ? 30.0 : 30.0 + (frame - 10), 1e-9);
+    ++rows;
+  }
+  EXPECT_EQ(rows, 30);
   fs::remove_all(dir);
 }
 

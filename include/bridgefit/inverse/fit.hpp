@@ -24,7 +24,7 @@ const char* OptimizerName(Optimizer optimizer);
 Optimizer ParseOptimizer(const std::string& name);
 
 struct FitOptions {
-  Optimizer optimizer = Optimizer::kCeresLm;
+  Optimizer optimizer = Optimizer::kBobyqa;  // fastest reliable one in docs/FIT.md
   int starts = 4;                 // Latin-hypercube multi-start points
   int max_evaluations = 600;      // per local run
   double relative_tolerance = 1e-6;  // on the box coordinates

@@ -16,7 +16,8 @@ namespace bridgefit::report {
 
 struct ReportOptions {
   std::string title;                   // page title (default: the fit file name)
-  std::filesystem::path record_h5;     // optional: HDF5 with /experiment (bridgefit rcurve --out)
+  std::filesystem::path record_h5;     // optional: HDF5 with /experiment (bridgefit rcurve --out);
+                                       // default: the fit file's own /experiment, if any
   std::filesystem::path dic_csv;       // optional: bridgefit dic --csv (crack length per frame)
   std::filesystem::path truth_scene;   // optional: scene TOML with the true law (synthetic tests)
   std::string gnuplot = "gnuplot";     // executable
