@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <filesystem>
 #include <sstream>
+#include <unistd.h>
 
 #include <fmt/format.h>
 
@@ -15,6 +17,7 @@
 #include "bridgefit/io/hdf5.hpp"
 #include "bridgefit/io/scene_file.hpp"
 #include "bridgefit/models/reduced.hpp"
+#include "bridgefit/report/report.hpp"
 #include "command.hpp"
 
 namespace bridgefit::cli {
@@ -120,6 +123,7 @@ class FitCommand final : public Command {
     sub.add_option("--resolution", resolution_, "Reduced model element size, e.g. '0.5 mm'");
     sub.add_flag("--no-profile", no_profile_, "Skip the profile likelihood (faster)");
     sub.add_option("--out", out_h5_, "Write the fit to this HDF5 file");
+    sub.add_option("--report", report_dir_, "Also write an HTML report into this folder");
   }
 
   int Run(const CommonOptions& common) override {
@@ -227,8 +231,15 @@ class FitCommand final : public Command {
       s = inverse::FitBridgingLaw(*model, shape, data, options);
     }
 
-    if (!out_h5_.empty()) {
-      io::H5Writer file(out_h5_);
+    // The report reads the fit file: without --out it goes to a temporary file.
+    const std::string fit_file =
+        !out_h5_.empty() ? out_h5_
+        : report_dir_.empty()
+            ? std::string()
+            : (std::filesystem::temp_directory_path() /
+               ("bridgefit-fit-" + std::to_string(::getpid()) + ".h5")).string();
+    if (!fit_file.empty()) {
+      io::H5Writer file(fit_file);
       WriteRecordH5(file, curve, "/rcurve");
       const std::string g = "/fit";
       file.WriteAttribute(g, "kind", "fit");
@@ -273,6 +284,18 @@ class FitCommand final : public Command {
         file.WriteAttribute(pg, "flat", p.flat ? 1.0 : 0.0);
       }
       file.Commit();
+    }
+    if (!report_dir_.empty()) {
+      report::ReportOptions report_options;
+      report_options.title = "bridgefit fit: " + input_;
+      try {
+        const report::ReportSummary written = report::WriteFitReport(fit_file, report_dir_, report_options);
+        if (out_h5_.empty()) std::filesystem::remove(fit_file);
+        if (!common.quiet) std::cerr << "report: " << written.index_html.string() << "\n";
+      } catch (...) {
+        if (out_h5_.empty()) std::filesystem::remove(fit_file);
+        throw;
+      }
     }
 
     if (common.json) {
@@ -332,7 +355,7 @@ class FitCommand final : public Command {
 
  private:
   std::string input_, scene_, model_, law_, optimizer_, fix_, bounds_, r_kind_, resolution_,
-      out_h5_;
+      out_h5_, report_dir_;
   int starts_ = 4;
   bool no_profile_ = false;
 };
