@@ -20,23 +20,6 @@
 namespace bridgefit::cli {
 namespace {
 
-std::vector<double> ParseNumbers(const std::string& text, const char* option, size_t count) {
-  std::vector<double> values;
-  std::stringstream stream(text);
-  std::string item;
-  while (std::getline(stream, item, ',')) {
-    char* end = nullptr;
-    const double v = std::strtod(item.c_str(), &end);
-    while (end && *end == ' ') ++end;
-    if (end == item.c_str() || (end && *end != '\0') || !std::isfinite(v))
-      throw Error(ErrorKind::kUsage, "not a number", {.field = option, .value = item});
-    values.push_back(v);
-  }
-  if (values.size() != count)
-    throw Error(ErrorKind::kUsage, fmt::format("expected {} comma-separated numbers", count),
-                {.field = option, .value = text});
-  return values;
-}
 
 // "0.02px" -> px; a length ("0.001 mm") is converted with the scale.
 double ParsePixelsOrLength(const std::string& text, double m_per_px, const char* option) {
@@ -96,7 +79,7 @@ class DicCommand final : public Command {
                    {.field = "--scale", .value = scale_, .expected = "e.g. '0.05mm/px'"});
     opt.scale_m_per_px = m_per_px;
     opt.offset_m = ParseQuantity(offset_, Dimension::Length());
-    const auto line = ParseNumbers(crack_line_, "--crack-line", 4);
+    const auto line = ParseOptionNumbers(crack_line_, "--crack-line", 4);
     opt.tip.line = {line[0], line[1], line[2], line[3]};
     if (!(opt.tip.line.Length() > 1))
       throw Error(ErrorKind::kUsage, "crack line end points coincide",
@@ -117,7 +100,7 @@ class DicCommand final : public Command {
       throw Error(ErrorKind::kUsage, "unknown interpolation",
                   {.field = "--interpolation", .value = interpolation_, .expected = "bspline or keys"});
     if (!roi_.empty()) {
-      const auto r = ParseNumbers(roi_, "--roi", 4);
+      const auto r = ParseOptionNumbers(roi_, "--roi", 4);
       c.roi_x0 = static_cast<int>(r[0]);
       c.roi_y0 = static_cast<int>(r[1]);
       c.roi_x1 = static_cast<int>(r[2]);

@@ -21,22 +21,6 @@
 namespace bridgefit::cli {
 namespace {
 
-std::vector<double> ParseNumberList(const std::string& text, const char* option, size_t count) {
-  std::vector<double> values;
-  std::stringstream stream(text);
-  std::string item;
-  while (std::getline(stream, item, ',')) {
-    char* end = nullptr;
-    const double v = std::strtod(item.c_str(), &end);
-    if (end == item.c_str())
-      throw Error(ErrorKind::kUsage, "not a number", {.field = option, .value = item});
-    values.push_back(v);
-  }
-  if (values.size() != count)
-    throw Error(ErrorKind::kUsage, fmt::format("expected {} comma-separated numbers", count),
-                {.field = option, .value = text});
-  return values;
-}
 
 class LawCommand final : public Command {
  public:
@@ -121,7 +105,7 @@ class LawCommand final : public Command {
         if (trilinear_.empty())
           throw Error(ErrorKind::kUsage, "the trilinear law needs its break points",
                       {.field = "--trilinear", .expected = "'s0,d1,s1,d2,s2'"});
-        const auto v = ParseNumberList(trilinear_, "--trilinear", 5);
+        const auto v = ParseOptionNumbers(trilinear_, "--trilinear", 5);
         shape = laws::MakeTrilinearShape(v[0], v[1], v[2], v[3], v[4]);
         break;
       }

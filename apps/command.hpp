@@ -7,6 +7,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "bridgefit/core/units.hpp"
 
@@ -42,6 +43,11 @@ void PrintJson(const nlohmann::json& object);
 
 // JSON null for a non-finite number, the number otherwise.
 nlohmann::json NumberOrNull(double value);
+
+// Parses `count` comma-separated numbers ("1.0,0.2,0.6"); anything else is
+// a usage error (exit 2) naming the option.
+std::vector<double> ParseOptionNumbers(const std::string& text, const char* option,
+                                       std::size_t count);
 
 // Parses a command-line quantity such as "0.45 MPa"; a bad value is a usage
 // error (exit 2) naming the option. Empty text gives NaN.

@@ -9,6 +9,7 @@
 
 #include <cstdio>
 #include <iostream>
+#include <sstream>
 #include <vector>
 
 #include "bridgefit/core/error.hpp"
@@ -21,6 +22,26 @@ void PrintJson(const nlohmann::json& object) { std::cout << object.dump(2) << st
 
 nlohmann::json NumberOrNull(double value) {
   return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
+}
+
+std::vector<double> ParseOptionNumbers(const std::string& text, const char* option,
+                                       std::size_t count) {
+  std::vector<double> values;
+  std::stringstream stream(text);
+  std::string item;
+  while (std::getline(stream, item, ',')) {
+    char* end = nullptr;
+    const double v = std::strtod(item.c_str(), &end);
+    while (end && *end == ' ') ++end;
+    if (end == item.c_str() || (end && *end != '\0') || !std::isfinite(v))
+      throw Error(ErrorKind::kUsage, "not a number", {.field = option, .value = item});
+    values.push_back(v);
+  }
+  if (values.size() != count)
+    throw Error(ErrorKind::kUsage,
+                "expected " + std::to_string(count) + " comma-separated numbers",
+                {.field = option, .value = text});
+  return values;
 }
 
 double ParseOptionQuantity(const std::string& text, const Dimension& dimension,
