@@ -174,22 +174,5 @@ TEST(MpmSolver, UpdateSchemesAndFeedbackDampingAgreeInTheStaticLimit) {
 namespace bridgefit::mpm {
 namespace {
 // Manual exploration: run with --gtest_also_run_disabled_tests and env vars.
-TEST(MpmSolver, DISABLED_Explore) {
-  const double cell = std::getenv("CELL") ? std::atof(std::getenv("CELL")) : 0.005;
-  const double a0 = std::getenv("A0") ? std::atof(std::getenv("A0")) : 0.03;
-  const int ppc = std::getenv("PPC") ? std::atoi(std::getenv("PPC")) : 2;
-  Model model = BuildSpecimenModel(testing::CtScene(a0), cell, ppc,
-                                   std::getenv("PATCH") ? PinModel::kPatches : PinModel::kHoles);
-  if (std::getenv("NOCRACK")) model.crack.clear();
-  SolverOptions opt = CtOptions();
-  if (std::getenv("USF")) opt.scheme = UpdateScheme::kUSF;
-  if (std::getenv("USAVG")) opt.scheme = UpdateScheme::kUSAVG;
-  if (std::getenv("LINEAR")) opt.shape = ShapeFunction::kLinear;
-  if (std::getenv("CFL")) opt.cfl_factor = std::atof(std::getenv("CFL"));
-  if (std::getenv("ELIM")) opt.energy_growth_limit = std::atof(std::getenv("ELIM"));
-  if (std::getenv("PDAMP")) opt.particle_damping = std::atof(std::getenv("PDAMP"));
-  const Summary s = Solver(model, opt).Run();
-  std::printf("%s\n", s.BriefReport().c_str());
-}
 }  // namespace
 }  // namespace bridgefit::mpm
