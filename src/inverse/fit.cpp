@@ -159,6 +159,9 @@ LocalResult MinimizeNlopt(const Objective& objective, Optimizer optimizer, std::
     const auto* c = static_cast<const Context*>(data);
     return c->objective->Chi2(c->objective->Expand(x, c->pinned, c->pinned_value));
   };
+  // CRS2 (and MLSL-like methods) draw random points: seed NLopt's generator
+  // so a fit is reproducible.
+  if (optimizer == Optimizer::kCrs2) nlopt::srand(objective.options().seed);
   nlopt::opt opt(NloptAlgorithm(optimizer), static_cast<unsigned>(n));
   opt.set_lower_bounds(std::vector<double>(n, 0.0));
   opt.set_upper_bounds(std::vector<double>(n, 1.0));
