@@ -607,12 +607,15 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
           step *= 2.0;
         }
       };
-      const double x_low = edge(-1.0), x_high = edge(+1.0);
+      // Without full profiles only J_B's upper side is needed (the steady-state
+      // decision); its lower limit then stays the Jacobian one.
+      const bool lower_side = options.profile_likelihood;
+      const double x_low = lower_side ? edge(-1.0) : 0.0, x_high = edge(+1.0);
       profile.points.push_back({full[index], best.chi2, true, {full[0], full[1], full[2]}});
       std::sort(profile.points.begin(), profile.points.end(),
                 [](const ProfilePoint& a, const ProfilePoint& b) { return a.value < b.value; });
       ParameterEstimate& e = EstimateOf(s, index);
-      e.ci95_low = std::isnan(x_low) ? NAN : FromBox(index, x_low, options);
+      if (lower_side) e.ci95_low = std::isnan(x_low) ? NAN : FromBox(index, x_low, options);
       e.ci95_high = std::isnan(x_high) ? NAN : FromBox(index, x_high, options);
       profile.flat = std::isnan(x_low) || std::isnan(x_high);
       if (profile.flat) {
@@ -625,7 +628,8 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
             options.lower[index], options.upper[index]);
       } else {
         e.identified = true;
-        e.note = "CI from the profile likelihood";
+        e.note = lower_side ? "CI from the profile likelihood"
+                            : "CI: Jacobian below, profile likelihood above";
       }
       s.profiles.push_back(std::move(profile));
     }
