@@ -567,7 +567,7 @@ SimulationResult ReducedModel::Run(const laws::BridgingLaw* law, double J_tip_c,
   int newton_total = 0;
   Progress progress("reduced model", static_cast<size_t>(n - 1), options.progress);
 
-  Eigen::VectorXd Fg(n), v(n), b(n), db(n);
+  Eigen::VectorXd Fg(n), v(n);
   for (int t = 1; t < n; ++t) {
     // Bordering data of the tip node t.
     v.head(t).noalias() = F.topLeftCorner(t, t) * S.col(t).head(t);
@@ -584,10 +584,10 @@ SimulationResult ReducedModel::Run(const laws::BridgingLaw* law, double J_tip_c,
     int z0 = 1;
     while (z0 < t && broken[z0]) ++z0;
     const int k = law ? t - z0 : 0;
-    std::vector<int> zone(k);
-    for (int i = 0; i < k; ++i) zone[i] = z0 + i;
     double p = 0.0;
-    Eigen::VectorXd uz(k);
+    // Openings of the free nodes; the zone part is warm-started from the
+    // previous crack length (the new node starts shut).
+    Eigen::VectorXd u = Eigen::Map<const Eigen::VectorXd>(u_prev.data(), n);
     bool converged = false;
     if (k == 0) {
       // No bridging unknowns: J_tip is quadratic in p (tip force only shifts R).
@@ -598,73 +598,11 @@ SimulationResult ReducedModel::Run(const laws::BridgingLaw* law, double J_tip_c,
       const double disc = B * B - 4.0 * A * C;
       p = (-B + std::sqrt(std::max(disc, 0.0))) / (2.0 * A);  // A > 0
       converged = std::isfinite(p);
+      u.head(t) = Fg.head(t) * p;
     } else {
-      // Warm start from the previous crack length (the new node starts shut).
       p = p_prev;
-      for (int i = 0; i < k; ++i) uz[i] = u_prev[zone[i]];
-      auto evaluate = [&](const Eigen::VectorXd& x_u, double x_p, Eigen::VectorXd* residual,
-                          Eigen::MatrixXd* jacobian) {
-        for (int i = 0; i < k; ++i) {
-          const int r = zone[i];
-          const TractionSlope ts = BridgingTraction(*law, 2.0 * x_u[i], delta_max[r]);
-          b[i] = face_length(r) * ts.sigma;
-          db[i] = 2.0 * face_length(r) * ts.slope;
-        }
-        const auto F_zz = F.block(z0, z0, k, k);
-        const auto F_back = F.row(t - 1).segment(z0, k);
-        const auto bk = b.head(k);
-        const auto dbk = db.head(k);
-        const double reaction = alpha * x_p + tip_force - v.segment(z0, k).dot(bk);
-        const double u_back = Fg[t - 1] * x_p - F_back.dot(bk);
-        const double G = (reaction * reaction * phi + u_back * u_back / psi) / (2.0 * h);
-        residual->resize(k + 1);
-        residual->head(k).noalias() = x_u - Fg.segment(z0, k) * x_p;
-        residual->head(k).noalias() += F_zz * bk;
-        const double sqrtG = std::sqrt(std::max(G, 1e-300));
-        (*residual)[k] = sqrtG / std::sqrt(J_tip_c) - 1.0;
-        if (!jacobian) return;
-        jacobian->resize(k + 1, k + 1);
-        // d r_u / d u = I + F_zz diag(db); d r_u / d p = -F g.
-        jacobian->topLeftCorner(k, k).noalias() = F_zz * dbk.asDiagonal();
-        jacobian->topLeftCorner(k, k).diagonal().array() += 1.0;
-        jacobian->col(k).head(k) = -Fg.segment(z0, k);
-        const double scale = 1.0 / (2.0 * sqrtG * std::sqrt(J_tip_c) * h);
-        jacobian->row(k).head(k) =
-            -scale * (reaction * phi * v.segment(z0, k).transpose() + u_back / psi * F_back)
-                         .cwiseProduct(dbk.transpose());
-        (*jacobian)(k, k) = scale * (reaction * phi * alpha + u_back / psi * Fg[t - 1]);
-      };
-      auto norm = [&](const Eigen::VectorXd& r, const Eigen::VectorXd& x_u) {
-        const double u_scale = std::max(x_u.cwiseAbs().maxCoeff(), 1e-12);
-        return std::max(r.head(k).cwiseAbs().maxCoeff() / u_scale, std::abs(r[k]));
-      };
-      Eigen::VectorXd residual, trial_residual;
-      Eigen::MatrixXd jacobian;
-      evaluate(uz, p, &residual, &jacobian);
-      double current = norm(residual, uz);
-      for (int it = 0; it < options.max_newton_iterations; ++it) {
-        ++newton_total;
-        if (current < options.tolerance) {
-          converged = true;
-          break;
-        }
-        const Eigen::VectorXd step = jacobian.partialPivLu().solve(-residual);
-        double lambda = 1.0;
-        Eigen::VectorXd trial_u;
-        double trial_p = p, trial = INFINITY;
-        for (int ls = 0; ls < 30; ++ls, lambda *= 0.5) {
-          trial_u = uz + lambda * step.head(k);
-          trial_p = p + lambda * step[k];
-          evaluate(trial_u, trial_p, &trial_residual, nullptr);
-          trial = norm(trial_residual, trial_u);
-          if (trial < current * (1.0 - 1e-4 * lambda) || trial < options.tolerance) break;
-        }
-        uz = trial_u;
-        p = trial_p;
-        evaluate(uz, p, &residual, &jacobian);
-        current = norm(residual, uz);
-      }
-      if (!converged && current < options.tolerance) converged = true;
+      converged = SolveZoneDense(F, Fg, v, phi, alpha, psi, tip_force, z0, t, h, *law, delta_max,
+                                 J_tip_c, options, u, p, newton_total);
     }
     if (!converged || !(p > 0.0)) {
       result.status = RunStatus::kNotConverged;
@@ -672,24 +610,14 @@ SimulationResult ReducedModel::Run(const laws::BridgingLaw* law, double J_tip_c,
                                    m.CrackLength(t) * 1e3);
       break;
     }
-
-    // All free openings from (1).
-    Eigen::VectorXd u = Fg.head(t) * p;
-    for (int i = 0; i < k; ++i) {
-      const int r = zone[i];
-      const TractionSlope ts = BridgingTraction(*law, 2.0 * uz[i], delta_max[r]);
-      u.noalias() -= F.col(r).head(t) * (face_length(r) * ts.sigma);
-    }
     for (int i = 0; i < t; ++i) u_prev[i] = u[i];
     u_prev[t] = 0.0;
     p_prev = p;
 
     // Tip energy as evaluated (a check of the solve), history, root.
     double reaction = alpha * p + tip_force;
-    for (int i = 0; i < k; ++i) {
-      const int r = zone[i];
-      reaction -= v[r] * face_length(r) * BridgingTraction(*law, 2.0 * uz[i], delta_max[r]).sigma;
-    }
+    for (int r = z0; r < z0 + k; ++r)
+      reaction -= v[r] * face_length(r) * BridgingTraction(*law, 2.0 * u[r], delta_max[r]).sigma;
     const double J_tip = (reaction * reaction * phi + u[t - 1] * u[t - 1] / psi) / (2.0 * h);
     RecordPoint(m, law, J_tip_c, t, u, p, J_tip, delta_max, broken, result);
     progress.Update(static_cast<size_t>(t));
