@@ -27,6 +27,12 @@ double FromBox(int index, double x, const FitOptions& o) {
   x = std::clamp(x, 0.0, 1.0);
   return IsLogScale(index) ? lo * std::pow(hi / lo, x) : lo + x * (hi - lo);
 }
+// The inverse of FromBox, clamped to the box.
+double ToBox(int index, double value, const FitOptions& o) {
+  const double lo = o.lower[index], hi = o.upper[index];
+  const double v = std::clamp(value, lo, hi);
+  return IsLogScale(index) ? std::log(v / lo) / std::log(hi / lo) : (v - lo) / (hi - lo);
+}
 
 // The objective: weighted residuals of the model against the data.
 class Objective {
@@ -302,12 +308,7 @@ std::vector<double> DataInformedStart(const Objective& objective) {
     full[kSigmaC] = best_value;
   }
   std::vector<double> x;
-  for (int index : objective.free()) {
-    const double lo = o.lower[index], hi = o.upper[index];
-    const double v = full[index];
-    x.push_back(std::clamp(IsLogScale(index) ? std::log(v / lo) / std::log(hi / lo)
-                                             : (v - lo) / (hi - lo), 0.0, 1.0));
-  }
+  for (int index : objective.free()) x.push_back(ToBox(index, full[index], o));
   return x;
 }
 
@@ -443,10 +444,7 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
   else design[0] = DataInformedStart(objective);
   if (std::isfinite(options.initial[free[0]])) {
     for (int i = 0; i < n_free; ++i) {
-      const int index = free[i];
-      const double lo = options.lower[index], hi = options.upper[index];
-      const double v = std::clamp(options.initial[index], lo, hi);
-      design[0][i] = IsLogScale(index) ? std::log(v / lo) / std::log(hi / lo) : (v - lo) / (hi - lo);
+      design[0][i] = ToBox(free[i], options.initial[free[i]], options);
     }
   }
   LocalResult best;
