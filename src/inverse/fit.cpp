@@ -638,16 +638,14 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
     std::vector<double> flat = full;
     flat[kJB] = 0.0;
     double flat_chi2 = kFailedCost;
-    if (!options.fixed[kJTipC]) {
-      // Best constant: the weighted mean of R.
-      double sw = 0.0, swr = 0.0;
-      for (int i = 0; i < m; ++i) {
-        const double w = weighted ? 1.0 / std::pow(data.R_uncertainty[i], 2) : 1.0;
-        sw += w;
-        swr += w * data.R[i];
-      }
-      flat[kJTipC] = swr / sw;
+    // Best constant: the weighted mean of R (sum of weights sw kept for its interval).
+    double sw = 0.0, swr = 0.0;
+    for (int i = 0; i < m; ++i) {
+      const double w = weighted ? 1.0 / std::pow(data.R_uncertainty[i], 2) : 1.0;
+      sw += w;
+      swr += w * data.R[i];
     }
+    if (!options.fixed[kJTipC]) flat[kJTipC] = swr / sw;
     flat_chi2 = objective.Chi2(flat);
     const double statistic = (flat_chi2 - best.chi2) / scale2;
     if (flat_chi2 < kFailedCost && statistic < 5.99) {
@@ -660,8 +658,6 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
       s.sigma_c = {.decided_by = "likelihood-ratio test", .note = "no bridging detected"};
       s.delta_c = {.decided_by = "likelihood-ratio test", .note = "no bridging detected"};
       if (!options.fixed[kJTipC]) {
-        double sw = 0.0;
-        for (int i = 0; i < m; ++i) sw += weighted ? 1.0 / std::pow(data.R_uncertainty[i], 2) : 1.0;
         const double flat_scale2 = weighted ? 1.0 : flat_chi2 / std::max(1, m - 1);
         const double sd = std::sqrt(flat_scale2 / sw);
         s.J_tip_c = {.value = flat[kJTipC], .ci95_low = flat[kJTipC] - 1.96 * sd,
