@@ -22,7 +22,6 @@
 #include "simulate_mpm.hpp"
 
 namespace bridgefit::cli {
-namespace {
 
 std::string PointsCsv(const SimulationResult& result) {
   std::string text =
@@ -65,6 +64,34 @@ nlohmann::json ResultJson(const SimulationResult& result) {
   out["points"] = std::move(points);
   return out;
 }
+
+void WriteSimulationH5(const std::string& path, const SimulationResult& result,
+                       const Scene& scene) {
+  io::H5Writer file(path);
+  io::WriteRecordH5(file, result);
+  file.WriteAttribute("/simulation", "scene", scene.source);
+  file.Commit();
+}
+
+void PrintPointsTable(const SimulationResult& result) {
+  std::cout << result.message << "\n";
+  if (result.steady_state_reached)
+    std::cout << fmt::format("steady state from a = {:.2f} mm\n",
+                             result.steady_state_crack_length * 1e3);
+  std::cout << fmt::format("{:>10} {:>10} {:>12} {:>10} {:>12} {:>10} {:>10}\n", "a [mm]",
+                           "R [J/m^2]", "R_en [J/m^2]", "P [N]", "disp [mm]", "d_root[mm]",
+                           "root [mm]");
+  const size_t stride = std::max<size_t>(1, result.points.size() / 20);
+  for (size_t i = 0; i < result.points.size(); ++i) {
+    if (i % stride != 0 && i + 1 != result.points.size()) continue;
+    const SimulationPoint& p = result.points[i];
+    std::cout << fmt::format("{:10.3f} {:10.1f} {:12.1f} {:10.2f} {:12.4f} {:10.4f} {:10.2f}\n",
+                             p.crack_length * 1e3, p.R, p.R_energy, p.load, p.displacement * 1e3,
+                             p.delta_root * 1e3, p.root_position * 1e3);
+  }
+}
+
+namespace {
 
 class SimulateCommand final : public Command {
  public:
@@ -128,12 +155,7 @@ class SimulateCommand final : public Command {
     result.figures["r_curve_s"] = result.wall_s;
     result.wall_s = watch.Seconds();
 
-    if (!out_h5_.empty()) {
-      io::H5Writer file(out_h5_);
-      io::WriteRecordH5(file, result);
-      file.WriteAttribute("/simulation", "scene", scene.source);
-      file.Commit();
-    }
+    if (!out_h5_.empty()) WriteSimulationH5(out_h5_, result, scene);
     if (!csv_.empty()) WriteTextFileAtomic(csv_, PointsCsv(result));
 
     if (common.json) {
@@ -145,21 +167,7 @@ class SimulateCommand final : public Command {
           RunStatusName(result.status), crack_plane->elements, crack_plane->resolution * 1e3,
           result.points.size(), model_s, cache.hit ? "cached" : "built",
           result.figures["r_curve_s"] * 1e3);
-      std::cout << result.message << "\n";
-      if (result.steady_state_reached)
-        std::cout << fmt::format("steady state from a = {:.2f} mm\n",
-                                 result.steady_state_crack_length * 1e3);
-      std::cout << fmt::format("{:>10} {:>10} {:>12} {:>10} {:>12} {:>10} {:>10}\n", "a [mm]",
-                               "R [J/m^2]", "R_en [J/m^2]", "P [N]", "disp [mm]",
-                               "d_root[mm]", "root [mm]");
-      const size_t stride = std::max<size_t>(1, result.points.size() / 20);
-      for (size_t i = 0; i < result.points.size(); ++i) {
-        if (i % stride != 0 && i + 1 != result.points.size()) continue;
-        const SimulationPoint& p = result.points[i];
-        std::cout << fmt::format("{:10.3f} {:10.1f} {:12.1f} {:10.2f} {:12.4f} {:10.4f} {:10.2f}\n",
-                                 p.crack_length * 1e3, p.R, p.R_energy, p.load,
-                                 p.displacement * 1e3, p.delta_root * 1e3, p.root_position * 1e3);
-      }
+      PrintPointsTable(result);
     }
     return result.status == RunStatus::kOk ? 0 : 1;
   }

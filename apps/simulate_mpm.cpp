@@ -1,16 +1,21 @@
-// The MPM branch of `bridgefit simulate` (issue 4: stationary crack).
-//   bridgefit simulate scene.toml --model mpm --cell "2.5 mm" --ppc 2 --threads 2 --json
-//   bridgefit simulate scene.toml --model mpm --out run.h5 --fields-every 500
+// The MPM branch of `bridgefit simulate`: crack growth with bridging when the
+// scene has [fracture] (quasi-static, half or full model), else a stationary
+// crack with the explicit solver.
+//   bridgefit simulate ct.toml --model mpm --cell "2.5 mm" --json          (growth)
+//   bridgefit simulate ct.toml --model mpm --full --contours 3,5 --csv r.csv
+//   bridgefit simulate stationary.toml --model mpm --out run.h5 --fields-every 500
 #include "simulate_mpm.hpp"
 
 #include <cmath>
 #include <iostream>
+#include <optional>
 
 #include <fmt/format.h>
 
 #include "bridgefit/core/atomic_file.hpp"
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/core/units.hpp"
+#include "bridgefit/mpm/growth.hpp"
 #include "bridgefit/mpm/output.hpp"
 #include "bridgefit/mpm/solver.hpp"
 
@@ -32,22 +37,97 @@ void RegisterMpmOptions(CLI::App& sub, MpmCliOptions& options) {
       ->capture_default_str();
   sub.add_option("--cfl", options.cfl, "MPM CFL factor (time step = cfl h / c)")
       ->capture_default_str();
-  sub.add_flag("--half", options.half, "MPM half-specimen model (crack growth, issue 5)");
-  sub.add_flag("--full", options.full, "MPM full explicit-crack model");
+  sub.add_flag("--half", options.half,
+               "MPM growth: half-specimen model (symmetry plane; default for symmetric scenes)");
+  sub.add_flag("--full", options.full, "MPM growth: full explicit-crack model");
+  sub.add_option("--increment", options.increment,
+                 "MPM growth: tip increment, e.g. '2.5 mm' (default one cell)");
+  sub.add_option("--contours", options.contours,
+                 "MPM growth: J contour half sizes in cells (the first decides growth)")
+      ->delimiter(',');
 }
+
+namespace {
+
+// Crack growth on the MPM discretisation (mpm/growth.hpp).
+int RunMpmGrowth(const Scene& scene, const MpmCliOptions& options, const std::string& out_h5,
+                 const std::string& csv, const CommonOptions& common) {
+  if (options.fields_every > 0)
+    throw Error(ErrorKind::kUsage,
+                "--fields-every is for the explicit stationary run; crack growth is solved "
+                "quasi-statically and writes its points (--out, --csv)",
+                {.field = "--fields-every", .expected = "no --fields-every, or [run] grow = false"});
+  if (options.half && options.full)
+    throw Error(ErrorKind::kUsage, "--half and --full exclude each other", {.field = "--half"});
+  mpm::GrowthOptions opt;
+  opt.cell = ParseQuantity(options.cell, Dimension::Length());
+  opt.ppc = options.ppc;
+  opt.shape = options.shape == "linear" ? mpm::ShapeFunction::kLinear : mpm::ShapeFunction::kGimp;
+  opt.symmetry = options.half   ? mpm::GrowthSymmetry::kHalf
+                 : options.full ? mpm::GrowthSymmetry::kFull
+                                : mpm::GrowthSymmetry::kAuto;
+  if (!options.increment.empty())
+    opt.increment = ParseQuantity(options.increment, Dimension::Length());
+  opt.contour_cells = options.contours;
+  opt.threads = options.threads;
+  opt.progress = !common.quiet;
+  std::string why;
+  if (!opt.IsValid(&why)) throw Error(ErrorKind::kUsage, "invalid MPM growth options: " + why);
+  std::optional<laws::BridgingLaw> law;
+  if (scene.bridging) law = scene.bridging->Law();
+  const mpm::GrowthResult g =
+      mpm::SimulateGrowth(scene, law ? &*law : nullptr, scene.fracture->J_tip_c, opt);
+  const SimulationResult& result = g.result;
+  if (!out_h5.empty()) WriteSimulationH5(out_h5, result, scene);
+  if (!csv.empty()) WriteTextFileAtomic(csv, PointsCsv(result));
+  if (common.json) {
+    nlohmann::json out = ResultJson(result);
+    out["solver"] = "quasi-static (implicit MPM)";
+    out["symmetry"] = g.half ? "half" : "full";
+    out["cell_m"] = g.cell;
+    out["increment_m"] = g.increment;
+    out["particles"] = g.particles;
+    out["dofs"] = g.dofs;
+    // One static solve per crack length: no time steps to count.
+    out["particle_steps_per_s"] = nullptr;
+    out["contour_cells"] = g.contour_cells;
+    nlohmann::json per_point = nlohmann::json::array();
+    for (std::size_t i = 0; i < g.J_tip_contours.size(); ++i) {
+      nlohmann::json row = nlohmann::json::array();
+      for (double j : g.J_tip_contours[i]) row.push_back(NumberOrNull(j));
+      per_point.push_back(row);
+    }
+    out["J_tip_contours_J_per_m2"] = per_point;
+    nlohmann::json stages = nlohmann::json::object();
+    for (const auto& [name, seconds] : g.stage_seconds) stages[name] = seconds;
+    out["stage_seconds"] = stages;
+    PrintJson(out);
+  } else {
+    std::cout << fmt::format(
+        "model mpm ({}), quasi-static {} model: cell {:.4g} mm, {} particles, {} equations, "
+        "increment {:.4g} mm, {:.3f} s\n",
+        RunStatusName(result.status), g.half ? "half" : "full", g.cell * 1e3, g.particles,
+        g.dofs, g.increment * 1e3, result.wall_s);
+    PrintPointsTable(result);
+  }
+  return result.status == RunStatus::kOk ? 0 : 1;
+}
+
+}  // namespace
 
 int RunMpmSimulation(const Scene& scene, const MpmCliOptions& options, const std::string& out_h5,
                      const std::string& csv, const CommonOptions& common) {
-  if (options.half)
-    throw Error(ErrorKind::kUsage, "the half-specimen MPM model is not available yet",
-                {.field = "--half", .expected = "--full (the explicit-crack model)"});
   const bool grows = scene.fracture.has_value() && scene.run.grow;
-  if (grows || scene.bridging)
+  if (grows) return RunMpmGrowth(scene, options, out_h5, csv, common);
+  if (options.half)
+    throw Error(ErrorKind::kUsage, "the half-specimen model is for crack growth",
+                {.file = scene.source, .field = "--half",
+                 .expected = "a scene with [fracture] and [run] grow = true"});
+  if (scene.bridging)
     throw Error(ErrorKind::kUsage,
-                "MPM crack growth and bridging are not available yet; this version runs a "
-                "stationary crack",
-                {.file = scene.source, .field = "run.grow",
-                 .expected = "[run] grow = false and no [bridging]"});
+                "bridging needs crack growth: the stationary explicit run has no bridging",
+                {.file = scene.source, .field = "fracture.J_tip_c",
+                 .expected = "a [fracture] table (growth) or no [bridging]"});
   if (options.fields_every > 0 && out_h5.empty())
     throw Error(ErrorKind::kUsage, "--fields-every needs --out FILE.h5",
                 {.field = "--fields-every"});

@@ -2,7 +2,10 @@
 // The MPM branch of `bridgefit simulate` (cmd_simulate.cpp calls these).
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 #include <string>
+
+#include "bridgefit/core/records.hpp"
 
 #include "bridgefit/scene/scene.hpp"
 #include "command.hpp"
@@ -17,8 +20,10 @@ struct MpmCliOptions {
   std::string shape = "gimp";   // gimp | linear
   std::string scheme = "usl";   // usf | usl | usavg
   double cfl = 0.5;
-  bool half = false;            // half-specimen model (issue 5)
-  bool full = false;            // full explicit-crack model (issue 5)
+  bool half = false;            // growth: half-specimen model
+  bool full = false;            // growth: full explicit-crack model
+  std::string increment;        // growth: tip increment with unit (default one cell)
+  std::vector<int> contours = {3};  // growth: J contour half sizes [cells]
 };
 
 // Adds the MPM-only options to the `simulate` subcommand.
@@ -27,5 +32,13 @@ void RegisterMpmOptions(CLI::App& sub, MpmCliOptions& options);
 int RunMpmSimulation(const Scene& scene, const MpmCliOptions& options,
                      const std::string& out_h5, const std::string& csv,
                      const CommonOptions& common);
+
+// Shared with the reduced branch (cmd_simulate.cpp): the points as CSV,
+// JSON, HDF5 (/simulation) and a table on stdout.
+std::string PointsCsv(const SimulationResult& result);
+nlohmann::json ResultJson(const SimulationResult& result);
+void WriteSimulationH5(const std::string& path, const SimulationResult& result,
+                       const Scene& scene);
+void PrintPointsTable(const SimulationResult& result);
 
 }  // namespace bridgefit::cli

@@ -481,24 +481,6 @@ LinearTipState SolveLinearTip(const CrackPlaneModel& model, int tip, double p,
   return state;
 }
 
-void FillEnergyR(std::vector<SimulationPoint>& points, double thickness) {
-  const size_t n = points.size();
-  std::vector<double> step(n > 0 ? n - 1 : 0, NAN);
-  for (size_t i = 0; i + 1 < n; ++i) {
-    const SimulationPoint& a = points[i];
-    const SimulationPoint& b = points[i + 1];
-    const double work = 0.5 * (a.load + b.load) * (b.displacement - a.displacement);
-    const double stored = 0.5 * (b.load * b.displacement - a.load * a.displacement);
-    step[i] = (work - stored) / (thickness * (b.crack_length - a.crack_length));
-  }
-  for (size_t i = 0; i < n; ++i) {
-    if (n < 2) break;
-    if (i == 0) points[i].R_energy = step[0];
-    else if (i + 1 == n) points[i].R_energy = step[n - 2];
-    else points[i].R_energy = 0.5 * (step[i - 1] + step[i]);
-  }
-}
-
 ReducedModel::ReducedModel(std::shared_ptr<const CrackPlaneModel> model) : model_(std::move(model)) {
   BF_CHECK_INPUT(model_ && model_->size() >= 3, "the crack-plane model is empty",
                  {.field = "model"});

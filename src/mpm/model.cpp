@@ -62,7 +62,7 @@ namespace {
 
 // Grid aligned with x = 0 on node lines and y = 0 on cell centres (the crack
 // plane lies between particle rows, never through a node).
-GridSpec MakeGrid(double xmin, double xmax, double ymax, double h) {
+GridSpec MakeGrid(double xmin, double xmax, double ymax, double h, bool half = false) {
   GridSpec g;
   g.cell = h;
   const int margin = 3;
@@ -73,6 +73,12 @@ GridSpec MakeGrid(double xmin, double xmax, double ymax, double h) {
   g.nx = i1 - i0 + 1;
   g.y0 = (k + 0.5) * h;
   g.ny = 2 * (-k) ;
+  if (half) {
+    // Half model: node row j = margin on the symmetry plane y = 0.
+    const int top = static_cast<int>(std::ceil(ymax / h - 1e-9)) + margin;
+    g.y0 = -margin * h;
+    g.ny = top + margin + 1;
+  }
   return g;
 }
 
@@ -102,15 +108,14 @@ double SaxenaHudak(double u) {
           9.9314 * std::pow(u, 5));
 }
 
-}  // namespace
-
-Model BuildSpecimenModel(const Scene& scene, double cell, int ppc, PinModel pins) {
+Model BuildModel(const Scene& scene, double cell, int ppc, PinModel pins, bool half) {
   const SpecimenSpec& s = scene.specimen;
   BF_CHECK_INPUT(cell > 0.0, "cell size must be positive", {.field = "cell"});
   BF_CHECK_INPUT(ppc >= 1 && ppc <= 8, "particles per cell must be 1..8",
                  {.field = "ppc", .value = std::to_string(ppc)});
   Model m;
   m.ppc = ppc;
+  m.half = half;
   m.plane = s.plane;
   m.density = scene.material.density;
   m.law = std::make_shared<LinearElastic>(LinearElastic::FromMaterial(scene.material, s.plane));
@@ -126,15 +131,16 @@ Model BuildSpecimenModel(const Scene& scene, double cell, int ppc, PinModel pins
     m.thickness = s.thickness;
     m.description = fmt::format("CT W={:g} mm a0={:g} mm cell={:g} mm ppc={}", W * 1e3,
                                 a0 * 1e3, h * 1e3, ppc);
-    m.grid = MakeGrid(-0.25 * W, W, 0.5 * H, h);
+    m.grid = MakeGrid(-0.25 * W, W, 0.5 * H, h, half);
     const double pin_y = 0.275 * W, radius = 0.125 * W;
     const bool holes = pins == PinModel::kHoles;
     m.particles = FillParticles(m.grid, ppc, [&](double x, double y) {
       if (x < -0.25 * W || x > W || std::abs(y) > 0.5 * H) return false;
+      if (half && y <= 0.0) return false;
       if (holes && std::hypot(x, std::abs(y) - pin_y) < radius) return false;
       return true;
     });
-    for (int side = 0; side < 2; ++side) {
+    for (int side = 0; side < (half ? 1 : 2); ++side) {
       NodeConstraint c;
       const double sign = side == 0 ? 1.0 : -1.0;
       c.name = side == 0 ? "top pin" : "bottom pin";
@@ -159,7 +165,7 @@ Model BuildSpecimenModel(const Scene& scene, double cell, int ppc, PinModel pins
       m.constraints.push_back(std::move(c));
     }
     m.load_constraint = 0;
-    m.crack = StraightCrack(-0.25 * W - h, a0, h);
+    if (!half) m.crack = StraightCrack(-0.25 * W - h, a0, h);
     // omega_1 ~ sqrt(k / m_eff): k = E'/(E'BC) per unit thickness, m_eff a
     // quarter of the specimen mass.
     const double k = m.effective_modulus / SaxenaHudak(a0 / W);
@@ -173,11 +179,11 @@ Model BuildSpecimenModel(const Scene& scene, double cell, int ppc, PinModel pins
     m.thickness = s.width;
     m.description = fmt::format("DCB L={:g} mm h={:g} mm a0={:g} mm cell={:g} mm ppc={}",
                                 L * 1e3, arm * 1e3, a0 * 1e3, h * 1e3, ppc);
-    m.grid = MakeGrid(0.0, L, arm, h);
+    m.grid = MakeGrid(0.0, L, arm, h, half);
     m.particles = FillParticles(m.grid, ppc, [&](double x, double y) {
-      return x >= 0.0 && x <= L && std::abs(y) <= arm;
+      return x >= 0.0 && x <= L && std::abs(y) <= arm && (!half || y > 0.0);
     });
-    for (int side = 0; side < 2; ++side) {
+    for (int side = 0; side < (half ? 1 : 2); ++side) {
       NodeConstraint c;
       const double sign = side == 0 ? 1.0 : -1.0;
       c.name = side == 0 ? "top arm end" : "bottom arm end";
@@ -192,7 +198,7 @@ Model BuildSpecimenModel(const Scene& scene, double cell, int ppc, PinModel pins
       m.constraints.push_back(std::move(c));
     }
     m.load_constraint = 0;
-    m.crack = StraightCrack(-h, a0, h);
+    if (!half) m.crack = StraightCrack(-h, a0, h);
     // Cantilever arm of length a0: omega = 1.875^2 sqrt(E I / (rho A a0^4)).
     const double E = scene.material.AxialModulus();
     m.lowest_frequency = 3.516 * std::sqrt(E * arm * arm / (12.0 * m.density)) / (a0 * a0);
@@ -201,4 +207,13 @@ Model BuildSpecimenModel(const Scene& scene, double cell, int ppc, PinModel pins
   return m;
 }
 
+}  // namespace
+
+Model BuildSpecimenModel(const Scene& scene, double cell, int ppc, PinModel pins) {
+  return BuildModel(scene, cell, ppc, pins, false);
+}
+
+Model BuildHalfSpecimenModel(const Scene& scene, double cell, int ppc) {
+  return BuildModel(scene, cell, ppc, PinModel::kHoles, true);
+}
 }  // namespace bridgefit::mpm

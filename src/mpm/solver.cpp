@@ -14,6 +14,7 @@
 
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/core/progress.hpp"
+#include "shape.hpp"
 
 namespace bridgefit::mpm {
 
@@ -66,44 +67,7 @@ std::string Summary::BriefReport() const {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-// uGIMP weight and gradient in cell units: d = (x_p - x_i)/h, l = l_p/h,
-// inv_l = 1/l (no divisions in the hot loop).
-inline void Gimp1D(double d, double l, double inv_l, double& s, double& g) {
-  const double ad = std::abs(d);
-  const double sgn = d < 0.0 ? -1.0 : 1.0;
-  if (ad < l) {
-    s = 1.0 - 0.5 * (d * d + l * l) * inv_l;
-    g = -d * inv_l;
-  } else if (ad < 1.0 - l) {
-    s = 1.0 - ad;
-    g = -sgn;
-  } else if (ad < 1.0 + l) {
-    const double t = 1.0 + l - ad;
-    s = 0.25 * t * t * inv_l;
-    g = -0.5 * sgn * t * inv_l;
-  } else {
-    s = 0.0;
-    g = 0.0;
-  }
-}
-
-inline void Linear1D(double d, double& s, double& g) {
-  const double ad = std::abs(d);
-  if (ad < 1.0) {
-    s = 1.0 - ad;
-    g = d < 0.0 ? 1.0 : -1.0;
-  } else {
-    s = 0.0;
-    g = 0.0;
-  }
-}
-
-// Weights of one particle on its 3 x 3 node patch starting at (i0, j0).
-struct Weights {
-  int i0, j0;
-  double sx[3], sy[3], gx[3], gy[3];  // gradients in 1/m
-};
+using detail::Weights;
 
 inline double Orient(double ax, double ay, double bx, double by, double cx, double cy) {
   return (bx - ax) * (cy - ay) - (by - ay) * (cx - ax);
@@ -380,20 +344,7 @@ struct Solver::Impl {
 
   template <bool kGimp>
   inline void ComputeWeights(double x, double y, Weights& wt) const {
-    const double fx = (x - x0) * inv_h, fy = (y - y0) * inv_h;
-    wt.i0 = static_cast<int>(std::floor(fx - lp));
-    wt.j0 = static_cast<int>(std::floor(fy - lp));
-    for (int a = 0; a < 3; ++a) {
-      double s, g;
-      if constexpr (kGimp) Gimp1D(fx - (wt.i0 + a), lp, inv_lp, s, g);
-      else Linear1D(fx - (wt.i0 + a), s, g);
-      wt.sx[a] = s;
-      wt.gx[a] = g * inv_h;
-      if constexpr (kGimp) Gimp1D(fy - (wt.j0 + a), lp, inv_lp, s, g);
-      else Linear1D(fy - (wt.j0 + a), s, g);
-      wt.sy[a] = s;
-      wt.gy[a] = g * inv_h;
-    }
+    detail::PatchWeights<kGimp>(x, y, x0, y0, inv_h, lp, inv_lp, wt);
   }
 
   // ------------------------------------------------------------ stage 1

@@ -78,4 +78,9 @@ struct SimulationResult {
   RCurve ToRCurve(bool energy_kind) const;
 };
 
+// R_energy per point from a load-displacement record: between successive
+// points dU = int P dd - (P2 d2 - P1 d1)/2 (trapezoid), R = dU / (B da); a
+// point gets the mean of the steps on either side (one step at the ends).
+void FillEnergyR(std::vector<SimulationPoint>& points, double thickness);
+
 }  // namespace bridgefit

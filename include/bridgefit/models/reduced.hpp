@@ -87,9 +87,7 @@ class ReducedModel {
 // Builds the model for `scene` and runs it (scene.fracture is required).
 SimulationResult SimulateReduced(const Scene& scene, const ReducedOptions& options);
 
-// R_energy per point from a load-displacement record: between successive
-// points dU = int P dd - (P2 d2 - P1 d1)/2 (trapezoid), R = dU / (B da); a
-// point gets the mean of the steps on either side (one step at the ends).
-void FillEnergyR(std::vector<SimulationPoint>& points, double thickness);
+// R_energy from the run's own load-displacement record (core/records.hpp).
+using bridgefit::FillEnergyR;
 
 }  // namespace bridgefit::models

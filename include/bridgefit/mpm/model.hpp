@@ -69,6 +69,10 @@ struct Model {
   int load_constraint = -1;
   // Explicit crack: polyline from the mouth to the tip (empty: none).
   std::vector<std::array<double, 2>> crack;
+  // Half model of a specimen symmetric about the crack plane y = 0: the
+  // particles above it only, node row y = 0 on the plane (the growth model
+  // holds it as a symmetry boundary ahead of the tip), no explicit crack.
+  bool half = false;
   // Lowest natural angular frequency estimate [rad/s] (sets auto damping).
   double lowest_frequency = 0.0;
 
@@ -88,5 +92,8 @@ enum class PinModel {
 // DCB: arms of thickness h from x = 0 (load line, driven ends) to L.
 Model BuildSpecimenModel(const Scene& scene, double cell, int ppc,
                          PinModel pins = PinModel::kHoles);
+// The upper half (y > 0) of the same specimen with its top pin or arm end,
+// on a grid with a node row on y = 0 (for the quasi-static growth model).
+Model BuildHalfSpecimenModel(const Scene& scene, double cell, int ppc);
 
 }  // namespace bridgefit::mpm

@@ -1,0 +1,69 @@
+#pragma once
+// Shape functions of the MPM kernels (internal to the mpm module): uGIMP and
+// linear weights on the 3 x 3 node patch of a particle. Shared by the explicit
+// solver and the quasi-static growth model so both discretise alike.
+
+#include <cmath>
+
+namespace bridgefit::mpm::detail {
+
+// uGIMP weight and gradient in cell units: d = (x_p - x_i)/h, l = l_p/h,
+// inv_l = 1/l (no divisions in the hot loop).
+inline void Gimp1D(double d, double l, double inv_l, double& s, double& g) {
+  const double ad = std::abs(d);
+  const double sgn = d < 0.0 ? -1.0 : 1.0;
+  if (ad < l) {
+    s = 1.0 - 0.5 * (d * d + l * l) * inv_l;
+    g = -d * inv_l;
+  } else if (ad < 1.0 - l) {
+    s = 1.0 - ad;
+    g = -sgn;
+  } else if (ad < 1.0 + l) {
+    const double t = 1.0 + l - ad;
+    s = 0.25 * t * t * inv_l;
+    g = -0.5 * sgn * t * inv_l;
+  } else {
+    s = 0.0;
+    g = 0.0;
+  }
+}
+
+inline void Linear1D(double d, double& s, double& g) {
+  const double ad = std::abs(d);
+  if (ad < 1.0) {
+    s = 1.0 - ad;
+    g = d < 0.0 ? 1.0 : -1.0;
+  } else {
+    s = 0.0;
+    g = 0.0;
+  }
+}
+
+// Weights of one particle on its 3 x 3 node patch starting at (i0, j0).
+struct Weights {
+  int i0, j0;
+  double sx[3], sy[3], gx[3], gy[3];  // gradients in 1/m
+};
+
+// Patch weights of a particle at (x, y) on a grid with origin (x0, y0) and
+// inverse cell size inv_h; lp: particle half size in cell units (0: linear).
+template <bool kGimp>
+inline void PatchWeights(double x, double y, double x0, double y0, double inv_h, double lp,
+                         double inv_lp, Weights& wt) {
+  const double fx = (x - x0) * inv_h, fy = (y - y0) * inv_h;
+  wt.i0 = static_cast<int>(std::floor(fx - lp));
+  wt.j0 = static_cast<int>(std::floor(fy - lp));
+  for (int a = 0; a < 3; ++a) {
+    double s, g;
+    if constexpr (kGimp) Gimp1D(fx - (wt.i0 + a), lp, inv_lp, s, g);
+    else Linear1D(fx - (wt.i0 + a), s, g);
+    wt.sx[a] = s;
+    wt.gx[a] = g * inv_h;
+    if constexpr (kGimp) Gimp1D(fy - (wt.j0 + a), lp, inv_lp, s, g);
+    else Linear1D(fy - (wt.j0 + a), s, g);
+    wt.sy[a] = s;
+    wt.gy[a] = g * inv_h;
+  }
+}
+
+}  // namespace bridgefit::mpm::detail
