@@ -477,6 +477,7 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
   }
 
   std::vector<double> full = objective.Expand(best.x.data());
+  for (int i = 0; i < kParameterCount; ++i) s.best_parameters[i] = full[i];
   std::vector<double> residuals(m);
   ForwardPrediction prediction;
   objective.Residuals(full, residuals.data(), &prediction);

@@ -117,6 +117,9 @@ struct FitSummary {
   std::vector<double> fitted_crack_length;  // the data points used (outliers removed) [m]
   std::vector<double> fitted_R;   // model R there [J/m^2]
   std::vector<double> fitted_delta_root;
+  // The full parameter vector (sigma_c, J_B, J_tip_c) at the chi^2 minimum
+  // [SI], also when only bounds are reported (NaN when the fit failed).
+  std::array<double, kParameterCount> best_parameters = {NAN, NAN, NAN};
 
   std::string BriefReport() const;
 };
