@@ -139,7 +139,7 @@ class StaticGrowth {
                       .expected = fmt::format("a divisor of a0 = {:g} mm", a0_ * 1e3)});
       increment_ = opt_.increment > 0.0 ? opt_.increment : h_;
       const double steps = increment_ * inv_h_;
-      BF_CHECK_INPUT(std::abs(steps - std::round(steps)) < 1e-6 && steps >= 1.0,
+      BF_CHECK_INPUT(std::abs(steps - std::round(steps)) < 1e-6 && steps > 1.0 - 1e-6,
                      "the half model advances the tip from node to node: the increment must be "
                      "a multiple of the cell size",
                      {.field = "increment", .value = fmt::format("{:g} mm", increment_ * 1e3),
