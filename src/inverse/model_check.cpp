@@ -139,6 +139,7 @@ FitSummary FitWithModelCheck(const ForwardModel& cheap, const ForwardModel& accu
       if (!e->fixed) e->decided_by += "; " + (r.discrepancy_at_cheap_optimum <= check.tolerance
                                                   ? checked
                                                   : r.outcome);
+    fit.wall_s += r.accurate_s;
     return fit;
   }
 

@@ -87,8 +87,12 @@ class StaticGrowth {
   StaticGrowth(const Scene& scene, const GrowthOptions& opt) : scene_(scene), opt_(opt) {
     std::string why;
     if (!opt_.IsValid(&why)) throw Error(ErrorKind::kUsage, "invalid MPM growth options: " + why);
+    // Auto: the half model when the scene is symmetric and its notch tip
+    // lies on a node (grid nodes sit on multiples of the cell), else full.
+    const double tip_nodes = scene.specimen.notch / opt_.cell;
+    const bool tip_on_node = std::abs(tip_nodes - std::round(tip_nodes)) < 1e-6;
     half_ = opt_.symmetry == GrowthSymmetry::kHalf ||
-            (opt_.symmetry == GrowthSymmetry::kAuto && SceneIsSymmetric(scene));
+            (opt_.symmetry == GrowthSymmetry::kAuto && SceneIsSymmetric(scene) && tip_on_node);
     if (!half_)
       BF_CHECK_INPUT(opt_.ppc % 2 == 0,
                      "the full explicit-crack model needs an even number of particles per cell "

@@ -35,7 +35,8 @@
 namespace bridgefit::mpm {
 
 enum class GrowthSymmetry {
-  kAuto,  // half model when the scene is symmetric about the crack plane
+  kAuto,  // half model when the scene is symmetric about the crack plane and
+          // a0 is a multiple of the cell (the half model's tip is on a node)
   kHalf,  // half model (symmetry boundary on the ligament)
   kFull   // explicit crack through the whole specimen
 };
