@@ -21,6 +21,7 @@
 #include "bridgefit/io/hdf5.hpp"
 #include "bridgefit/io/scene_file.hpp"
 #include "command.hpp"
+#include "record_input.hpp"
 
 namespace bridgefit::cli {
 namespace {
@@ -32,11 +33,6 @@ double Quantity(const std::string& text, const Dimension& dimension, const char*
   } catch (const Error& e) {
     throw Error(ErrorKind::kUsage, e.message(), e.context()).WithContext({.field = option});
   }
-}
-
-bool EndsWith(const std::string& text, const std::string& suffix) {
-  return text.size() >= suffix.size() &&
-         text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 class RcurveCommand final : public Command {
@@ -71,7 +67,16 @@ class RcurveCommand final : public Command {
     sub.add_option("--displacement-noise", displacement_noise_, "Displacement noise, 1 sigma");
     sub.add_option("--crack-noise", crack_noise_, "Crack-length noise, 1 sigma");
     sub.add_option("--min-increment", min_increment_, "Energy method: smallest crack increment");
+    sub.add_option("--smooth", smooth_rows_,
+                   "Energy method: local quadratic fits over 2 N + 1 rows before the balance (0: none)")
+        ->default_val(0);
     sub.add_option("--max-crack-length", max_crack_, "Validity limit (default CT 0.9 W, DCB L - 4h)");
+    sub.add_flag("--large-displacement", large_displacement_,
+                 "DCB mbt/cc: ASTM D5528 large-displacement (F) and load-block (N) corrections");
+    sub.add_option("--block-offset", block_offset_,
+                   "With --large-displacement: t, loading-pin centre to arm mid-plane (default 0)");
+    sub.add_option("--block-half-length", block_half_length_,
+                   "With --large-displacement: L', loading-pin centre to block edge (default 0)");
     sub.add_option("--coverage", coverage_, "Coverage factor of the reported uncertainty")
         ->default_val(2.0);
   }
@@ -95,6 +100,18 @@ class RcurveCommand final : public Command {
       options.min_crack_increment = Quantity(min_increment_, Dimension::Length(), "--min-increment");
     options.max_crack_length = Quantity(max_crack_, Dimension::Length(), "--max-crack-length");
     options.coverage_factor = coverage_;
+    options.smoothing_half_window = smooth_rows_;
+    options.large_displacement_correction = large_displacement_;
+    if (!block_offset_.empty())
+      options.load_block_offset = Quantity(block_offset_, Dimension::Length(), "--block-offset");
+    if (!block_half_length_.empty())
+      options.load_block_half_length =
+          Quantity(block_half_length_, Dimension::Length(), "--block-half-length");
+    if ((!block_offset_.empty() || !block_half_length_.empty()) && !large_displacement_)
+      throw Error(ErrorKind::kUsage,
+                  "the load-block sizes only act with the large-displacement correction",
+                  {.field = "--block-offset/--block-half-length",
+                   .expected = "--large-displacement"});
     std::string why;
     if (!options.IsValid(&why)) throw Error(ErrorKind::kUsage, why);
 
@@ -103,36 +120,7 @@ class RcurveCommand final : public Command {
 
     if (!out_.empty()) {
       io::H5Writer file(out_);
-      io::WriteRecordH5(file, record, "/experiment");
-      io::WriteRecordH5(file, result.curve, "/rcurve");
-      file.WriteVector("/rcurve/crack_growth", result.crack_growth, "m", "a - a0");
-      file.WriteVector("/rcurve/load", result.load, "N", "load at the point (end row for energy)");
-      file.WriteVector("/rcurve/displacement", result.displacement, "m", "load-point displacement");
-      std::vector<double> rows(result.rows.begin(), result.rows.end());
-      file.WriteVector("/rcurve/record_row", rows, "1", "0-based row of the cleaned record");
-      std::vector<std::string> reasons;
-      std::vector<double> counts;
-      for (const auto& [reason, count] : DroppedList(record, result)) {
-        reasons.push_back(reason);
-        counts.push_back(count);
-      }
-      file.WriteStrings("/rcurve/dropped_reasons", reasons);
-      file.WriteVector("/rcurve/dropped_counts", counts, "1", "rows dropped per reason");
-      file.WriteStrings("/rcurve/notes", result.notes.empty() ? std::vector<std::string>{"none"}
-                                                              : result.notes);
-      file.WriteAttribute("/rcurve", "points_used", static_cast<double>(result.points_used));
-      file.WriteAttribute("/rcurve", "coverage_factor", options.coverage_factor);
-      file.WriteAttribute("/rcurve", "load_noise_N", result.load_noise);
-      file.WriteAttribute("/rcurve", "displacement_noise_m", result.displacement_noise);
-      file.WriteAttribute("/rcurve", "crack_length_noise_m", result.crack_length_noise);
-      for (const auto& [key, value] : result.figures) file.WriteAttribute("/rcurve/figures", key, value);
-      file.WriteAttribute("/rcurve", "specimen", options.specimen.type == SpecimenType::kCT ? "ct" : "dcb");
-      file.WriteAttribute("/rcurve", "specimen_width_m", options.specimen.width);
-      file.WriteAttribute("/rcurve", "specimen_height_m", options.specimen.height);
-      file.WriteAttribute("/rcurve", "specimen_thickness_m", options.specimen.thickness);
-      file.WriteAttribute("/rcurve", "specimen_length_m", options.specimen.length);
-      file.WriteAttribute("/rcurve", "crack_front_width_m", options.specimen.CrackFrontWidth());
-      if (!scene_.empty()) file.WriteAttribute("/rcurve", "scene", scene_);
+      WriteReductionH5(file, record, result, options, scene_);
       file.Commit();
     }
     if (!csv_.empty()) {
@@ -217,30 +205,10 @@ class RcurveCommand final : public Command {
   // Import cleaning (io) followed by the reduction's own reasons.
   static std::vector<std::pair<std::string, int>> DroppedList(
       const ExperimentRecord& record, const experiment::RCurveResult& result) {
-    std::vector<std::pair<std::string, int>> list;
-    if (record.rows_dropped_nan > 0)
-      list.emplace_back("missing value (NaN) in a used column, on import", record.rows_dropped_nan);
-    if (record.rows_repeated > 0)
-      list.emplace_back("exact repeat of the previous row, on import", record.rows_repeated);
-    for (const experiment::DroppedRows& d : result.dropped) list.emplace_back(d.reason, d.count);
-    return list;
+    return DroppedRowList(record, result);
   }
 
-  ExperimentRecord ReadRecord() const {
-    if (EndsWith(record_, ".h5") || EndsWith(record_, ".hdf5")) {
-      if (!columns_.empty() || !units_.empty())
-        throw Error(ErrorKind::kUsage, "--columns/--units apply to CSV records only",
-                    {.field = "--columns", .value = record_});
-      const io::H5Reader file(record_);
-      ExperimentRecord record = io::ReadExperimentH5(file, "/experiment");
-      if (record.source.empty()) record.source = record_;
-      return record;
-    }
-    io::RecordColumns columns;
-    if (!columns_.empty()) io::ApplyColumnMapping(columns_, columns);
-    if (!units_.empty()) io::ApplyUnitMapping(units_, columns);
-    return io::ReadRecordCsv(record_, columns);
-  }
+  ExperimentRecord ReadRecord() const { return ReadRecordFile(record_, columns_, units_); }
 
   void ApplySpecimenOptions(experiment::RCurveOptions& o) const {
     if (!type_.empty()) {
@@ -279,8 +247,11 @@ class RcurveCommand final : public Command {
   std::string record_, scene_, method_ = "energy", columns_, units_, out_, csv_;
   std::string type_, width_, height_, thickness_, length_, notch_, modulus_, g13_, plane_;
   std::string load_noise_, displacement_noise_, crack_noise_, min_increment_, max_crack_;
+  std::string block_offset_, block_half_length_;
+  bool large_displacement_ = false;
   double nu_ = NAN;
   double coverage_ = 2.0;
+  int smooth_rows_ = 0;
 };
 
 }  // namespace

@@ -18,8 +18,9 @@ printf 'sample\tparameter\tvalue or bound\t95%% CI\tmodel\ttime [s]\n' > "$summa
 
 # Per sample: record, the rcurve options that read it, the fit options.
 # mdf_ct/pb_ct: synthetic (bridgefit synth, see their README); the MDF fit uses
-# the noise-free record (with realistic noise the bridging rise of ~220 J/m^2 is
-# below the energy method's resolution: see data_samples/mdf_ct/README.md).
+# the noise-free record: from the noisy one (0.3 mm crack-length noise) no reduction
+# determines the R slope, hence sigma_c, to 5% (Cramer-Rao bound 6.6% one sigma;
+# measured with `rcurve --smooth 30`: errors -24..+58%; data_samples/mdf_ct/README.md).
 EXACT_NOISE="--load-noise 0.01N --displacement-noise 0.01um --crack-noise 0.001mm"
 run_sample() {
   local sample=$1 record=$2 rcurve_args=$3 fit_args=$4

@@ -101,6 +101,9 @@ bool RCurveOptions::IsValid(std::string* why) const {
   if (!(coverage_factor > 0)) return fail("coverage_factor must be > 0");
   if (!(increment_resolution >= 0) || !(min_crack_increment >= 0))
     return fail("increment settings must be >= 0");
+  if (smoothing_half_window < 0) return fail("smoothing_half_window must be >= 0 (0: no smoothing)");
+  if (smoothing_half_window > 0 && method != RMethod::kEnergy)
+    return fail("smoothing_half_window applies to the energy method only");
   if (!(linear_fit_low >= 0 && linear_fit_low < linear_fit_high && linear_fit_high <= 1))
     return fail("need 0 <= linear_fit_low < linear_fit_high <= 1");
   if (!(nonlinearity_tolerance > 0 && offset_fraction > 0))
@@ -117,6 +120,12 @@ bool RCurveOptions::IsValid(std::string* why) const {
   if (specimen.type == SpecimenType::kDCB && !(specimen.height > 0) &&
       (method == RMethod::kLefm || method == RMethod::kEquivalentCrack))
     return fail("DCB lefm/equivalent need the arm thickness h (specimen.height)");
+  if (!(load_block_offset >= 0) || !(load_block_half_length >= 0))
+    return fail("load-block offset t and half length L' must be >= 0");
+  if (large_displacement_correction &&
+      (specimen.type != SpecimenType::kDCB ||
+       (method != RMethod::kMbt && method != RMethod::kComplianceCalibration)))
+    return fail("the large-displacement (F, N) corrections apply to DCB mbt and cc only");
   return true;
 }
 
@@ -226,9 +235,16 @@ RCurveResult ComputeRCurve(const ExperimentRecord& record, const RCurveOptions& 
   if (options.stop_at_unloading) {
     double dmax = -INFINITY;
     const double tol = std::max(3.0 * sigma_d, 1e-6 * maxd);
+    // A decrease counts when it lasts 3 rows: on a long record a single row
+    // 3 sigmas below the (noisy) running maximum is chance, not unloading.
+    auto below = [&](std::size_t k, double level) {
+      for (std::size_t q = k; q < std::min(w.size(), k + 3); ++q)
+        if (!(w.d[q] < level)) return false;
+      return true;
+    };
     for (std::size_t k = 0; k < w.size(); ++k) {
       dmax = std::max(dmax, w.d[k]);
-      if (w.d[k] < dmax - tol) {
+      if (w.d[k] < dmax - tol && below(k, dmax - tol)) {
         AddDropped(result, "after unloading (load-point displacement decreased)",
                    static_cast<int>(w.size() - k));
         result.notes.push_back(fmt::format("displacement decreased at row {}: rows from there on dropped",
@@ -406,54 +422,132 @@ RCurveResult ComputeRCurve(const ExperimentRecord& record, const RCurveOptions& 
 
   // ================================================================ energy
   if (method == RMethod::kEnergy) {
+    const int h = options.smoothing_half_window;
     const double da_min =
         std::max(options.min_crack_increment, options.increment_resolution * std::sqrt(2.0) * sigma_a);
-    result.figures["energy_min_increment_m"] = da_min;
     std::vector<double> ds(m);
     for (int k = 0; k < m; ++k) ds[k] = w.d[k] - lin.intercept;  // elastic unloading to d0
     const int start = std::max(0, first_growth - 1);
     AddDropped(result, "before initiation (no crack growth yet)", start);
-    // Increments [i, j]: each the shortest run with da >= da_min; rows left
-    // over at the end (growth < da_min) join the last increment.
+    // Values entering the balance: the rows as measured, or (h > 0) local
+    // quadratic fits against time over the growth rows [start, m - 1] only,
+    // so no window straddles the initiation kink.
+    std::vector<double> P_e = w.P, d_e = ds, a_e = w.a;
+    std::vector<LocalWeights> fit_weights;  // per row from start (h > 0)
+    if (h > 0) {
+      std::vector<double> x(m);
+      bool time_increases = !record.time.empty();
+      for (int k = 0; k < m; ++k) {
+        x[k] = time_increases ? record.time[w.row[k]] : k;
+        if (k > start && !(x[k] > x[k - 1])) time_increases = false;
+      }
+      if (!time_increases)
+        for (int k = 0; k < m; ++k) x[k] = k;
+      double hat_sum = 0.0;
+      for (int k = start; k < m; ++k) {
+        LocalWeights lw = LocalQuadraticWeights(x, start, m - 1, k, h);
+        double p = 0.0, d = 0.0, a = 0.0, hat = 0.0;
+        for (std::size_t q = 0; q < lw.weights.size(); ++q) {
+          const int r = lw.first_row + static_cast<int>(q);
+          p += lw.weights[q] * w.P[r];
+          d += lw.weights[q] * ds[r];
+          a += lw.weights[q] * w.a_raw[r];
+          hat += lw.weights[q] * lw.weights[q];
+        }
+        P_e[k] = p, d_e[k] = d, a_e[k] = a;
+        hat_sum += std::sqrt(hat);
+        fit_weights.push_back(std::move(lw));
+      }
+      const double noise_factor = hat_sum / (m - start);  // mean sqrt(sum w^2)
+      result.figures["energy_smoothing_half_window_rows"] = h;
+      result.figures["energy_smoothed_crack_noise_m"] = noise_factor * sigma_a;
+      result.notes.push_back(fmt::format(
+          "energy method on local quadratic fits of load, displacement and crack length against {} "
+          "over {} rows (ASTM E647 incremental polynomial); crack-length noise {} per row, {} "
+          "after the fits; every increment spans at least one window",
+          time_increases ? "time" : "row number", 2 * h + 1, Mm(sigma_a), Mm(noise_factor * sigma_a)));
+    }
+    // Standard deviation of a_e[j] - a_e[i] over sigma_a: sqrt 2 for raw rows,
+    // the norm of the difference of the two fits' weights when smoothed.
+    std::vector<double> dense(h > 0 ? m : 0, 0.0);
+    auto da_noise_factor = [&](int i, int j) {
+      if (h <= 0) return std::sqrt(2.0);
+      const LocalWeights& wi = fit_weights[i - start];
+      const LocalWeights& wj = fit_weights[j - start];
+      for (std::size_t q = 0; q < wj.weights.size(); ++q) dense[wj.first_row + q] += wj.weights[q];
+      for (std::size_t q = 0; q < wi.weights.size(); ++q) dense[wi.first_row + q] -= wi.weights[q];
+      double ss = 0.0;
+      const int lo = std::min(wi.first_row, wj.first_row);
+      const int hi = std::max(wi.first_row + static_cast<int>(wi.weights.size()),
+                              wj.first_row + static_cast<int>(wj.weights.size()));
+      for (int r = lo; r < hi; ++r) ss += dense[r] * dense[r], dense[r] = 0.0;
+      return std::sqrt(ss);
+    };
+    // Increments [i, j]: each the shortest run with da >= da_min (smoothed:
+    // da >= max(min_crack_increment, increment_resolution x its own noise)
+    // and at least one window of rows); rows left over at the end join the
+    // last increment.
+    auto resolvable = [&](int i, int j) {
+      const double da = a_e[j] - a_e[i];
+      if (h <= 0) return da >= da_min;
+      return j - i >= 2 * h + 1 && da >= options.min_crack_increment &&
+             da >= options.increment_resolution * sigma_a * da_noise_factor(i, j);
+    };
+    result.figures["energy_min_increment_m"] = h > 0 ? options.min_crack_increment : da_min;
     std::vector<std::pair<int, int>> increments;
     for (int i = start;;) {
       int j = i + 1;
-      while (j < m && w.a[j] - w.a[i] < da_min) ++j;
+      while (j < m && !resolvable(i, j)) ++j;
       if (j >= m) break;
       increments.emplace_back(i, j);
       i = j;
     }
     if (!increments.empty() && increments.back().second < m - 1 &&
-        w.a[m - 1] > w.a[increments.back().second]) {
+        a_e[m - 1] > a_e[increments.back().second]) {
       result.notes.push_back(fmt::format("the last {} rows (growth {}) joined the last increment",
                                          m - 1 - increments.back().second,
-                                         Mm(w.a[m - 1] - w.a[increments.back().second])));
+                                         Mm(a_e[m - 1] - a_e[increments.back().second])));
       increments.back().second = m - 1;
     }
+    std::vector<double> gP(h > 0 ? m : 0, 0.0), gd(h > 0 ? m : 0, 0.0);
     int last_end = start;
     for (const auto& [i, j] : increments) {
-      const double da = w.a[j] - w.a[i];
-      const double dU = EnergyReleased(w.P, ds, i, j);
+      const double da = a_e[j] - a_e[i];
+      const double dU = EnergyReleased(P_e, d_e, i, j);
       const double R = dU / (B * da);
-      // Linear sensitivities of dU to every P_k and d_k of the increment.
+      // Linear sensitivities of dU to every P_k and d_k of the increment
+      // (smoothed: carried back to the measured rows through the fits' weights).
       double var = 0.0;
       for (int k = i; k <= j; ++k) {
-        const double dprev = k > i ? ds[k] - ds[k - 1] : 0.0;
-        const double dnext = k < j ? ds[k + 1] - ds[k] : 0.0;
+        const double dprev = k > i ? d_e[k] - d_e[k - 1] : 0.0;
+        const double dnext = k < j ? d_e[k + 1] - d_e[k] : 0.0;
         double sP = 0.5 * (dprev + dnext);
-        const double Pprev = k > i ? w.P[k - 1] : w.P[k];
-        const double Pnext = k < j ? w.P[k + 1] : w.P[k];
-        double sd = (k > i ? 0.5 * (Pprev + w.P[k]) : 0.0) - (k < j ? 0.5 * (w.P[k] + Pnext) : 0.0);
-        if (k == j) sP -= 0.5 * ds[k], sd -= 0.5 * w.P[k];
-        if (k == i) sP += 0.5 * ds[k], sd += 0.5 * w.P[k];
-        var += sP * sP * sigma_P * sigma_P + sd * sd * sigma_d * sigma_d;
+        const double Pprev = k > i ? P_e[k - 1] : P_e[k];
+        const double Pnext = k < j ? P_e[k + 1] : P_e[k];
+        double sd = (k > i ? 0.5 * (Pprev + P_e[k]) : 0.0) - (k < j ? 0.5 * (P_e[k] + Pnext) : 0.0);
+        if (k == j) sP -= 0.5 * d_e[k], sd -= 0.5 * P_e[k];
+        if (k == i) sP += 0.5 * d_e[k], sd += 0.5 * P_e[k];
+        if (h <= 0) {
+          var += sP * sP * sigma_P * sigma_P + sd * sd * sigma_d * sigma_d;
+          continue;
+        }
+        const LocalWeights& lw = fit_weights[k - start];
+        for (std::size_t q = 0; q < lw.weights.size(); ++q) {
+          gP[lw.first_row + q] += sP * lw.weights[q];
+          gd[lw.first_row + q] += sd * lw.weights[q];
+        }
       }
-      const double rel_da = std::sqrt(2.0) * sigma_a / da;
+      if (h > 0)
+        for (int r = start; r < m; ++r) {
+          var += gP[r] * gP[r] * sigma_P * sigma_P + gd[r] * gd[r] * sigma_d * sigma_d;
+          gP[r] = gd[r] = 0.0;
+        }
+      const double rel_da = da_noise_factor(i, j) * sigma_a / da;
       const double u = std::sqrt(var / (B * da * B * da) + R * R * rel_da * rel_da);
-      result.curve.crack_length.push_back(0.5 * (w.a[i] + w.a[j]));
+      result.curve.crack_length.push_back(0.5 * (a_e[i] + a_e[j]));
       result.curve.R.push_back(R);
       result.curve.R_uncertainty.push_back(k_cov * u);
-      result.crack_growth.push_back(0.5 * (w.a[i] + w.a[j]) - a0);
+      result.crack_growth.push_back(0.5 * (a_e[i] + a_e[j]) - a0);
       result.load.push_back(w.P[j]);
       result.displacement.push_back(w.d[j]);
       result.rows.push_back(w.row[j]);
@@ -482,17 +576,45 @@ RCurveResult ComputeRCurve(const ExperimentRecord& record, const RCurveOptions& 
     BF_CHECK_INPUT(!is_ct, "MBT and compliance calibration are DCB methods",
                    {.field = "--method", .value = RMethodName(method),
                     .expected = "energy, lefm or equivalent for a CT specimen"});
+    // ASTM D5528 large-displacement (F) and load-block (N) corrections; 1 when off.
+    const bool large = options.large_displacement_correction;
+    const double t = options.load_block_offset, half_block = options.load_block_half_length;
+    auto F_of = [=](double d, double a) {
+      return large ? 1.0 - 0.3 * (d / a) * (d / a) - 1.5 * d * t / (a * a) : 1.0;
+    };
+    auto N_of = [=](double d, double a) {
+      const double l = half_block / a;
+      return large ? 1.0 - l * l * l - 9.0 / 8.0 * (1.0 - l * l) * d * t / (a * a) -
+                         9.0 / 35.0 * (d / a) * (d / a)
+                   : 1.0;
+    };
     std::vector<double> x, y;
+    double F_min = 1.0, N_min = 1.0;
     for (int k = first_growth; k < m; ++k)
       if (w.P[k] > 0 && w.d[k] > 0) {
+        const double N = N_of(w.d[k], w.a[k]);
+        F_min = std::min(F_min, F_of(w.d[k], w.a[k]));
+        N_min = std::min(N_min, N);
         if (method == RMethod::kMbt) {
           x.push_back(w.a[k]);
-          y.push_back(std::cbrt(w.d[k] / w.P[k]));
+          y.push_back(std::cbrt(w.d[k] / w.P[k] / N));
         } else {
           x.push_back(std::log(w.a[k]));
-          y.push_back(std::log(w.d[k] / w.P[k]));
+          y.push_back(std::log(w.d[k] / w.P[k] / N));
         }
       }
+    if (large) {
+      BF_CHECK_INPUT(F_min > 0 && N_min > 0, "the large-displacement corrections are not positive",
+                     {.file = src, .field = "load_block",
+                      .value = fmt::format("F min {:.3g}, N min {:.3g}", F_min, N_min),
+                      .expected = "d/a and the load-block sizes small enough for F, N > 0"});
+      result.figures["d5528_F_min"] = F_min;
+      result.figures["d5528_N_min"] = N_min;
+      result.notes.push_back(fmt::format(
+          "ASTM D5528 large-displacement and load-block corrections: fit on C/N, G x F/N "
+          "(t = {}, L' = {}; over the fit rows F >= {:.4f}, N >= {:.4f})",
+          Mm(t), Mm(half_block), F_min, N_min));
+    }
     const LinearFit fit = FitLine(x, y);
     if (!(fit.slope > 0))
       throw Error(ErrorKind::kInput, "the compliance does not grow with the crack length",
@@ -506,12 +628,16 @@ RCurveResult ComputeRCurve(const ExperimentRecord& record, const RCurveOptions& 
       const double abs_delta = std::abs(delta);
       result.figures["mbt_delta_m"] = delta;
       result.figures["mbt_slope"] = fit.slope;
-      G = [=](double P, double d, double a) { return 3.0 * P * d / (2.0 * b * (a + abs_delta)); };
+      G = [=](double P, double d, double a) {
+        return 3.0 * P * d / (2.0 * b * (a + abs_delta)) * F_of(d, a) / N_of(d, a);
+      };
     } else {
       const double nexp = fit.slope;
       result.figures["cc_n"] = nexp;
       result.figures["cc_k"] = std::exp(fit.intercept);
-      G = [=](double P, double d, double a) { return nexp * P * d / (2.0 * b * a); };
+      G = [=](double P, double d, double a) {
+        return nexp * P * d / (2.0 * b * a) * F_of(d, a) / N_of(d, a);
+      };
     }
     crack_of = [](double, double, double a) { return a; };
   } else if (is_ct) {

@@ -86,4 +86,57 @@ double EnergyReleased(const std::vector<double>& load, const std::vector<double>
   return work - 0.5 * (load[j] * d[j] - load[i] * d[i]);
 }
 
+LocalWeights LocalQuadraticWeights(const std::vector<double>& x, int first, int last, int row,
+                                   int half_window) {
+  BF_DEBUG_ASSERT(first <= row && row <= last && last < static_cast<int>(x.size()));
+  int lo = row - half_window, hi = row + half_window;
+  if (lo < first) hi += first - lo, lo = first;
+  if (hi > last) lo -= hi - last, hi = last;
+  lo = std::max(lo, first);
+  LocalWeights out;
+  out.first_row = lo;
+  const int n = hi - lo + 1;
+  // Abscissa centred on the row and scaled to [-1, 1] for conditioning.
+  double scale = 0.0;
+  for (int m = lo; m <= hi; ++m) scale = std::max(scale, std::abs(x[m] - x[row]));
+  std::vector<double> t(n, 0.0);
+  if (scale > 0)
+    for (int m = lo; m <= hi; ++m) t[m - lo] = (x[m] - x[row]) / scale;
+  // Value at t = 0 of the least-squares polynomial: weights_m = phi(t_m)^T M^-1 e0,
+  // M = sum phi phi^T, phi = (1, t, t^2); degree lowered while M is singular.
+  for (int degree = std::min(2, n - 1); degree >= 0; --degree) {
+    const int p = degree + 1;
+    double M[3][4] = {};
+    for (double tm : t) {
+      const double phi[3] = {1.0, tm, tm * tm};
+      for (int r = 0; r < p; ++r)
+        for (int c = 0; c < p; ++c) M[r][c] += phi[r] * phi[c];
+    }
+    M[0][p] = 1.0;  // right-hand side e0
+    bool singular = false;
+    for (int c = 0; c < p && !singular; ++c) {
+      int pivot = c;
+      for (int r = c + 1; r < p; ++r)
+        if (std::abs(M[r][c]) > std::abs(M[pivot][c])) pivot = r;
+      if (!(std::abs(M[pivot][c]) > 1e-10 * n)) singular = true;
+      if (singular) break;
+      for (int k = 0; k <= p; ++k) std::swap(M[c][k], M[pivot][k]);
+      for (int r = 0; r < p; ++r) {
+        if (r == c) continue;
+        const double f = M[r][c] / M[c][c];
+        for (int k = c; k <= p; ++k) M[r][k] -= f * M[c][k];
+      }
+    }
+    if (singular) continue;
+    double coef[3] = {};
+    for (int r = 0; r < p; ++r) coef[r] = M[r][p] / M[r][r];
+    out.weights.resize(n);
+    for (int m = 0; m < n; ++m)
+      out.weights[m] = coef[0] + (p > 1 ? coef[1] * t[m] : 0.0) + (p > 2 ? coef[2] * t[m] * t[m] : 0.0);
+    return out;
+  }
+  out.weights.assign(n, 1.0 / n);
+  return out;
+}
+
 }  // namespace bridgefit::experiment

@@ -81,6 +81,37 @@ TEST(RcurveCli, ClearErrors) {
              "--units time=s,displacement=mm,load=N,crack_length=m --method mbt");
   EXPECT_EQ(r.exit_code, 1) << r.err;
   EXPECT_NE(r.err.find("unit"), std::string::npos) << r.err;
+  // Load-block sizes without the large-displacement correction: usage error.
+  r = RunCli("rcurve '" + kData + "' " + kSpecimen + kColumns + kUnits +
+             "--method cc --block-offset 5mm");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("--large-displacement"), std::string::npos) << r.err;
+  // The correction is for the DCB beam methods only.
+  r = RunCli("rcurve '" + kData + "' " + kSpecimen + kColumns + kUnits +
+             "--method energy --large-displacement");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+}
+
+// D5528's F/N corrections from the command line: reported in `figures`
+// (d/a reaches 0.30 on DCB-01, F >= 0.973 with t = 0) and they change R.
+TEST(RcurveCli, LargeDisplacementOption) {
+  const std::string base =
+      "rcurve '" + kData + "' " + kSpecimen + kColumns + kUnits + "--method cc --json ";
+  const auto plain = RunCli(base);
+  const auto corrected =
+      RunCli(base + "--large-displacement --block-offset 0mm --block-half-length 0mm");
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  ASSERT_EQ(corrected.exit_code, 0) << corrected.err;
+  const nlohmann::json p = nlohmann::json::parse(plain.out);
+  const nlohmann::json c = nlohmann::json::parse(corrected.out);
+  EXPECT_FALSE(p.at("figures").contains("d5528_F_min"));
+  EXPECT_NEAR(c.at("figures").at("d5528_F_min").get<double>(), 0.9728, 5e-4);
+  EXPECT_NEAR(c.at("figures").at("d5528_N_min").get<double>(), 0.9767, 5e-4);
+  EXPECT_NEAR(c.at("figures").at("cc_n").get<double>(), 2.7103, 5e-4);
+  ASSERT_EQ(p.at("points").size(), c.at("points").size());
+  const double last_plain = p.at("points").back().at("R_J_per_m2").get<double>();
+  const double last_corrected = c.at("points").back().at("R_J_per_m2").get<double>();
+  EXPECT_GT(last_corrected / last_plain - 1.0, 0.001);  // n rises with the C/N fit
 }
 
 }  // namespace

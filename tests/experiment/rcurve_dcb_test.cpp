@@ -98,10 +98,15 @@ TEST_P(RealDcb, MbtReproducesAuthorsGWithin5Percent) {
   EXPECT_EQ(s.within_5_percent, s.points);
 }
 
-// Compliance calibration: a single power law C = k a^n cannot follow
-// (a + Delta)^3 over a 2.7x range of crack length, so it is high early and
-// low late. Measured: mean |err| 3-4%, max 5.5% (DCB-01) and 6.3% (DCB-02);
-// the test pins the mean within 5% and states the maximum (docs/RCURVE_METHODS.md).
+// Compliance calibration (D5528: one power law C = k a^n over the
+// propagation rows). The issue's per-point criterion (every point within 5%)
+// is NOT met: one power law cannot follow (a + Delta)^3 over a 2.7-3.3x range
+// of crack length (Delta = 6.7-7.1 mm), so CC is high early and low late
+// (ComplianceCalibration.SinglePowerLawMissesBeamComplianceOverLongRange shows
+// the same on exact beam data); the authors' column is MBT x 1/0.986, which
+// adds -1.4%. Measured: within 5% at 274/338 (DCB-01) and 234/414 (DCB-02)
+// points, mean |err| 3.3% and 4.2%, max 5.6% and 6.4%. The test pins the
+// mean within 5% and the maximum below 7% (docs/RCURVE_METHODS.md).
 TEST_P(RealDcb, ComplianceCalibrationReproducesAuthorsGOnAverage) {
   const DcbData data = ReadDcb(GetParam());
   const RCurveResult r = ComputeRCurve(data.record, PaperOptions(RMethod::kComplianceCalibration));
@@ -112,6 +117,36 @@ TEST_P(RealDcb, ComplianceCalibrationReproducesAuthorsGOnAverage) {
   EXPECT_GT(s.points, 300);
   EXPECT_LT(s.mean_abs, 0.05);
   EXPECT_LT(s.max_abs, 0.07);
+}
+
+// D5528's large-displacement (F) and load-block (N) corrections with t = L' = 0
+// (the fixture is not described; d/a reaches 0.30-0.35, F >= 0.963, N >= 0.969).
+// They do not rescue CC's per-point agreement: within 5% at 310/338 and
+// 274/414 points, max 5.4% and 6.7% (the authors did not apply them: their
+// column is a constant multiple of plain MBT). MBT with F/N stays within 5%
+// everywhere (max 1.4%).
+TEST_P(RealDcb, LargeDisplacementCorrectionsOnAuthorsG) {
+  const DcbData data = ReadDcb(GetParam());
+  for (RMethod method : {RMethod::kComplianceCalibration, RMethod::kMbt}) {
+    RCurveOptions o = PaperOptions(method);
+    o.large_displacement_correction = true;
+    const RCurveResult c = ComputeRCurve(data.record, o);
+    const Agreement f = Compare(c, data);
+    std::printf("%s %s F/N: %d points, max |err| %.2f%%, mean err %.2f%%, mean |err| %.2f%%, "
+                "within 5%%: %d, F >= %.4f, N >= %.4f, %s = %.4f\n",
+                GetParam(), RMethodName(method), f.points, 100 * f.max_abs, 100 * f.mean,
+                100 * f.mean_abs, f.within_5_percent, c.figures.at("d5528_F_min"),
+                c.figures.at("d5528_N_min"), method == RMethod::kMbt ? "Delta [mm]" : "n",
+                method == RMethod::kMbt ? 1e3 * c.figures.at("mbt_delta_m") : c.figures.at("cc_n"));
+    EXPECT_GT(f.points, 300);
+    EXPECT_LT(c.figures.at("d5528_F_min"), 0.98);  // the arms do rotate noticeably
+    if (method == RMethod::kMbt) {
+      EXPECT_EQ(f.within_5_percent, f.points);
+    } else {
+      EXPECT_LT(f.mean_abs, 0.05);
+      EXPECT_LT(f.max_abs, 0.07);
+    }
+  }
 }
 
 // Noise of the issue: 1% on the load, 0.5 mm on the crack length. The change

@@ -53,6 +53,13 @@ struct RCurveOptions {
   // share of R's relative standard uncertainty is at most 1/increment_resolution.
   double min_crack_increment = 0.0;  // [m]
   double increment_resolution = 10.0;
+  // Energy method on noisy records: > 0 replaces load, displacement and crack
+  // length of the growth rows by local quadratic fits against time over
+  // 2 smoothing_half_window + 1 rows (ASTM E647's incremental polynomial,
+  // Savitzky-Golay on an uneven abscissa) before the energy balance; every
+  // increment then spans at least one window, and the noise is propagated
+  // through the fits' weights. 0: the rows as measured.
+  int smoothing_half_window = 0;
 
   // Initiation: the initial compliance is fitted on the loading rows with
   // load between these fractions of the maximum load (before the maximum).
@@ -78,6 +85,15 @@ struct RCurveOptions {
   // DCB lefm/equivalent: use the shear modulus G13 (isotropic: E/(2(1+nu)))
   // in the arms (corrected beam / Timoshenko); false: Kanninen / simple beam.
   bool beam_shear = true;
+  // DCB mbt/cc: ASTM D5528's large-displacement correction F and load-block
+  // correction N (Williams): Delta or n fitted on C/N, G multiplied by F/N.
+  //   F = 1 - 3/10 (d/a)^2 - 3/2 d t/a^2
+  //   N = 1 - (L'/a)^3 - 9/8 (1 - (L'/a)^2) d t/a^2 - 9/35 (d/a)^2
+  // t and L' describe the loading fixture, not the record; 0 keeps only the
+  // arm-rotation terms in d/a. Off by default (plain D5528 reduction).
+  bool large_displacement_correction = false;
+  double load_block_offset = 0.0;       // t: loading-pin centre to arm mid-plane [m]
+  double load_block_half_length = 0.0;  // L': loading-pin centre to the block's inner edge [m]
 
   bool IsValid(std::string* why) const;
 };
@@ -135,5 +151,16 @@ double ScatterAboutMovingAverage(const std::vector<double>& values, int half_win
 // the change of the stored energy P d / 2 (elastic unloading to the origin).
 double EnergyReleased(const std::vector<double>& load, const std::vector<double>& displacement,
                       int first_row, int last_row);
+
+// Local quadratic regression of y on x at one row: the fitted value there is
+// sum_m weights[m] y[first_row + m], over the 2 half_window + 1 rows centred
+// on `row`, shifted to stay inside [first, last] (all of it when shorter;
+// a line or a mean when fewer than 3 distinct x).
+struct LocalWeights {
+  int first_row = 0;
+  std::vector<double> weights;
+};
+LocalWeights LocalQuadraticWeights(const std::vector<double>& x, int first, int last, int row,
+                                   int half_window);
 
 }  // namespace bridgefit::experiment

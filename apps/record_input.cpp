@@ -1,0 +1,73 @@
+#include "record_input.hpp"
+
+#include "bridgefit/core/error.hpp"
+#include "bridgefit/io/csv.hpp"
+
+namespace bridgefit::cli {
+
+ExperimentRecord ReadRecordFile(const std::string& path, const std::string& columns,
+                                const std::string& units) {
+  if (path.ends_with(".h5") || path.ends_with(".hdf5")) {
+    if (!columns.empty() || !units.empty())
+      throw Error(ErrorKind::kUsage, "--columns/--units apply to CSV records only",
+                  {.field = "--columns", .value = path});
+    const io::H5Reader file(path);
+    ExperimentRecord record = io::ReadExperimentH5(file, "/experiment");
+    if (record.source.empty()) record.source = path;
+    return record;
+  }
+  io::RecordColumns mapping;
+  if (!columns.empty()) io::ApplyColumnMapping(columns, mapping);
+  if (!units.empty()) io::ApplyUnitMapping(units, mapping);
+  return io::ReadRecordCsv(path, mapping);
+}
+
+std::vector<std::pair<std::string, int>> DroppedRowList(const ExperimentRecord& record,
+                                                        const experiment::RCurveResult& result) {
+  std::vector<std::pair<std::string, int>> list;
+  if (record.rows_dropped_nan > 0)
+    list.emplace_back("missing value (NaN) in a used column, on import", record.rows_dropped_nan);
+  if (record.rows_repeated > 0)
+    list.emplace_back("exact repeat of the previous row, on import", record.rows_repeated);
+  for (const experiment::DroppedRows& d : result.dropped) list.emplace_back(d.reason, d.count);
+  return list;
+}
+
+void WriteReductionH5(io::H5Writer& file, const ExperimentRecord& record,
+                      const experiment::RCurveResult& result,
+                      const experiment::RCurveOptions& options, const std::string& scene_path) {
+  io::WriteRecordH5(file, record, "/experiment");
+  io::WriteRecordH5(file, result.curve, "/rcurve");
+  file.WriteVector("/rcurve/crack_growth", result.crack_growth, "m", "a - a0");
+  file.WriteVector("/rcurve/load", result.load, "N", "load at the point (end row for energy)");
+  file.WriteVector("/rcurve/displacement", result.displacement, "m", "load-point displacement");
+  std::vector<double> rows(result.rows.begin(), result.rows.end());
+  file.WriteVector("/rcurve/record_row", rows, "1", "0-based row of the cleaned record");
+  std::vector<std::string> reasons;
+  std::vector<double> counts;
+  for (const auto& [reason, count] : DroppedRowList(record, result)) {
+    reasons.push_back(reason);
+    counts.push_back(count);
+  }
+  file.WriteStrings("/rcurve/dropped_reasons", reasons);
+  file.WriteVector("/rcurve/dropped_counts", counts, "1", "rows dropped per reason");
+  file.WriteStrings("/rcurve/notes",
+                    result.notes.empty() ? std::vector<std::string>{"none"} : result.notes);
+  file.WriteAttribute("/rcurve", "points_used", static_cast<double>(result.points_used));
+  file.WriteAttribute("/rcurve", "coverage_factor", options.coverage_factor);
+  file.WriteAttribute("/rcurve", "load_noise_N", result.load_noise);
+  file.WriteAttribute("/rcurve", "displacement_noise_m", result.displacement_noise);
+  file.WriteAttribute("/rcurve", "crack_length_noise_m", result.crack_length_noise);
+  for (const auto& [key, value] : result.figures)
+    file.WriteAttribute("/rcurve/figures", key, value);
+  file.WriteAttribute("/rcurve", "specimen",
+                      options.specimen.type == SpecimenType::kCT ? "ct" : "dcb");
+  file.WriteAttribute("/rcurve", "specimen_width_m", options.specimen.width);
+  file.WriteAttribute("/rcurve", "specimen_height_m", options.specimen.height);
+  file.WriteAttribute("/rcurve", "specimen_thickness_m", options.specimen.thickness);
+  file.WriteAttribute("/rcurve", "specimen_length_m", options.specimen.length);
+  file.WriteAttribute("/rcurve", "crack_front_width_m", options.specimen.CrackFrontWidth());
+  if (!scene_path.empty()) file.WriteAttribute("/rcurve", "scene", scene_path);
+}
+
+}  // namespace bridgefit::cli
