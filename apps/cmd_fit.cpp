@@ -1,24 +1,32 @@
-// `bridgefit fit`: bridging-law parameters from a measured R curve (issue 7).
+// `bridgefit fit`: bridging-law parameters from a measured R curve, or from a
+// load-displacement record with crack length reduced in-process (issue 7).
 //   bridgefit fit rcurve.csv --scene scene.toml --law linear --json
 //   bridgefit fit rcurve.h5 --scene scene.toml --fix J_tip_c=2210J/m^2 --out fit.h5
+//   bridgefit fit data_samples/mdf_ct/record_exact.csv --scene data_samples/mdf_ct/scene.toml
+//       --rcurve-method energy --out fit.h5 --report report
 
 #include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <filesystem>
+#include <optional>
 #include <sstream>
 #include <unistd.h>
 
 #include <fmt/format.h>
 
 #include "bridgefit/core/error.hpp"
+#include "bridgefit/experiment/rcurve.hpp"
 #include "bridgefit/inverse/fit.hpp"
+#include "bridgefit/inverse/model_check.hpp"
 #include "bridgefit/io/csv.hpp"
 #include "bridgefit/io/hdf5.hpp"
 #include "bridgefit/io/scene_file.hpp"
 #include "bridgefit/models/reduced.hpp"
+#include "bridgefit/mpm/growth.hpp"
 #include "bridgefit/report/report.hpp"
 #include "command.hpp"
+#include "record_input.hpp"
 
 namespace bridgefit::cli {
 namespace {
@@ -52,10 +60,14 @@ std::vector<std::pair<std::string, std::string>> SplitAssignments(const std::str
   return out;
 }
 
+bool IsHdf5(const std::string& path) {
+  return path.size() > 3 && (path.ends_with(".h5") || path.ends_with(".hdf5"));
+}
+
 // R curve from CSV ('crack_length [mm], R [J/m^2][, R_uncertainty [J/m^2]]')
 // or from the HDF5 written by `bridgefit rcurve`.
 RCurve ReadRCurveInput(const std::string& path) {
-  if (path.size() > 3 && (path.ends_with(".h5") || path.ends_with(".hdf5"))) {
+  if (IsHdf5(path)) {
     const io::H5Reader reader(path);
     return io::ReadRCurveH5(reader);
   }
@@ -73,6 +85,118 @@ RCurve ReadRCurveInput(const std::string& path) {
                   {.file = path, .expected = "a crack length and an R in every row"});
   curve.Validate();
   return curve;
+}
+
+// What the fit was given: an R curve, or a load-displacement record that is
+// reduced here with the same library call and defaults as
+// `bridgefit rcurve RECORD --scene SCENE --method M` (docs/FIT.md).
+struct FitInput {
+  bool from_record = false;  // reduced in-process
+  RCurve curve;
+  std::optional<ExperimentRecord> record;             // stored as /experiment when known
+  std::optional<experiment::RCurveResult> reduction;  // when from_record
+  experiment::RCurveOptions reduction_options;
+};
+
+// The `bridgefit rcurve` options that `bridgefit fit RECORD` takes.
+struct ReductionFlags {
+  std::string method = "energy", min_increment, max_crack_length, columns, units;
+  std::string load_noise, displacement_noise, crack_noise;
+  int smooth_rows = 0;
+  bool any_given = false;  // any of them on the command line
+};
+
+// Which an input holds, by its content: a CSV with `crack_length` and `R`
+// columns, or an HDF5 with /rcurve, is an R curve; a CSV with load and
+// displacement columns, or an HDF5 with only /experiment, is a record.
+bool InputIsRecord(const std::string& path, const ReductionFlags& flags) {
+  if (IsHdf5(path)) {
+    const io::H5Reader reader(path);
+    if (reader.Exists("/rcurve")) return false;
+    if (reader.Exists("/experiment")) return true;
+    throw Error(
+        ErrorKind::kInput, "the HDF5 file holds neither an R curve nor a test record",
+        {.file = path,
+         .field = "/rcurve, /experiment",
+         .expected = "the output of `bridgefit rcurve --out` (or a file with /experiment)"});
+  }
+  const io::CsvTable table = io::ReadCsvTable(path);
+  if (table.Find("crack_length") >= 0 && table.Find("R") >= 0) return false;
+  io::RecordColumns columns;
+  if (!flags.columns.empty()) io::ApplyColumnMapping(flags.columns, columns);
+  if (table.Find(columns.load) >= 0 && table.Find(columns.displacement) >= 0) return true;
+  std::string header;
+  for (const std::string& name : table.names) header += (header.empty() ? "" : ", ") + name;
+  throw Error(
+      ErrorKind::kInput, "the CSV is neither an R curve nor a load-displacement record",
+      {.file = path,
+       .line = 1,
+       .field = "header",
+       .value = header,
+       .expected = "'crack_length [mm], R [J/m^2]' (R curve) or 'load [N], displacement [mm], "
+                   "crack_length [mm]' (record; --columns renames)"});
+}
+
+FitInput ReadFitInput(const std::string& path, const Scene& scene, const ReductionFlags& flags) {
+  FitInput input;
+  input.from_record = InputIsRecord(path, flags);
+  if (!input.from_record) {
+    if (flags.any_given)
+      throw Error(ErrorKind::kUsage, "the R-curve reduction options apply to a record only",
+                  {.file = path,
+                   .field = "--rcurve-method, --rcurve-min-increment, --rcurve-max-crack-length, "
+                            "--rcurve-smooth, --rcurve-*-noise, --columns, --units",
+                   .expected = "a load-displacement record as input, or none of these options"});
+    input.curve = ReadRCurveInput(path);
+    if (IsHdf5(path) && io::H5Reader(path).Exists("/experiment/load"))
+      input.record = io::ReadExperimentH5(io::H5Reader(path), "/experiment");
+    return input;
+  }
+  experiment::RCurveOptions& options = input.reduction_options;
+  try {
+    options.method = experiment::ParseRMethod(flags.method);
+  } catch (const Error& e) {
+    throw Error(
+        ErrorKind::kUsage, e.message(),
+        {.field = "--rcurve-method", .value = flags.method, .expected = e.context().expected});
+  }
+  options.specimen = scene.specimen;
+  options.material = scene.material;
+  if (!flags.min_increment.empty())
+    options.min_crack_increment =
+        ParseOptionQuantity(flags.min_increment, Dimension::Length(), "--rcurve-min-increment");
+  options.max_crack_length =
+      ParseOptionQuantity(flags.max_crack_length, Dimension::Length(), "--rcurve-max-crack-length");
+  options.smoothing_half_window = flags.smooth_rows;
+  options.load_noise =
+      ParseOptionQuantity(flags.load_noise, Dimension::Force(), "--rcurve-load-noise");
+  options.displacement_noise = ParseOptionQuantity(flags.displacement_noise, Dimension::Length(),
+                                                   "--rcurve-displacement-noise");
+  options.crack_length_noise =
+      ParseOptionQuantity(flags.crack_noise, Dimension::Length(), "--rcurve-crack-noise");
+  std::string why;
+  if (!options.IsValid(&why)) throw Error(ErrorKind::kUsage, "invalid R-curve options: " + why);
+
+  input.record = ReadRecordFile(path, flags.columns, flags.units);
+  // Only the compliance-based reductions infer the crack length (CT lefm
+  // and equivalent: docs/RCURVE_METHODS.md); the energy method needs it.
+  const bool needs_crack_length =
+      options.method != experiment::RMethod::kEquivalentCrack &&
+      !(options.method == experiment::RMethod::kLefm && scene.specimen.type == SpecimenType::kCT);
+  if (needs_crack_length && !input.record->has_crack_length()) {
+    io::RecordColumns columns;
+    if (!flags.columns.empty()) io::ApplyColumnMapping(flags.columns, columns);
+    throw Error(ErrorKind::kInput,
+                fmt::format("the record has no crack-length column, which the {} method needs",
+                            experiment::RMethodName(options.method)),
+                {.file = path,
+                 .field = columns.crack_length,
+                 .expected = "a column 'crack_length [mm]' (another header: --columns "
+                             "crack_length=HEADER), or an R curve as input"});
+  }
+  input.reduction = experiment::ComputeRCurve(*input.record, options);
+  input.curve = input.reduction->curve;
+  return input;
 }
 
 nlohmann::json EstimateJson(const ParameterEstimate& e) {
@@ -103,14 +227,24 @@ class FitCommand final : public Command {
  public:
   const char* name() const override { return "fit"; }
   const char* description() const override {
-    return "Fit a bridging law (sigma_c, J_B, J_tip,c) to a measured R curve";
+    return "Fit a bridging law (sigma_c, J_B, J_tip,c) to a measured R curve or test record";
   }
   void Register(CLI::App& sub) override {
-    sub.add_option("input", input_, "R curve: CSV 'crack_length [mm], R [J/m^2]' or rcurve.h5")
+    sub.add_option("input", input_,
+                   "R curve (CSV 'crack_length [mm], R [J/m^2]' or rcurve.h5), or a test record "
+                   "(CSV 'load [N], displacement [mm], crack_length [mm]' or record.h5)")
         ->required();
     sub.add_option("--scene", scene_, "Scene TOML: specimen and material")->required();
-    sub.add_option("--model", model_, "Forward model: reduced | analytic | auto")
+    sub.add_option("--model", model_,
+                   "Forward model: reduced | analytic | mpm | auto (reduced fit, checked by MPM "
+                   "and corrected by space mapping when they differ)")
         ->default_val("reduced");
+    sub.add_option("--mpm-cell", mpm_cell_, "MPM cell size for --model mpm|auto")
+        ->default_val("2.5 mm");
+    sub.add_option("--model-tolerance", model_tolerance_,
+                   "--model auto: largest relative R difference between the reduced and MPM "
+                   "models accepted without correction")
+        ->default_val(0.03);
     sub.add_option("--law", law_, "Law family: linear|cubic|triangular|exponential|compare (AICc)")
         ->default_val("linear");
     sub.add_option("--optimizer", optimizer_, "ceres-lm|bobyqa|neldermead|cobyla|direct|crs2")
@@ -118,8 +252,36 @@ class FitCommand final : public Command {
     sub.add_option("--fix", fix_, "Fixed parameters, e.g. 'J_tip_c=2210J/m^2'");
     sub.add_option("--bounds", bounds_, "Bounds, e.g. 'sigma_c=0.05MPa..5MPa,J_B=1J/m^2..5kJ/m^2'");
     sub.add_option("--starts", starts_, "Latin-hypercube starts")->default_val(4);
-    sub.add_option("--r-kind", r_kind_, "What the data holds: energy | elastic-zone")
-        ->default_val("energy");
+    r_kind_option_ =
+        sub.add_option("--r-kind", r_kind_,
+                       "What the data holds: energy | elastic-zone (default: energy; for a record, "
+                       "what its reduction gives)");
+    // A record input is reduced as `bridgefit rcurve RECORD --scene SCENE` would.
+    reduction_options_ = {
+        sub.add_option(
+               "--rcurve-method", reduction_.method,
+               "Record input: R-curve method energy|mbt|cc|lefm|equivalent (rcurve --method)")
+            ->default_val("energy"),
+        sub.add_option(
+            "--rcurve-min-increment", reduction_.min_increment,
+            "Record input, energy method: smallest crack increment (rcurve --min-increment)"),
+        sub.add_option("--rcurve-max-crack-length", reduction_.max_crack_length,
+                       "Record input: validity limit (rcurve --max-crack-length)"),
+        sub.add_option("--rcurve-smooth", reduction_.smooth_rows,
+                       "Record input, energy method: local quadratic fits over 2 N + 1 rows "
+                       "(rcurve --smooth; 0: none)")
+            ->default_val(0),
+        sub.add_option(
+            "--rcurve-load-noise", reduction_.load_noise,
+            "Record input: load noise, 1 sigma (rcurve --load-noise; default estimated)"),
+        sub.add_option("--rcurve-displacement-noise", reduction_.displacement_noise,
+                       "Record input: displacement noise, 1 sigma (rcurve --displacement-noise)"),
+        sub.add_option("--rcurve-crack-noise", reduction_.crack_noise,
+                       "Record input: crack-length noise, 1 sigma (rcurve --crack-noise)"),
+        sub.add_option("--columns", reduction_.columns,
+                       "Record input: column mapping, e.g. load=Force,crack_length=CrackExt"),
+        sub.add_option("--units", reduction_.units,
+                       "Record input: unit mapping, e.g. displacement=mm,load=N")};
     sub.add_option("--resolution", resolution_, "Reduced model element size, e.g. '0.5 mm'");
     sub.add_flag("--no-profile", no_profile_, "Skip the profile likelihood (faster)");
     sub.add_option("--out", out_h5_, "Write the fit to this HDF5 file");
@@ -128,8 +290,19 @@ class FitCommand final : public Command {
 
   int Run(const CommonOptions& common) override {
     const Scene scene = io::ReadSceneFile(scene_);
-    const RCurve curve = ReadRCurveInput(input_);
-    const inverse::RKind kind = inverse::ParseRKind(r_kind_);
+    for (const CLI::Option* option : reduction_options_)
+      if (option->count() > 0) reduction_.any_given = true;
+    const FitInput input = ReadFitInput(input_, scene, reduction_);
+    const RCurve& curve = input.curve;
+    // Like with like: a record's reduction says what its R is.
+    const std::string r_kind = r_kind_option_->count() > 0 ? r_kind_
+                               : input.from_record         ? curve.r_kind
+                                                           : std::string("energy");
+    const inverse::RKind kind = inverse::ParseRKind(r_kind);
+    const std::string reduction_text =
+        input.from_record
+            ? fmt::format("{} method, reduced in-process from the record", curve.method)
+            : fmt::format("R curve read from the input ({})", curve.method);
     const inverse::FitData data = inverse::FitData::FromRCurve(curve, kind);
 
     // The law family, or "compare": every family, ranked by AICc.
@@ -186,6 +359,8 @@ class FitCommand final : public Command {
 
     // The forward model: the cheapest that is accurate enough (README).
     std::unique_ptr<inverse::ForwardModel> model;
+    std::unique_ptr<inverse::ForwardModel> mpm_model;  // --model auto: the check
+    double mpm_cell_m = NAN;
     std::string model_note;
     const double plane_factor =
         scene.specimen.plane == PlaneCondition::kPlaneStrain && !scene.material.orthotropic
@@ -195,24 +370,48 @@ class FitCommand final : public Command {
     if (model_ == "analytic") {
       model = std::make_unique<inverse::AnalyticForwardModel>(effective_modulus,
                                                               scene.specimen.notch);
-    } else if (model_ == "reduced" || model_ == "auto") {
+    } else if (model_ == "reduced" || model_ == "auto" || model_ == "mpm") {
       models::ReducedOptions reduced;
       if (!resolution_.empty())
         reduced.mesh.resolution = ParseOptionQuantity(resolution_, Dimension::Length(), "--resolution");
       reduced.mesh.max_crack_length = std::max(
           data.crack_length.back() + 2e-3,
           scene.run.max_crack_length.value_or(0.0));
-      auto reduced_model = std::make_shared<models::ReducedModel>(scene, reduced.mesh);
-      model = std::make_unique<inverse::SimulationForwardModel>(
-          "reduced", [reduced_model, reduced](const laws::BridgingLaw* law, double J_tip_c) {
-            return reduced_model->Run(law, J_tip_c, reduced);
-          });
-      if (model_ == "auto")
-        model_note = "auto: reduced model; the MPM check is not available in this build";
+      if (model_ != "mpm") {
+        auto reduced_model = std::make_shared<models::ReducedModel>(scene, reduced.mesh);
+        model = std::make_unique<inverse::SimulationForwardModel>(
+            "reduced", [reduced_model, reduced](const laws::BridgingLaw* law, double J_tip_c) {
+              return reduced_model->Run(law, J_tip_c, reduced);
+            });
+      }
+      if (model_ == "mpm" || model_ == "auto") {
+        mpm::GrowthOptions growth;
+        growth.cell = ParseOptionQuantity(mpm_cell_, Dimension::Length(), "--mpm-cell");
+        const double data_end = *std::max_element(data.crack_length.begin(), data.crack_length.end());
+        growth.max_crack_length = data_end + 2.0 * growth.cell;
+        std::string why;
+        if (!growth.IsValid(&why))
+          throw Error(ErrorKind::kUsage, "invalid MPM options: " + why, {.field = "--mpm-cell"});
+        auto accurate = std::make_unique<inverse::SimulationForwardModel>(
+            "mpm", [scene, growth](const laws::BridgingLaw* law, double J_tip_c) {
+              return mpm::SimulateGrowth(scene, law, J_tip_c, growth).result;
+            });
+        if (model_ == "mpm") model = std::move(accurate);
+        else mpm_model = std::move(accurate);
+        mpm_cell_m = growth.cell;
+      }
     } else {
       throw Error(ErrorKind::kUsage, "unknown model",
-                  {.field = "--model", .value = model_, .expected = "reduced, analytic or auto"});
+                  {.field = "--model", .value = model_,
+                   .expected = "reduced, analytic, mpm or auto"});
     }
+    inverse::ModelCheckOptions check;
+    check.tolerance = model_tolerance_;
+    if (std::string why; !check.IsValid(&why))
+      throw Error(ErrorKind::kUsage, why, {.field = "--model-tolerance",
+                                           .value = fmt::format("{:g}", model_tolerance_),
+                                           .expected = "a fraction in (0, 1), e.g. 0.03"});
+    inverse::ModelCheckResult model_check;
 
     std::vector<inverse::LawComparison> comparison;
     FitSummary s;
@@ -227,9 +426,22 @@ class FitCommand final : public Command {
             return !std::isnan(a.aicc) && (std::isnan(b.aicc) || a.aicc < b.aicc);
           });
       s = best->summary;
+      if (mpm_model) {
+        // The check runs on the family AICc preferred.
+        laws::LawShape best_shape;
+        if (best->law == "cubic") best_shape = laws::MakeCubicShape();
+        else if (best->law == "triangular") best_shape = laws::MakeTriangularShape(0.1);
+        else if (best->law == "exponential") best_shape = laws::MakeExponentialShape(3.0);
+        else best_shape = laws::MakeLinearShape();
+        s = inverse::FitWithModelCheck(*model, *mpm_model, best_shape, data, options, check,
+                                       &model_check);
+      }
+    } else if (mpm_model) {
+      s = inverse::FitWithModelCheck(*model, *mpm_model, shape, data, options, check, &model_check);
     } else {
       s = inverse::FitBridgingLaw(*model, shape, data, options);
     }
+    if (mpm_model) model_note = "auto: " + model_check.outcome;
 
     // The report reads the fit file: without --out it goes to a temporary file.
     const std::string fit_file =
@@ -240,10 +452,19 @@ class FitCommand final : public Command {
                ("bridgefit-fit-" + std::to_string(::getpid()) + ".h5")).string();
     if (!fit_file.empty()) {
       io::H5Writer file(fit_file);
-      WriteRecordH5(file, curve, "/rcurve");
+      if (input.reduction) {
+        WriteReductionH5(file, *input.record, *input.reduction, input.reduction_options, scene_);
+      } else {
+        WriteRecordH5(file, curve, "/rcurve");
+        if (input.record) WriteRecordH5(file, *input.record, "/experiment");
+      }
       const std::string g = "/fit";
       file.WriteAttribute(g, "kind", "fit");
       file.WriteAttribute(g, "scene", scene_);
+      file.WriteAttribute(g, "input", input_);
+      file.WriteAttribute(g, "input_kind", input.from_record ? "record" : "rcurve");
+      file.WriteAttribute(g, "rcurve_method", curve.method);
+      file.WriteAttribute(g, "data_reduction", reduction_text);
       file.WriteAttribute(g, "model", s.model);
       file.WriteAttribute(g, "optimizer", s.optimizer);
       file.WriteAttribute(g, "law", s.law);
@@ -269,6 +490,28 @@ class FitCommand final : public Command {
       WriteEstimate(file, g + "/parameters/J_B", s.J_B, "J/m^2");
       WriteEstimate(file, g + "/parameters/delta_c", s.delta_c, "m");
       WriteEstimate(file, g + "/parameters/J_tip_c", s.J_tip_c, "J/m^2");
+      if (mpm_model) {
+        const std::string mc = g + "/model_check";
+        file.WriteAttribute(mc, "outcome", model_check.outcome);
+        file.WriteAttribute(mc, "cheap_model", model_check.cheap_model);
+        file.WriteAttribute(mc, "accurate_model", model_check.accurate_model);
+        file.WriteAttribute(mc, "mpm_cell_m", mpm_cell_m);
+        file.WriteAttribute(mc, "tolerance", check.tolerance);
+        file.WriteAttribute(mc, "corrected", model_check.corrected ? 1.0 : 0.0);
+        file.WriteAttribute(mc, "corrections", static_cast<double>(model_check.corrections));
+        file.WriteAttribute(mc, "accurate_runs", static_cast<double>(model_check.accurate_runs));
+        file.WriteAttribute(mc, "cheap_fit_s", model_check.cheap_fit_s);
+        file.WriteAttribute(mc, "accurate_s", model_check.accurate_s);
+        file.WriteAttribute(mc, "correction_fit_s", model_check.correction_fit_s);
+        file.WriteAttribute(mc, "discrepancy_at_cheap_optimum",
+                            model_check.discrepancy_at_cheap_optimum);
+        file.WriteAttribute(mc, "discrepancy_final", model_check.discrepancy_final);
+        if (!model_check.crack_length.empty()) {
+          file.WriteVector(mc + "/crack_length", model_check.crack_length, "m", "data crack length");
+          file.WriteVector(mc + "/R_cheap", model_check.R_cheap, "J/m^2", "reduced model R");
+          file.WriteVector(mc + "/R_accurate", model_check.R_accurate, "J/m^2", "MPM R");
+        }
+      }
       for (const inverse::Profile& p : s.profiles) {
         std::vector<double> values, chi2;
         for (const auto& point : p.points) {
@@ -302,9 +545,44 @@ class FitCommand final : public Command {
       nlohmann::json out;
       out["model"] = s.model;
       out["model_note"] = model_note;
+      if (mpm_model) {
+        out["model_check"] = {
+            {"outcome", model_check.outcome},
+            {"cheap_model", model_check.cheap_model},
+            {"accurate_model", model_check.accurate_model},
+            {"mpm_cell_m", mpm_cell_m},
+            {"tolerance", check.tolerance},
+            {"accurate_ok", model_check.accurate_ok},
+            {"corrected", model_check.corrected},
+            {"corrections", model_check.corrections},
+            {"accurate_runs", model_check.accurate_runs},
+            {"cheap_fit_s", model_check.cheap_fit_s},
+            {"accurate_s", model_check.accurate_s},
+            {"correction_fit_s", model_check.correction_fit_s},
+            {"discrepancy_at_cheap_optimum", NumberOrNull(model_check.discrepancy_at_cheap_optimum)},
+            {"discrepancy_final", NumberOrNull(model_check.discrepancy_final)}};
+      }
       out["optimizer"] = s.optimizer;
       out["law"] = s.law;
       out["r_kind"] = inverse::RKindName(kind);
+      nlohmann::json data_json = {{"path", input_},
+                                  {"kind", input.from_record ? "record" : "rcurve"},
+                                  {"rcurve_method", curve.method},
+                                  {"reduced_in_process", input.from_record},
+                                  {"reduction", reduction_text},
+                                  {"rcurve_points", curve.size()}};
+      if (input.reduction) {
+        const experiment::RCurveResult& r = *input.reduction;
+        int dropped = 0;
+        for (const auto& item : DroppedRowList(*input.record, r)) dropped += item.second;
+        data_json["record_rows"] = input.record->size();
+        data_json["points_dropped_total"] = dropped;
+        data_json["min_crack_increment_m"] = input.reduction_options.min_crack_increment;
+        data_json["max_crack_length_m"] = NumberOrNull(input.reduction_options.max_crack_length);
+        data_json["notes"] = r.notes;
+        data_json["reduction_wall_s"] = r.wall_s;
+      }
+      out["data"] = std::move(data_json);
       out["evaluations"] = s.evaluations;
       out["failed_evaluations"] = s.failed_evaluations;
       out["wall_s"] = s.wall_s;
@@ -346,6 +624,8 @@ class FitCommand final : public Command {
                                    c.aicc, c.delta_aicc, c.summary.chi2,
                                    c.summary.converged ? "" : "  (not converged)");
       }
+      std::cout << "data: " << input_ << ": " << reduction_text << ", " << curve.size()
+                << " R points\n";
       std::cout << s.BriefReport();
       if (!model_note.empty()) std::cout << "  " << model_note << "\n";
       if (!out_h5_.empty()) std::cout << "  written: " << out_h5_ << "\n";
@@ -355,9 +635,13 @@ class FitCommand final : public Command {
 
  private:
   std::string input_, scene_, model_, law_, optimizer_, fix_, bounds_, r_kind_, resolution_,
-      out_h5_, report_dir_;
+      out_h5_, report_dir_, mpm_cell_ = "2.5 mm";
+  double model_tolerance_ = 0.03;
   int starts_ = 4;
   bool no_profile_ = false;
+  ReductionFlags reduction_;
+  std::vector<CLI::Option*> reduction_options_;
+  CLI::Option* r_kind_option_ = nullptr;
 };
 
 }  // namespace

@@ -1,12 +1,13 @@
 // DIC speed against accuracy on DIC Challenge Sample 14 L1 (tests/data crop,
 // rows 230..349 of the full image): points per second of IC-GN at 21x21 and
 // 33x33 subsets on 1 and 2 threads, with RMS(u - exact) of each run.
-//   bench/dic_speed [data dir = tests/data/dic] [step = 2]
+//   bench/dic_speed [data dir = tests/data/dic] [step = 2] [subsets = 21,33] [threads = 1,2]
 #include <omp.h>
 
 #include <cmath>
 #include <ctime>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -16,9 +17,21 @@
 
 using namespace bridgefit::dic;
 
+namespace {
+std::vector<int> ParseInts(const char* text) {
+  std::vector<int> values;
+  std::stringstream s(text);
+  std::string item;
+  while (std::getline(s, item, ',')) values.push_back(std::atoi(item.c_str()));
+  return values;
+}
+}  // namespace
+
 int main(int argc, char** argv) {
   const std::string dir = argc > 1 ? argv[1] : std::string(BRIDGEFIT_SOURCE_DIR) + "/tests/data/dic";
   const int step = argc > 2 ? std::atoi(argv[2]) : 2;
+  const std::vector<int> subsets = argc > 3 ? ParseInts(argv[3]) : std::vector<int>{21, 33};
+  const std::vector<int> thread_counts = argc > 4 ? ParseInts(argv[4]) : std::vector<int>{1, 2};
   const Image ref = ReadImage(dir + "/sample14/Sample14 Reference rows230-349.png");
   const Image def = ReadImage(dir + "/sample14/Sample 14 L1 Amp0.1 rows230-349.png");
   std::vector<double> exact(2048);
@@ -38,9 +51,9 @@ int main(int argc, char** argv) {
   // of the process (all threads), robust on a shared machine.
   std::printf("%-8s %-8s %-8s %-10s %-10s %-14s %-12s %-12s %-10s\n", "subset", "shape", "threads",
               "points", "wall_s", "points_per_s", "per_thread", "per_cpu_s", "rms_u_px");
-  for (int subset : {21, 33}) {
+  for (int subset : subsets) {
     for (ShapeFunction shape : {ShapeFunction::kFirstOrder, ShapeFunction::kSecondOrder}) {
-      for (int threads : {1, 2}) {
+      for (int threads : thread_counts) {
         CorrelationOptions opt;
         opt.subset_size = subset;
         opt.step = step;

@@ -3,3 +3,9 @@ add_executable(bf_inverse_bench ${CMAKE_CURRENT_LIST_DIR}/inverse_optimizers.cpp
 target_link_libraries(bf_inverse_bench PRIVATE bf_inverse bf_models bf_io)
 target_compile_definitions(bf_inverse_bench PRIVATE
   BRIDGEFIT_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+# sigma_c's error over many noise draws of the truncated case (issue 7, bias check).
+# Run: bf_fit_noise_bench [resolution_mm=1] [draws=100] [first_seed=1] [profile=0] [out.csv] [starts=3]
+add_executable(bf_fit_noise_bench ${CMAKE_CURRENT_LIST_DIR}/fit_noise_draws.cpp)
+target_link_libraries(bf_fit_noise_bench PRIVATE bf_inverse bf_models bf_io)
+target_compile_definitions(bf_fit_noise_bench PRIVATE
+  BRIDGEFIT_SOURCE_DIR="${PROJECT_SOURCE_DIR}")

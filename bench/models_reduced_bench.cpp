@@ -1,5 +1,7 @@
 // Speed against accuracy of the reduced model (issue 3).
-//   bf_models_bench [out_prefix]   -> <prefix>.csv and <prefix>.svg
+//   bf_models_bench [out_prefix] [resolutions_mm = 4,2,1,0.5,0.25,0.125]
+//       -> <prefix>.csv and <prefix>.svg; each resolution half the previous
+//       (the reference is the Richardson extrapolation of the last three)
 // CT of the issues (W = 100 mm, a0 = 30 mm, B = 12.7 mm, E = 3 GPa, plane
 // stress), linear softening sigma_c = 0.45 MPa, J_B = 500 J/m^2, crack grown
 // to 80 mm. For each resolution h: time to build the crack-plane model (once
@@ -13,7 +15,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -90,6 +94,17 @@ std::string Svg(const std::vector<Row>& rows) {
 
 int main(int argc, char** argv) {
   const std::string prefix = argc > 1 ? argv[1] : "reduced_bench";
+  std::vector<double> resolutions = {0.004, 0.002, 0.001, 0.0005, 0.00025, 0.000125};
+  if (argc > 2) {
+    resolutions.clear();
+    std::stringstream list(argv[2]);
+    for (std::string item; std::getline(list, item, ',');)
+      resolutions.push_back(std::atof(item.c_str()) * 1e-3);
+    if (resolutions.size() < 3) {
+      std::fprintf(stderr, "bf_models_bench: at least three resolutions are needed\n");
+      return 2;
+    }
+  }
   Scene scene;
   scene.specimen.type = SpecimenType::kCT;
   scene.specimen.width = 0.1;
@@ -103,7 +118,7 @@ int main(int argc, char** argv) {
   const laws::BridgingLaw law{&shape, 0.45e6, 2.0 * 500.0 / 0.45e6};
 
   std::vector<Row> rows;
-  for (double h : {0.004, 0.002, 0.001, 0.0005, 0.00025, 0.000125}) {
+  for (double h : resolutions) {
     Row row;
     row.h = h;
     specimen::CrackPlaneOptions mesh;

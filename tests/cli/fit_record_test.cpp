@@ -1,0 +1,163 @@
+// `bridgefit fit RECORD`: a load-displacement record with crack length is
+// reduced in-process (issue 7). Oracle: the two-step route
+// `bridgefit rcurve RECORD --out rc.h5` then `bridgefit fit rc.h5` with the
+// same options gives the same fit, number for number.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+#include "bridgefit/core/records.hpp"
+#include "bridgefit/io/hdf5.hpp"
+#include "cli_helpers.hpp"
+
+namespace bridgefit {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::RunCli;
+
+const fs::path kSample = fs::path(BRIDGEFIT_SOURCE_DIR) / "data_samples" / "mdf_ct";
+
+std::string Quote(const fs::path& p) {
+  std::string quoted(1, '\'');
+  quoted += p.string();
+  quoted += '\'';
+  return quoted;
+}
+
+struct WorkDir {
+  fs::path path = fs::temp_directory_path() / ("bf_fit_record_" + std::to_string(::getpid()));
+  WorkDir() {
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~WorkDir() { fs::remove_all(path); }
+};
+
+// The noise-free MDF record with the small declared noise the sample's README
+// uses, so that the fit sees the bridging rise (a real fit, not a flat one).
+std::string NoiseOptions(const std::string& prefix) {
+  return "--" + prefix + "load-noise 0.01N --" + prefix + "displacement-noise 0.01um --" + prefix +
+         "crack-noise 0.001mm";
+}
+const char* kFitOptions = "--law linear --resolution 1mm --no-profile --json --quiet";
+
+TEST(FitRecord, EqualsRcurveThenFitAndStoresTheRecord) {
+  const WorkDir work;
+  const fs::path record = kSample / "record_exact.csv", scene = kSample / "scene.toml";
+  const fs::path rcurve_h5 = work.path / "rc.h5", fit_h5 = work.path / "fit.h5";
+
+  auto r = RunCli("rcurve " + Quote(record) + " --scene " + Quote(scene) + " --method energy " +
+                  NoiseOptions("") + " --out " + Quote(rcurve_h5) + " --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = RunCli("fit " + Quote(rcurve_h5) + " --scene " + Quote(scene) + " " + kFitOptions);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json two_step = nlohmann::json::parse(r.out);
+  r = RunCli("fit " + Quote(record) + " --scene " + Quote(scene) + " --rcurve-method energy " +
+             NoiseOptions("rcurve-") + " " + kFitOptions + " --out " + Quote(fit_h5));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json direct = nlohmann::json::parse(r.out);
+
+  // A real bridging fit (MDF: sigma_c identified, J_B a lower bound).
+  ASSERT_TRUE(two_step["bridging_detected"].get<bool>());
+  EXPECT_EQ(direct["bridging_detected"], two_step["bridging_detected"]);
+  EXPECT_EQ(direct["data_points"], two_step["data_points"]);
+  EXPECT_EQ(direct["evaluations"], two_step["evaluations"]);
+  EXPECT_EQ(direct["verdict"], two_step["verdict"]);
+  EXPECT_EQ(direct["r_kind"], "energy");
+  EXPECT_DOUBLE_EQ(direct["rms_residual_J_per_m2"].get<double>(),
+                   two_step["rms_residual_J_per_m2"].get<double>());
+  for (const char* p : {"sigma_c_Pa", "J_B_J_per_m2", "delta_c_m", "J_tip_c_J_per_m2"})
+    for (const char* field : {"value", "lower_bound", "ci95_low", "ci95_high"}) {
+      const nlohmann::json& a = direct[p][field];
+      const nlohmann::json& b = two_step[p][field];
+      ASSERT_EQ(a.is_null(), b.is_null()) << p << "." << field;
+      if (!a.is_null()) {
+        EXPECT_DOUBLE_EQ(a.get<double>(), b.get<double>()) << p << "." << field;
+      }
+    }
+  EXPECT_TRUE(direct["sigma_c_Pa"]["value"].is_number());
+
+  // Which reduction was used: JSON and fit.h5.
+  EXPECT_EQ(direct["data"]["kind"], "record");
+  EXPECT_EQ(direct["data"]["rcurve_method"], "energy");
+  EXPECT_TRUE(direct["data"]["reduced_in_process"].get<bool>());
+  EXPECT_EQ(two_step["data"]["kind"], "rcurve");
+  EXPECT_FALSE(two_step["data"]["reduced_in_process"].get<bool>());
+  const io::H5Reader fit(fit_h5), rc(rcurve_h5);
+  EXPECT_EQ(fit.ReadStringAttribute("/fit", "input_kind"), "record");
+  EXPECT_EQ(fit.ReadStringAttribute("/fit", "rcurve_method"), "energy");
+  // The record (load, displacement, crack length) and the R curve, as rcurve --out has them.
+  const ExperimentRecord stored = io::ReadExperimentH5(fit), reference = io::ReadExperimentH5(rc);
+  ASSERT_TRUE(stored.has_crack_length());
+  EXPECT_EQ(stored.size(), reference.size());
+  EXPECT_EQ(stored.load, reference.load);
+  EXPECT_EQ(stored.displacement, reference.displacement);
+  EXPECT_EQ(stored.crack_length, reference.crack_length);
+  EXPECT_EQ(fit.ReadVector("/rcurve/R"), rc.ReadVector("/rcurve/R"));
+  EXPECT_EQ(fit.ReadStrings("/rcurve/dropped_reasons"), rc.ReadStrings("/rcurve/dropped_reasons"));
+}
+
+TEST(FitRecord, ReportShowsTheRecordsLoadDisplacement) {
+  const WorkDir work;
+  const fs::path report = work.path / "report";
+  const auto r =
+      RunCli("fit " + Quote(kSample / "record_exact.csv") + " --scene " +
+             Quote(kSample / "scene.toml") + " " + NoiseOptions("rcurve-") +
+             " --law linear --resolution 1mm --no-profile --quiet --report " + Quote(report));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("energy method, reduced in-process from the record"), std::string::npos)
+      << r.out;
+  EXPECT_TRUE(fs::exists(report / "load_displacement.png"));
+  EXPECT_TRUE(fs::exists(report / "crack_length.png"));
+}
+
+TEST(FitRecord, RecordWithoutCrackLengthFailsNamingFileAndColumn) {
+  const WorkDir work;
+  // The sample record without its crack_length column.
+  const fs::path record = work.path / "no_crack.csv";
+  {
+    std::ifstream in(kSample / "record_exact.csv");
+    std::ofstream out(record);
+    std::string line;
+    while (std::getline(in, line)) out << line.substr(0, line.rfind(',')) << "\n";
+  }
+  const fs::path fit_h5 = work.path / "fit.h5", report = work.path / "report";
+  const auto r = RunCli("fit " + Quote(record) + " --scene " + Quote(kSample / "scene.toml") +
+                        " --json --out " + Quote(fit_h5) + " --report " + Quote(report));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  EXPECT_NE(r.err.find(record.string()), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("crack_length"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("no crack-length column"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(fit_h5));
+  EXPECT_FALSE(fs::exists(report));
+}
+
+TEST(FitRecord, InputsThatAreNeitherOrMisusedAreRefused) {
+  const WorkDir work;
+  const fs::path scene = kSample / "scene.toml";
+  // An R curve with record options: usage error.
+  const fs::path curve = work.path / "curve.csv";
+  std::ofstream(curve) << "crack_length [mm], R [J/m^2]\n30, 2200\n40, 2300\n50, 2400\n60, 2450\n";
+  auto r = RunCli("fit " + Quote(curve) + " --scene " + Quote(scene) + " --rcurve-method mbt");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("--rcurve-method"), std::string::npos) << r.err;
+  // Neither an R curve nor a record: the header is named.
+  const fs::path other = work.path / "other.csv";
+  std::ofstream(other) << "x [mm], y [N]\n1, 2\n";
+  r = RunCli("fit " + Quote(other) + " --scene " + Quote(scene));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("neither an R curve nor a load-displacement record"), std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("x, y"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace bridgefit
