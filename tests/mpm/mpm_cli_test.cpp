@@ -13,6 +13,7 @@
 
 #include "bridgefit/io/hdf5.hpp"
 #include "bridgefit/io/scene_file.hpp"
+#include "bridgefit/mpm/growth.hpp"
 #include "bridgefit/mpm/solver.hpp"
 
 namespace bridgefit::mpm {
@@ -77,13 +78,49 @@ TEST(MpmCli, JsonHdf5AndXdmfMatchTheLibraryRun) {
   EXPECT_NE(text.str().find("Polyvertex"), std::string::npos);
 }
 
-TEST(MpmCli, GrowthScenesAreRefusedWithAUsageError) {
+TEST(MpmCli, GrowthSceneGivesThePointsOfTheLibraryRun) {
   const std::string scene = std::string(BRIDGEFIT_SOURCE_DIR) + "/tests/data/scenes/ct_mdf.toml";
   int code = -1;
-  RunCommand(std::string(BRIDGEFIT_CLI) + " simulate " + scene +
-                 " --model mpm --cell '5 mm' --json 2>/dev/null",
-             &code);
-  EXPECT_EQ(code, 2);
+  const std::string out = RunCommand(std::string(BRIDGEFIT_CLI) + " simulate " + scene +
+                                         " --model mpm --cell '5 mm' --json 2>/dev/null",
+                                     &code);
+  ASSERT_EQ(code, 0) << out;
+  const nlohmann::json j = nlohmann::json::parse(out);
+  EXPECT_EQ(j["model"], "mpm");
+  EXPECT_EQ(j["symmetry"], "half");
+  for (const char* key : {"steady_state_reached", "steady_state_crack_length_m", "wall_s",
+                          "particle_steps_per_s", "particles", "dofs", "J_tip_contours_J_per_m2"})
+    EXPECT_TRUE(j.contains(key)) << key;
+  const Scene s = io::ReadSceneFile(scene);
+  const laws::BridgingLaw law = s.bridging->Law();
+  GrowthOptions opt;
+  opt.cell = 0.005;
+  const GrowthResult lib = SimulateGrowth(s, &law, s.fracture->J_tip_c, opt);
+  ASSERT_EQ(j["points"].size(), lib.result.points.size());
+  for (std::size_t i = 0; i < lib.result.points.size(); ++i) {
+    const auto& p = j["points"][i];
+    for (const char* key : {"crack_length_m", "R_J_per_m2", "R_energy_J_per_m2", "J_tip_J_per_m2",
+                            "J_ff_J_per_m2", "delta_root_m", "root_position_m", "load_N",
+                            "displacement_m"})
+      ASSERT_TRUE(p.contains(key)) << key;
+    EXPECT_NEAR(p["R_J_per_m2"].get<double>(), lib.result.points[i].R, 1e-6);
+    EXPECT_NEAR(p["load_N"].get<double>(), lib.result.points[i].load, 1e-6);
+  }
+}
+
+TEST(MpmCli, ContradictoryGrowthOptionsAreUsageErrors) {
+  const std::string growth = std::string(BRIDGEFIT_SOURCE_DIR) + "/tests/data/scenes/ct_mdf.toml";
+  const std::string stationary =
+      std::string(BRIDGEFIT_SOURCE_DIR) + "/tests/data/mpm/ct_stationary.toml";
+  for (const std::string& args :
+       {growth + " --model mpm --half --full", growth + " --model mpm --fields-every 10",
+        stationary + " --model mpm --half"}) {
+    int code = -1;
+    const std::string out =
+        RunCommand(std::string(BRIDGEFIT_CLI) + " simulate " + args + " --json 2>/dev/null", &code);
+    EXPECT_EQ(code, 2) << args;
+    EXPECT_TRUE(out.empty()) << args << ": " << out;
+  }
 }
 
 }  // namespace
