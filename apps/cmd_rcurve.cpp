@@ -126,12 +126,15 @@ class RcurveCommand final : public Command {
     if (!csv_.empty()) {
       std::string text =
           "crack_length [mm], R [J/m^2], R_uncertainty [J/m^2], crack_growth [mm], load [N], "
-          "displacement [mm]\n";
+          "displacement [mm], R_expanded_uncertainty [J/m^2]\n";
+      // CSV R curves carry one standard uncertainty (what `fit` reads);
+      // the expanded one (coverage factor k) is the last column.
       for (std::size_t i = 0; i < result.curve.size(); ++i)
-        text += fmt::format("{:.8g}, {:.8g}, {:.8g}, {:.8g}, {:.8g}, {:.8g}\n",
+        text += fmt::format("{:.8g}, {:.8g}, {:.8g}, {:.8g}, {:.8g}, {:.8g}, {:.8g}\n",
                             result.curve.crack_length[i] * 1e3, result.curve.R[i],
-                            result.curve.R_uncertainty[i], result.crack_growth[i] * 1e3,
-                            result.load[i], result.displacement[i] * 1e3);
+                            result.curve.R_uncertainty[i] / options.coverage_factor,
+                            result.crack_growth[i] * 1e3, result.load[i],
+                            result.displacement[i] * 1e3, result.curve.R_uncertainty[i]);
       WriteTextFileAtomic(csv_, text);
     }
 

@@ -54,7 +54,6 @@ void WriteReductionH5(io::H5Writer& file, const ExperimentRecord& record,
   file.WriteStrings("/rcurve/notes",
                     result.notes.empty() ? std::vector<std::string>{"none"} : result.notes);
   file.WriteAttribute("/rcurve", "points_used", static_cast<double>(result.points_used));
-  file.WriteAttribute("/rcurve", "coverage_factor", options.coverage_factor);
   file.WriteAttribute("/rcurve", "load_noise_N", result.load_noise);
   file.WriteAttribute("/rcurve", "displacement_noise_m", result.displacement_noise);
   file.WriteAttribute("/rcurve", "crack_length_noise_m", result.crack_length_noise);

@@ -409,6 +409,7 @@ RCurveResult ComputeRCurve(const ExperimentRecord& record, const RCurveOptions& 
   result.figures["initial_compliance_m_per_N"] = lin.slope;
   result.figures["displacement_offset_m"] = lin.intercept;
   const double k_cov = options.coverage_factor;
+  result.curve.uncertainty_coverage = k_cov;
 
   auto push = [&](int k, double a, double R, double U) {
     result.curve.crack_length.push_back(a);

@@ -368,7 +368,10 @@ FitData FitData::FromRCurve(const RCurve& curve, RKind kind) {
   FitData data;
   data.crack_length = curve.crack_length;
   data.R = curve.R;
-  data.R_uncertainty = curve.R_uncertainty;
+  // The fit weights by one standard uncertainty.
+  BF_CHECK_INPUT(curve.uncertainty_coverage > 0.0, "the R uncertainty's coverage factor must be > 0",
+                 {.field = "coverage_factor"});
+  for (double u : curve.R_uncertainty) data.R_uncertainty.push_back(u / curve.uncertainty_coverage);
   data.kind = kind;
   data.Validate();
   return data;

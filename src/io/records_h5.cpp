@@ -1,6 +1,8 @@
 // Record types <-> HDF5 groups; the layout is documented in docs/FORMATS.md.
 #include <cmath>
 
+#include <fmt/format.h>
+
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/io/hdf5.hpp"
 
@@ -77,9 +79,12 @@ void WriteRecordH5(H5Writer& file, const RCurve& curve, const std::string& group
   file.WriteAttribute(group, "initiation_R_J_per_m2", curve.initiation_R);
   file.WriteVector(group + "/crack_length", curve.crack_length, "m", "crack length a");
   file.WriteVector(group + "/R", curve.R, "J/m^2", "crack growth resistance");
-  if (!curve.R_uncertainty.empty())
+  if (!curve.R_uncertainty.empty()) {
     file.WriteVector(group + "/R_uncertainty", curve.R_uncertainty, "J/m^2",
-                     "one standard uncertainty of R");
+                     fmt::format("uncertainty of R, coverage factor k = {:g}",
+                                 curve.uncertainty_coverage));
+    file.WriteAttribute(group, "coverage_factor", curve.uncertainty_coverage);
+  }
 }
 
 RCurve ReadRCurveH5(const H5Reader& file, const std::string& group) {
@@ -91,7 +96,10 @@ RCurve ReadRCurveH5(const H5Reader& file, const std::string& group) {
   curve.initiation_R = AttributeOr(file, group, "initiation_R_J_per_m2", NAN);
   curve.crack_length = file.ReadVector(group + "/crack_length");
   curve.R = file.ReadVector(group + "/R");
-  if (file.Exists(group + "/R_uncertainty")) curve.R_uncertainty = file.ReadVector(group + "/R_uncertainty");
+  if (file.Exists(group + "/R_uncertainty")) {
+    curve.R_uncertainty = file.ReadVector(group + "/R_uncertainty");
+    curve.uncertainty_coverage = AttributeOr(file, group, "coverage_factor", 1.0);
+  }
   curve.Validate();
   return curve;
 }

@@ -38,6 +38,9 @@ struct RCurve {
   std::vector<double> crack_length;   // a [m]
   std::vector<double> R;              // [J/m^2]
   std::vector<double> R_uncertainty;  // [J/m^2], empty when unknown
+  // Coverage factor k of R_uncertainty: 1 = one standard uncertainty,
+  // 2 = the expanded (about 95%) uncertainty `bridgefit rcurve` reports.
+  double uncertainty_coverage = 1.0;
   double initial_crack_length = NAN;  // a0 [m]
   double initiation_R = NAN;          // [J/m^2]
 
