@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "bridgefit/scene/reference.hpp"
 #include "bridgefit/core/progress.hpp"
 #include "bridgefit/laws/law.hpp"
 #include "bridgefit/models/reduced.hpp"
@@ -105,14 +106,7 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  Scene scene;
-  scene.specimen.type = SpecimenType::kCT;
-  scene.specimen.width = 0.1;
-  scene.specimen.height = 0.12;
-  scene.specimen.thickness = 0.0127;
-  scene.specimen.notch = 0.03;
-  scene.material.E = 3e9;
-  scene.material.nu = 0.3;
+  Scene scene = ReferenceCtScene();
   const double J_tip_c = 2210.0;
   const laws::LawShape shape = laws::MakeLinearShape();
   const laws::BridgingLaw law{&shape, 0.45e6, 2.0 * 500.0 / 0.45e6};

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "bridgefit/scene/reference.hpp"
 #include "bridgefit/mpm/solver.hpp"
 
 namespace {
@@ -48,15 +49,7 @@ int main(int argc, char** argv) {
     else if (key == "--threads") threads = ParseList(argv[i + 1]);
     else if (key == "--csv") csv = argv[i + 1];
   }
-  Scene scene;
-  scene.specimen.type = SpecimenType::kCT;
-  scene.specimen.width = 0.1;
-  scene.specimen.height = 0.12;
-  scene.specimen.thickness = 0.0127;
-  scene.specimen.notch = 0.03;
-  scene.material.E = 3e9;
-  scene.material.nu = 0.3;
-  scene.material.density = 609;
+  Scene scene = ReferenceCtScene();
   const double W = 0.1, a = 0.03, B = 0.0127, E = 3e9, u = a / W;
   std::string table =
       "cell_mm,threads,particles,steps,wall_s,cpu_s,Mparticle_steps_per_s,M_per_cpu_s,J_small,J_large,"

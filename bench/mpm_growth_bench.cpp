@@ -19,35 +19,20 @@
 #include "bridgefit/laws/law.hpp"
 #include "bridgefit/models/reduced.hpp"
 #include "bridgefit/mpm/growth.hpp"
+#include "bridgefit/scene/reference.hpp"
 
 using namespace bridgefit;
 
 namespace {
 
 Scene CtScene(double sigma_c) {
-  Scene s;
-  s.source = "bench";
-  s.specimen.type = SpecimenType::kCT;
-  s.specimen.width = 0.100;
-  s.specimen.height = 0.120;
-  s.specimen.thickness = 0.0127;
-  s.specimen.notch = 0.030;
-  s.specimen.plane = PlaneCondition::kPlaneStress;
-  s.material.E = 3e9;
-  s.material.nu = 0.3;
-  s.material.density = 609.0;
-  s.fracture = FractureSpec{2210.0};
-  s.bridging = BridgingSpec{laws::MakeLinearShape(), {sigma_c, 2 * 500.0 / sigma_c, 500.0}, ""};
+  Scene s = ReferenceCtScene();
+  AddLinearBridging(s, sigma_c, 500.0);
   return s;
 }
 
 double At(const std::vector<SimulationPoint>& pts, double a, double SimulationPoint::*field) {
-  for (std::size_t i = 0; i + 1 < pts.size(); ++i)
-    if (a >= pts[i].crack_length - 1e-12 && a <= pts[i + 1].crack_length + 1e-12) {
-      const double f = (a - pts[i].crack_length) / (pts[i + 1].crack_length - pts[i].crack_length);
-      return (1 - f) * pts[i].*field + f * pts[i + 1].*field;
-    }
-  return NAN;
+  return InterpolatePoints(pts, a, field);
 }
 
 }  // namespace

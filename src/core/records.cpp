@@ -66,6 +66,18 @@ RCurve SimulationResult::ToRCurve(bool energy_kind) const {
   return curve;
 }
 
+double InterpolatePoints(const std::vector<SimulationPoint>& points, double a,
+                         double SimulationPoint::*field) {
+  for (size_t i = 0; i + 1 < points.size(); ++i) {
+    const double a0 = points[i].crack_length, a1 = points[i + 1].crack_length;
+    if (a >= a0 - 1e-12 && a <= a1 + 1e-12 && a1 > a0) {
+      const double f = (a - a0) / (a1 - a0);
+      return (1 - f) * points[i].*field + f * points[i + 1].*field;
+    }
+  }
+  return NAN;
+}
+
 void FillEnergyR(std::vector<SimulationPoint>& points, double thickness) {
   const size_t n = points.size();
   std::vector<double> step(n > 0 ? n - 1 : 0, NAN);

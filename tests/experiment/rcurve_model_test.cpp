@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "bridgefit/scene/reference.hpp"
 #include "bridgefit/experiment/rcurve.hpp"
 #include "bridgefit/laws/law.hpp"
 #include "bridgefit/models/reduced.hpp"
@@ -16,19 +17,7 @@ namespace {
 
 constexpr double kJtip = 2210.0;
 
-Scene CtScene() {
-  Scene scene;
-  scene.source = "reduced-model record";
-  scene.specimen.type = SpecimenType::kCT;
-  scene.specimen.width = 0.1;
-  scene.specimen.height = 0.12;
-  scene.specimen.thickness = 0.0127;
-  scene.specimen.notch = 0.03;
-  scene.material.E = 3e9;
-  scene.material.nu = 0.3;
-  scene.fracture = FractureSpec{kJtip};
-  return scene;
-}
+Scene CtScene() { return ReferenceCtScene(); }  // J_tip,c = kJtip
 
 // Linear loading at a0 up to the first simulated point, then the model's points.
 ExperimentRecord RecordFrom(const SimulationResult& sim) {

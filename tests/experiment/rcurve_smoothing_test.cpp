@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <random>
 
+#include "bridgefit/scene/reference.hpp"
 #include "bridgefit/experiment/rcurve.hpp"
 #include "bridgefit/laws/law.hpp"
 #include "bridgefit/models/reduced.hpp"
@@ -121,19 +122,7 @@ TEST(SmoothedEnergy, LinearRecordGivesHandR) {
 // ---- the reduced model's MDF test (data_samples/mdf_ct/scene.toml)
 constexpr double kJtip = 2210.0;
 
-Scene MdfScene() {
-  Scene scene;
-  scene.source = "mdf_ct";
-  scene.specimen.type = SpecimenType::kCT;
-  scene.specimen.width = 0.1;
-  scene.specimen.height = 0.12;
-  scene.specimen.thickness = 0.0127;
-  scene.specimen.notch = 0.03;
-  scene.material.E = 3e9;
-  scene.material.nu = 0.3;
-  scene.fracture = FractureSpec{kJtip};
-  return scene;
-}
+Scene MdfScene() { return ReferenceCtScene(); }  // J_tip,c = kJtip
 
 const SimulationResult& MdfSimulation() {
   static const SimulationResult sim = [] {

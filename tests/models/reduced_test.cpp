@@ -12,6 +12,7 @@
 #include <memory>
 #include <unistd.h>
 
+#include "bridgefit/scene/reference.hpp"
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/laws/law.hpp"
 #include "bridgefit/models/crack_plane_cache.hpp"
@@ -22,19 +23,7 @@ namespace {
 
 constexpr double kJtip = 2210.0;
 
-Scene CtScene() {
-  Scene scene;
-  scene.source = "test";
-  scene.specimen.type = SpecimenType::kCT;
-  scene.specimen.width = 0.1;
-  scene.specimen.height = 0.12;
-  scene.specimen.thickness = 0.0127;
-  scene.specimen.notch = 0.03;
-  scene.material.E = 3e9;
-  scene.material.nu = 0.3;
-  scene.fracture = FractureSpec{kJtip};
-  return scene;
-}
+Scene CtScene() { return ReferenceCtScene(); }  // J_tip,c = kJtip
 
 // One crack-plane model per resolution, shared by the tests of this file.
 const models::ReducedModel& CtModel(double resolution) {

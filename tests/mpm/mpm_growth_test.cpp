@@ -30,19 +30,12 @@ void Print(const char* label, const GrowthResult& g) {
 
 Scene BridgedCt(double sigma_c) {
   Scene scene = testing::CtScene();
-  scene.fracture = FractureSpec{kJtip};
-  scene.bridging = BridgingSpec{laws::MakeLinearShape(), {sigma_c, 2 * kJB / sigma_c, kJB}, ""};
+  AddLinearBridging(scene, sigma_c, kJB);
   return scene;
 }
 
-// Linear interpolation of a point quantity at crack length a (NaN outside).
 double At(const std::vector<SimulationPoint>& pts, double a, double SimulationPoint::*field) {
-  for (std::size_t i = 0; i + 1 < pts.size(); ++i)
-    if (a >= pts[i].crack_length - 1e-12 && a <= pts[i + 1].crack_length + 1e-12) {
-      const double f = (a - pts[i].crack_length) / (pts[i + 1].crack_length - pts[i].crack_length);
-      return (1 - f) * pts[i].*field + f * pts[i + 1].*field;
-    }
-  return NAN;
+  return InterpolatePoints(pts, a, field);
 }
 
 TEST(MpmGrowth, NoBridgingEnergyReleaseStaysAtJtipc) {

@@ -2,25 +2,12 @@
 // Shared scenes for the MPM tests.
 #include <cmath>
 
-#include "bridgefit/scene/scene.hpp"
+#include "bridgefit/scene/reference.hpp"
 
 namespace bridgefit::mpm::testing {
 
-// The CT scene of the issues: W = 100 mm, a0 = 30 mm, B = 12.7 mm, E = 3 GPa.
-inline Scene CtScene(double notch = 0.030) {
-  Scene s;
-  s.source = "test";
-  s.specimen.type = SpecimenType::kCT;
-  s.specimen.width = 0.100;
-  s.specimen.height = 0.120;
-  s.specimen.thickness = 0.0127;
-  s.specimen.notch = notch;
-  s.specimen.plane = PlaneCondition::kPlaneStress;
-  s.material.E = 3e9;
-  s.material.nu = 0.3;
-  s.material.density = 609.0;
-  return s;
-}
+// The CT scene of the issues (scene/reference.hpp) with notch a0.
+inline Scene CtScene(double notch = 0.030) { return ReferenceCtScene(notch); }
 
 // ASTM E399 geometry factor f(a/W): K = P/(B sqrt W) f.
 inline double E399Factor(double u) {

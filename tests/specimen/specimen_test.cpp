@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "bridgefit/scene/reference.hpp"
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/models/reduced.hpp"
 #include "bridgefit/specimen/calibrations.hpp"
@@ -16,17 +17,8 @@ namespace bridgefit {
 namespace {
 
 Scene CtScene(double notch_over_w, PlaneCondition plane = PlaneCondition::kPlaneStress) {
-  Scene scene;
-  scene.source = "test";
-  scene.specimen.type = SpecimenType::kCT;
-  scene.specimen.width = 0.1;
-  scene.specimen.height = 0.12;
-  scene.specimen.thickness = 0.0127;
-  scene.specimen.notch = notch_over_w * 0.1;
+  Scene scene = ReferenceCtScene(notch_over_w * 0.1);
   scene.specimen.plane = plane;
-  scene.material.E = 3e9;
-  scene.material.nu = 0.3;
-  scene.fracture = FractureSpec{2210.0};
   return scene;
 }
 

@@ -86,4 +86,9 @@ struct SimulationResult {
 // point gets the mean of the steps on either side (one step at the ends).
 void FillEnergyR(std::vector<SimulationPoint>& points, double thickness);
 
+// A point quantity at crack length a, linear between the points (ascending
+// crack length); NaN outside their range.
+double InterpolatePoints(const std::vector<SimulationPoint>& points, double a,
+                         double SimulationPoint::*field);
+
 }  // namespace bridgefit
