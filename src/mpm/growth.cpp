@@ -230,6 +230,19 @@ class StaticGrowth {
         ke[i][j] = V * (B[0][i] * QB[0][j] + B[1][i] * QB[1][j] + B[2][i] * QB[2][j]);
   }
 
+  // A node of a rigid pin's hole that the pin pushes on: the unit normal
+  // from the pin centre and the displacement along it per unit load-point
+  // displacement (the pin pushes on the far side of its hole only).
+  bool PinContact(const NodeConstraint& c, int n, double* ex, double* ey, double* push) const {
+    double x = NodeX(n) - c.center_x, y = NodeY(n) - c.center_y;
+    const double r = std::hypot(x, y);
+    if (r <= 0.0) return false;
+    *ex = x / r;
+    *ey = y / r;
+    *push = c.share_x * *ex + c.share_y * *ey;
+    return *push > 0.0;
+  }
+
   // Particles whose mask can change as the tip advances (full model).
   bool Candidate(std::size_t p) const {
     return !half_ && std::abs(py_[p]) < (1.0 + lp_) * h_ && px_[p] > a0_ - 2.0 * h_ &&
@@ -402,13 +415,8 @@ bool StaticGrowth::Factorize(double x_tip) {
     for (int n : c.nodes) {
       if (slot_mass_[n] <= empty) continue;
       if (c.radial) {
-        double ex = NodeX(n) - c.center_x, ey = NodeY(n) - c.center_y;
-        const double r = std::hypot(ex, ey);
-        if (r <= 0.0) continue;
-        ex /= r;
-        ey /= r;
-        const double push = c.share_x * ex + c.share_y * ey;
-        if (push <= 0.0) continue;  // the pin pushes on the far side of its hole only
+        double ex, ey, push;
+        if (!PinContact(c, n, &ex, &ey, &push)) continue;
         add_block(n, ex, ey, push);
         holds_x = true;
       } else {
@@ -497,13 +505,8 @@ double StaticGrowth::ReactionLoad(const Vec& u, double d) const {
     if (slot_mass_[n] <= empty) continue;
     const double ux = u[2 * n], uy = u[2 * n + 1];
     if (c.radial) {
-      double ex = NodeX(n) - c.center_x, ey = NodeY(n) - c.center_y;
-      const double r = std::hypot(ex, ey);
-      if (r <= 0.0) continue;
-      ex /= r;
-      ey /= r;
-      const double push = c.share_x * ex + c.share_y * ey;
-      if (push <= 0.0) continue;
+      double ex, ey, push;
+      if (!PinContact(c, n, &ex, &ey, &push)) continue;
       const double f = k_penalty_ * (push * d - (ux * ex + uy * ey));
       rx += f * ex;
       ry += f * ey;
