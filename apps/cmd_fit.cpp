@@ -223,6 +223,47 @@ void WriteEstimate(io::H5Writer& file, const std::string& group, const Parameter
   file.WriteAttribute(group, "note", e.note);
 }
 
+// R kind as-data: the model's points become a record (a linear loading branch
+// to initiation, then one row per crack length) that is reduced with the
+// data's own method and options, without noise.
+inverse::SimulationForwardModel::Reducer ModelRecordReducer(const FitInput& input) {
+  experiment::RCurveOptions options = input.reduction_options;
+  options.load_noise = 1e-3;            // [N]: the model has none; small, not zero
+  options.displacement_noise = 1e-9;    // [m]
+  options.crack_length_noise = 1e-6;    // [m]
+  options.smoothing_half_window = 0;
+  return [options](const SimulationResult& sim) {
+    constexpr int kLoading = 20;
+    inverse::SimulationForwardModel::Reduced out;
+    if (sim.points.empty()) return out;
+    ExperimentRecord record;
+    record.source = "model record (" + sim.model + ")";
+    const SimulationPoint& first = sim.points.front();
+    for (int i = 0; i < kLoading; ++i) {
+      const double f = static_cast<double>(i) / kLoading;
+      record.time.push_back(i);
+      record.load.push_back(f * first.load);
+      record.displacement.push_back(f * first.displacement);
+      record.crack_length.push_back(first.crack_length);
+    }
+    // The initiation point with its crack grown by 1 um, so the reduction
+    // has a point at initiation (the data's first growth rows).
+    for (std::size_t k = 0; k < sim.points.size(); ++k) {
+      record.time.push_back(kLoading + static_cast<double>(k));
+      record.load.push_back(sim.points[k].load);
+      record.displacement.push_back(sim.points[k].displacement);
+      record.crack_length.push_back(sim.points[k].crack_length + (k == 0 ? 1e-6 : 0.0));
+    }
+    const experiment::RCurveResult r = experiment::ComputeRCurve(record, options);
+    for (std::size_t i = 0; i < r.curve.size(); ++i) {
+      out.crack_length.push_back(r.curve.crack_length[i]);
+      out.R.push_back(r.curve.R[i]);
+      out.point.push_back(std::max(0, r.rows[i] - kLoading));
+    }
+    return out;
+  };
+}
+
 class FitCommand final : public Command {
  public:
   const char* name() const override { return "fit"; }
@@ -254,8 +295,9 @@ class FitCommand final : public Command {
     sub.add_option("--starts", starts_, "Latin-hypercube starts")->default_val(4);
     r_kind_option_ =
         sub.add_option("--r-kind", r_kind_,
-                       "What the data holds: energy | elastic-zone (default: energy; for a record, "
-                       "what its reduction gives)");
+                       "What the data holds: energy | elastic-zone | as-data (record input: the "
+                       "model's own record reduced by the data's method); default energy, for a "
+                       "record what its reduction gives");
     // A record input is reduced as `bridgefit rcurve RECORD --scene SCENE` would.
     reduction_options_ = {
         sub.add_option(
@@ -295,9 +337,16 @@ class FitCommand final : public Command {
     const FitInput input = ReadFitInput(input_, scene, reduction_);
     const RCurve& curve = input.curve;
     // Like with like: a record's reduction says what its R is.
+    // --r-kind as-data (record input): the model's own record is reduced by
+    // the data's method (calibrations, equivalent crack lengths); docs/FIT.md
+    // says how sensitive that is to the model's compliance.
     const std::string r_kind = r_kind_option_->count() > 0 ? r_kind_
                                : input.from_record         ? curve.r_kind
                                                            : std::string("energy");
+    if (r_kind == "as-data" && !input.from_record)
+      throw Error(ErrorKind::kUsage, "--r-kind as-data needs a record input (reduced here)",
+                  {.field = "--r-kind", .value = r_kind,
+                   .expected = "energy or elastic-zone for an R-curve input"});
     const inverse::RKind kind = inverse::ParseRKind(r_kind);
     const std::string reduction_text =
         input.from_record
@@ -371,23 +420,29 @@ class FitCommand final : public Command {
       model = std::make_unique<inverse::AnalyticForwardModel>(effective_modulus,
                                                               scene.specimen.notch);
     } else if (model_ == "reduced" || model_ == "auto" || model_ == "mpm") {
+      // The models must grow past the data: its crack lengths, and for a
+      // record the measured ones (an equivalent crack length trails them).
+      double data_end = *std::max_element(data.crack_length.begin(), data.crack_length.end());
+      if (input.record && input.record->has_crack_length())
+        for (double a : input.record->crack_length)
+          if (std::isfinite(a)) data_end = std::max(data_end, a);
       models::ReducedOptions reduced;
       if (!resolution_.empty())
         reduced.mesh.resolution = ParseOptionQuantity(resolution_, Dimension::Length(), "--resolution");
       reduced.mesh.max_crack_length = std::max(
-          data.crack_length.back() + 2e-3,
-          scene.run.max_crack_length.value_or(0.0));
+          data_end + 2e-3, scene.run.max_crack_length.value_or(0.0));
       if (model_ != "mpm") {
         auto reduced_model = std::make_shared<models::ReducedModel>(scene, reduced.mesh);
-        model = std::make_unique<inverse::SimulationForwardModel>(
+        auto simulation = std::make_unique<inverse::SimulationForwardModel>(
             "reduced", [reduced_model, reduced](const laws::BridgingLaw* law, double J_tip_c) {
               return reduced_model->Run(law, J_tip_c, reduced);
             });
+        if (kind == inverse::RKind::kAsData) simulation->SetReducer(ModelRecordReducer(input));
+        model = std::move(simulation);
       }
       if (model_ == "mpm" || model_ == "auto") {
         mpm::GrowthOptions growth;
         growth.cell = ParseOptionQuantity(mpm_cell_, Dimension::Length(), "--mpm-cell");
-        const double data_end = *std::max_element(data.crack_length.begin(), data.crack_length.end());
         growth.max_crack_length = data_end + 2.0 * growth.cell;
         std::string why;
         if (!growth.IsValid(&why))
@@ -396,6 +451,7 @@ class FitCommand final : public Command {
             "mpm", [scene, growth](const laws::BridgingLaw* law, double J_tip_c) {
               return mpm::SimulateGrowth(scene, law, J_tip_c, growth).result;
             });
+        if (kind == inverse::RKind::kAsData) accurate->SetReducer(ModelRecordReducer(input));
         if (model_ == "mpm") model = std::move(accurate);
         else mpm_model = std::move(accurate);
         mpm_cell_m = growth.cell;

@@ -373,6 +373,23 @@ FitData FitData::FromRCurve(const RCurve& curve, RKind kind) {
                  {.field = "coverage_factor"});
   for (double u : curve.R_uncertainty) data.R_uncertainty.push_back(u / curve.uncertainty_coverage);
   data.kind = kind;
+  if (kind == RKind::kAsData) {
+    // An equivalent crack length from a noisy compliance is not monotone:
+    // order the points by it (the model's curve is compared the same way).
+    std::vector<std::size_t> order(data.R.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+      return data.crack_length[a] < data.crack_length[b];
+    });
+    FitData sorted;
+    sorted.kind = kind;
+    for (std::size_t i : order) {
+      sorted.crack_length.push_back(data.crack_length[i]);
+      sorted.R.push_back(data.R[i]);
+      if (!data.R_uncertainty.empty()) sorted.R_uncertainty.push_back(data.R_uncertainty[i]);
+    }
+    data = std::move(sorted);
+  }
   data.Validate();
   return data;
 }
@@ -682,7 +699,11 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
 
   // 5. Steady state in the data? The fitted model must reach it inside the
   //    data window, with the J_B profile bounded above.
-  const double a_max = data.crack_length.back();
+  // The data's axis may be an equivalent crack length (R kind as-data): the
+  // model's physical crack length and R behind each point then decide.
+  const bool physical = !prediction.crack_length_physical.empty();
+  const double a_max =
+      physical ? prediction.crack_length_physical.back() : data.crack_length.back();
   const Profile* jb_profile = nullptr;
   for (const auto& p : s.profiles)
     if (p.parameter == kJB) jb_profile = &p;
@@ -691,8 +712,10 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
   // fit and the largest J_B inside the profile's 95% region.
   auto reaches_in_window = [&](const ForwardPrediction& p) {
     int past = 0;
+    const std::vector<double>& axis = p.crack_length_physical.empty() ? data.crack_length
+                                                                      : p.crack_length_physical;
     if (p.steady_state_reached)
-      for (double a : data.crack_length) past += a >= p.steady_state_crack_length;
+      for (double a : axis) past += a >= p.steady_state_crack_length;
     return p.steady_state_reached && past >= 3;
   };
   bool reached = reaches_in_window(prediction);
@@ -726,7 +749,8 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
 
   if (!s.steady_state_reached && !options.fixed[kJB]) {
     // PHYSICS 7: bounds from the last valid point, never point values.
-    const double R_max = prediction.R.back();  // the fitted (smoothed) R at a_max
+    // The fitted (smoothed) R at a_max; with as-data the model's own R there.
+    const double R_max = physical ? prediction.R_physical.back() : prediction.R.back();
     const double J_tip = full[kJTipC];
     s.bounds = laws::BoundsFromTruncatedCurve(R_max, J_tip, prediction.delta_root.back(), a_max);
     const std::string evidence = fmt::format(

@@ -3,20 +3,29 @@
 #include <algorithm>
 #include <cmath>
 
+#include <fmt/format.h>
+
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/laws/rcurve_theory.hpp"
 
 namespace bridgefit::inverse {
 
 const char* RKindName(RKind kind) {
-  return kind == RKind::kEnergy ? "energy" : "elastic-zone";
+  switch (kind) {
+    case RKind::kEnergy: return "energy";
+    case RKind::kElasticZone: return "elastic-zone";
+    case RKind::kAsData: return "as-data";
+  }
+  return "?";
 }
 
 RKind ParseRKind(const std::string& name) {
   if (name == "energy") return RKind::kEnergy;
   if (name == "elastic-zone") return RKind::kElasticZone;
+  if (name == "as-data") return RKind::kAsData;
   throw Error(ErrorKind::kUsage, "unknown R kind",
-              {.field = "--r-kind", .value = name, .expected = "energy or elastic-zone"});
+              {.field = "--r-kind", .value = name,
+               .expected = "energy, elastic-zone or as-data"});
 }
 
 AnalyticForwardModel::AnalyticForwardModel(double effective_modulus, double initial_crack_length)
@@ -92,23 +101,66 @@ ForwardPrediction SimulationForwardModel::Predict(const laws::LawShape& shape,
     return out;
   }
   // Usable points: finite R of the requested kind.
-  std::vector<double> a, r, d;
-  for (const SimulationPoint& point : result.points) {
-    const double value = kind == RKind::kEnergy ? point.R_energy : point.R;
-    if (!std::isfinite(value) || !std::isfinite(point.crack_length)) continue;
-    a.push_back(point.crack_length);
-    r.push_back(value);
-    d.push_back(point.delta_root);
+  std::vector<double> a, r, d, a_phys, r_phys;
+  if (kind == RKind::kAsData) {
+    if (!reduce_) {
+      out.status = RunStatus::kInvalidInput;
+      out.message = "R kind as-data needs the data's reduction (a record input)";
+      return out;
+    }
+    Reduced reduced;
+    try {
+      reduced = reduce_(result);
+    } catch (const std::exception& e) {
+      out.status = RunStatus::kFailed;
+      out.message = std::string("reducing the model's record failed: ") + e.what();
+      return out;
+    }
+    std::vector<std::size_t> order(reduced.R.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
+      return reduced.crack_length[x] < reduced.crack_length[y];
+    });
+    for (std::size_t i : order) {
+      const int k = reduced.point[i];
+      if (!std::isfinite(reduced.R[i]) || k < 0 || k >= static_cast<int>(result.points.size()))
+        continue;
+      a.push_back(reduced.crack_length[i]);
+      r.push_back(reduced.R[i]);
+      d.push_back(result.points[k].delta_root);
+      a_phys.push_back(result.points[k].crack_length);
+      r_phys.push_back(result.points[k].R);
+    }
+  } else {
+    for (const SimulationPoint& point : result.points) {
+      const double value = kind == RKind::kEnergy ? point.R_energy : point.R;
+      if (!std::isfinite(value) || !std::isfinite(point.crack_length)) continue;
+      a.push_back(point.crack_length);
+      r.push_back(value);
+      d.push_back(point.delta_root);
+    }
   }
   if (a.size() < 2) {
     out.status = RunStatus::kFailed;
     out.message = "the simulation returned fewer than two usable points";
     return out;
   }
-  for (double x : crack_lengths) {
+  // As-data: the reduction starts one model step after initiation, while the
+  // data's first growth rows lie closer to it; within one step of either end
+  // the end value holds (the reduced R is flat there to a few J/m^2).
+  const double low_reach =
+      kind == RKind::kAsData && a.size() >= 2 ? a[1] - a[0] : 0.0;
+  const double high_reach =
+      kind == RKind::kAsData && a.size() >= 2 ? a[a.size() - 1] - a[a.size() - 2] : 0.0;
+  for (double x_in : crack_lengths) {
+    double x = x_in;
+    if (x < a.front() && x >= a.front() - low_reach) x = a.front();
+    if (x > a.back() && x <= a.back() + high_reach) x = a.back();
     if (x < a.front() - 1e-9 || x > a.back() + 1e-9) {
       out.status = RunStatus::kFailed;
-      out.message = "a data point lies outside the simulated crack lengths";
+      out.message = fmt::format(
+          "a data point (a = {:.4g} mm) lies outside the simulated crack lengths ({:.4g} to "
+          "{:.4g} mm)", x * 1e3, a.front() * 1e3, a.back() * 1e3);
       out.R.clear();
       out.delta_root.clear();
       return out;
@@ -119,12 +171,18 @@ ForwardPrediction SimulationForwardModel::Predict(const laws::LawShape& shape,
     const double t = a[hi] > a[lo] ? (x - a[lo]) / (a[hi] - a[lo]) : 0.0;
     out.R.push_back(r[lo] + t * (r[hi] - r[lo]));
     out.delta_root.push_back(d[lo] + t * (d[hi] - d[lo]));
+    if (!a_phys.empty()) {
+      out.crack_length_physical.push_back(a_phys[lo] + t * (a_phys[hi] - a_phys[lo]));
+      out.R_physical.push_back(r_phys[lo] + t * (r_phys[hi] - r_phys[lo]));
+    }
   }
   out.steady_state_reached = result.steady_state_reached;
   out.steady_state_crack_length = result.steady_state_crack_length;
-  if (out.steady_state_reached && !crack_lengths.empty())
-    out.steady_state_reached = result.steady_state_crack_length <=
-                               *std::max_element(crack_lengths.begin(), crack_lengths.end());
+  const std::vector<double>& axis =
+      out.crack_length_physical.empty() ? crack_lengths : out.crack_length_physical;
+  if (out.steady_state_reached && !axis.empty())
+    out.steady_state_reached =
+        result.steady_state_crack_length <= *std::max_element(axis.begin(), axis.end());
   return out;
 }
 

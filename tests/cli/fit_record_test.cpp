@@ -159,5 +159,41 @@ TEST(FitRecord, InputsThatAreNeitherOrMisusedAreRefused) {
   EXPECT_NE(r.err.find("x, y"), std::string::npos) << r.err;
 }
 
+// --r-kind as-data: the model's own record reduced by the data's method. With
+// the energy method that reduction reproduces the model's R_energy, so the fit
+// must land where --r-kind energy does (oracle: the energy route).
+TEST(FitRecord, AsDataWithTheEnergyMethodMatchesTheEnergyKind) {
+  const fs::path record = kSample / "record_exact.csv", scene = kSample / "scene.toml";
+  const std::string base = "fit " + Quote(record) + " --scene " + Quote(scene) + " " +
+                           NoiseOptions("rcurve-") + " " + kFitOptions;
+  const auto energy = RunCli(base + " --r-kind energy");
+  const auto as_data = RunCli(base + " --r-kind as-data");
+  ASSERT_EQ(energy.exit_code, 0) << energy.err;
+  ASSERT_EQ(as_data.exit_code, 0) << as_data.err;
+  const nlohmann::json e = nlohmann::json::parse(energy.out), a = nlohmann::json::parse(as_data.out);
+  EXPECT_EQ(a["r_kind"], "as-data");
+  EXPECT_NEAR(a["sigma_c_Pa"]["value"].get<double>() / e["sigma_c_Pa"]["value"].get<double>(), 1.0,
+              0.01);
+  EXPECT_NEAR(a["J_tip_c_J_per_m2"]["value"].get<double>() /
+                  e["J_tip_c_J_per_m2"]["value"].get<double>(),
+              1.0, 0.005);
+  // Steady state is not reached: J_B stays a lower bound, below the truth.
+  EXPECT_FALSE(a["J_B_J_per_m2"]["identified"].get<bool>());
+  EXPECT_LT(a["J_B_J_per_m2"]["lower_bound"].get<double>(), 500.0);
+}
+
+TEST(FitRecord, AsDataNeedsARecordInput) {
+  const WorkDir work;
+  const fs::path rcurve_h5 = work.path / "rc.h5";
+  auto r = RunCli("rcurve " + Quote(kSample / "record_exact.csv") + " --scene " +
+                  Quote(kSample / "scene.toml") + " " + NoiseOptions("") + " --out " +
+                  Quote(rcurve_h5) + " --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = RunCli("fit " + Quote(rcurve_h5) + " --scene " + Quote(kSample / "scene.toml") +
+             " --r-kind as-data --json --quiet");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("as-data"), std::string::npos) << r.err;
+}
+
 }  // namespace
 }  // namespace bridgefit

@@ -15,7 +15,10 @@ namespace bridgefit::inverse {
 
 // Which R the data holds: energy released per unit growth (an energy-method
 // experiment, the model's R_energy) or the elastic-zone R of PHYSICS 3.
-enum class RKind { kEnergy, kElasticZone };
+// kAsData: the model's own load-displacement record reduced by the data's
+// method (a SimulationForwardModel with a reducer), so that methods with a
+// calibration or an equivalent crack length compare like with like.
+enum class RKind { kEnergy, kElasticZone, kAsData };
 const char* RKindName(RKind kind);
 RKind ParseRKind(const std::string& name);
 
@@ -33,6 +36,11 @@ struct ForwardPrediction {
   std::vector<double> delta_root;  // notch-root COD there [m]
   bool steady_state_reached = false;
   double steady_state_crack_length = NAN;  // [m]
+  // kAsData only: the physical crack length and the elastic-zone R of the
+  // model point behind each data point (the data's axis may be an
+  // equivalent crack length), for steady state and the PHYSICS 7 bounds.
+  std::vector<double> crack_length_physical;  // [m]
+  std::vector<double> R_physical;             // [J/m^2]
   bool ok() const { return status == RunStatus::kOk; }
 };
 
@@ -86,6 +94,15 @@ class SimulationForwardModel final : public ForwardModel {
  public:
   using Simulator = std::function<SimulationResult(const laws::BridgingLaw* law, double J_tip_c)>;
   SimulationForwardModel(std::string name, Simulator simulate);
+  // For RKind::kAsData: reduces a simulation's load-displacement record with
+  // the data's own method to (crack length, R), and says which simulation
+  // point each R comes from.
+  struct Reduced {
+    std::vector<double> crack_length, R;
+    std::vector<int> point;
+  };
+  using Reducer = std::function<Reduced(const SimulationResult& result)>;
+  void SetReducer(Reducer reduce) { reduce_ = std::move(reduce); }
   std::string Name() const override { return name_; }
   ForwardPrediction Predict(const laws::LawShape& shape, const LawParameters& p,
                             const std::vector<double>& crack_lengths, RKind kind) const override;
@@ -93,6 +110,7 @@ class SimulationForwardModel final : public ForwardModel {
  private:
   std::string name_;
   Simulator simulate_;
+  Reducer reduce_;
 };
 
 }  // namespace bridgefit::inverse
