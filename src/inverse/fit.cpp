@@ -587,6 +587,9 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
       Profile profile;
       profile.parameter = index;
       profile.chi2_threshold = threshold;
+      // Each re-optimization starts from the nearest point already solved
+      // inside the interval (warm start; the step-out moves away from it).
+      std::vector<double> warm = best.x;
       auto profile_chi2 = [&](double x) {
         const double value = FromBox(index, x, options);
         double chi2 = kFailedCost;
@@ -597,9 +600,10 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
         } else {
           // The pinned coordinate stays in the vector; its value is overridden.
           const LocalResult r =
-              MinimizeNlopt(objective, Optimizer::kBobyqa, best.x, 80, index, value, 1e-4);
+              MinimizeNlopt(objective, Optimizer::kBobyqa, warm, 80, index, value, 1e-4);
           chi2 = r.chi2;
           at = objective.Expand(r.x.data(), index, value);
+          if (chi2 < kFailedCost && chi2 - best.chi2 <= threshold) warm = r.x;
         }
         profile.points.push_back({value, chi2, chi2 < kFailedCost, {at[0], at[1], at[2]}});
         return chi2;
@@ -610,6 +614,7 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
       // Returns the box coordinate of the edge on one side, or NaN when the
       // profile stays inside up to the end of the box (flat on that side).
       auto edge = [&](double direction) -> double {
+        warm = best.x;
         double in = best.x[k], step = 0.004;
         while (true) {
           const double out = std::clamp(in + direction * step, 0.0, 1.0);
