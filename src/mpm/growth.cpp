@@ -658,7 +658,6 @@ GrowthResult StaticGrowth::Run(const laws::BridgingLaw* law, double J_tip_c) {
   Progress progress("MPM growth", static_cast<std::size_t>(steps_total), opt_.progress);
   double d_prev = NAN;
   const Functional mouth = CodFunctional(x_front_ + (half_ ? 0.0 : 0.25 * h_));
-  const Vec zero_u = Vec::Zero(ndof_);
   int step = 0;
   for (;; ++step) {
     // ---- system for this crack length
