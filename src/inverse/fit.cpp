@@ -47,6 +47,11 @@ class Objective {
   const std::vector<int>& free() const { return free_; }
   int evaluations() const { return evaluations_; }
   int failures() const { return failures_; }
+  // Counts of evaluations made on copies of this objective (parallel profiles).
+  void AddCounts(int evaluations, int failures) const {
+    evaluations_ += evaluations;
+    failures_ += failures;
+  }
 
   LawParameters Parameters(const std::vector<double>& full) const {
     return {full[kSigmaC], full[kJB], full[kJTipC]};
@@ -351,6 +356,7 @@ bool FitOptions::IsValid(std::string* why) const {
   };
   if (starts < 1) return fail("starts must be >= 1");
   if (max_evaluations < 10) return fail("max_evaluations must be >= 10");
+  if (threads < 0) return fail("threads must be >= 0");
   for (int i = 0; i < kParameterCount; ++i) {
     if (fixed[i]) {
       if (!(fixed_value[i] >= 0.0) || !std::isfinite(fixed_value[i]))
@@ -579,12 +585,33 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
   //    box coordinate until Delta chi^2 > threshold, then bisecting.
   const double threshold = 3.84 * scale2;
   {
+    // The profiles are independent: they run side by side, each with its
+    // own objective (and counters), and are applied in parameter order.
+    struct ProfileRun {
+      int k = 0;
+      Profile profile;
+      double x_low = 0.0, x_high = 0.0;
+      int evaluations = 0, failures = 0;
+    };
+    std::vector<ProfileRun> runs;
     for (int k = 0; k < n_free; ++k) {
-      const int index = free[k];
       // J_B's profile decides identifiability (steady state in the window):
       // it always runs; the others only when asked for.
-      if (!options.profile_likelihood && index != kJB) continue;
-      Profile profile;
+      if (!options.profile_likelihood && free[k] != kJB) continue;
+      runs.push_back({.k = k});
+    }
+    // Without full profiles only J_B's upper side is needed (the steady-state
+    // decision); its lower limit then stays the Jacobian one.
+    const bool lower_side = options.profile_likelihood;
+    const int profile_threads = options.threads > 0 ? options.threads : 2;
+#pragma omp parallel for num_threads(profile_threads) schedule(dynamic) \
+    if (runs.size() > 1 && profile_threads > 1)
+    for (std::size_t q = 0; q < runs.size(); ++q) {
+      ProfileRun& run = runs[q];
+      const int k = run.k;
+      const int index = free[k];
+      const Objective local(model, shape, data, options);
+      Profile& profile = run.profile;
       profile.parameter = index;
       profile.chi2_threshold = threshold;
       // Each re-optimization starts from the nearest point already solved
@@ -596,13 +623,13 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
         std::vector<double> at = full;
         at[index] = value;
         if (n_free == 1) {
-          chi2 = objective.Chi2(at);
+          chi2 = local.Chi2(at);
         } else {
           // The pinned coordinate stays in the vector; its value is overridden.
           const LocalResult r =
-              MinimizeNlopt(objective, Optimizer::kBobyqa, warm, 80, index, value, 1e-4);
+              MinimizeNlopt(local, Optimizer::kBobyqa, warm, 80, index, value, 1e-4);
           chi2 = r.chi2;
-          at = objective.Expand(r.x.data(), index, value);
+          at = local.Expand(r.x.data(), index, value);
           if (chi2 < kFailedCost && chi2 - best.chi2 <= threshold) warm = r.x;
         }
         profile.points.push_back({value, chi2, chi2 < kFailedCost, {at[0], at[1], at[2]}});
@@ -631,13 +658,19 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
           step *= 2.0;
         }
       };
-      // Without full profiles only J_B's upper side is needed (the steady-state
-      // decision); its lower limit then stays the Jacobian one.
-      const bool lower_side = options.profile_likelihood;
-      const double x_low = lower_side ? edge(-1.0) : 0.0, x_high = edge(+1.0);
+      run.x_low = lower_side ? edge(-1.0) : 0.0;
+      run.x_high = edge(+1.0);
       profile.points.push_back({full[index], best.chi2, true, {full[0], full[1], full[2]}});
       std::sort(profile.points.begin(), profile.points.end(),
                 [](const ProfilePoint& a, const ProfilePoint& b) { return a.value < b.value; });
+      run.evaluations = local.evaluations();
+      run.failures = local.failures();
+    }
+    for (ProfileRun& run : runs) {
+      const int index = free[run.k];
+      const double x_low = run.x_low, x_high = run.x_high;
+      Profile& profile = run.profile;
+      objective.AddCounts(run.evaluations, run.failures);
       ParameterEstimate& e = EstimateOf(s, index);
       if (lower_side) e.ci95_low = std::isnan(x_low) ? NAN : FromBox(index, x_low, options);
       e.ci95_high = std::isnan(x_high) ? NAN : FromBox(index, x_high, options);

@@ -45,6 +45,7 @@ struct FitOptions {
   // repeated without them. 0 disables the check.
   double outlier_threshold = 5.0;
   unsigned seed = 12345;          // Latin-hypercube design
+  int threads = 0;                // profiles side by side (0: two OpenMP threads, 1: serial)
   bool progress = false;
 
   bool IsValid(std::string* why) const;
