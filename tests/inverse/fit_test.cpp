@@ -254,8 +254,11 @@ TEST(Fit, InformationCriterionPrefersTheTrueFamily) {
                                        [](const auto& a, const auto& b) { return a.aicc < b.aicc; });
     EXPECT_EQ(best->law, laws::LawFamilyName(true_shape.family));
     EXPECT_DOUBLE_EQ(best->delta_aicc, 0.0);
-    for (const auto& c : comparison)
-      if (&c != &*best) EXPECT_GT(c.delta_aicc, 2.0) << c.law;
+    for (const auto& c : comparison) {
+      if (&c != &*best) {
+        EXPECT_GT(c.delta_aicc, 2.0) << c.law;
+      }
+    }
   }
 }
 
