@@ -173,6 +173,21 @@ class GrowingLdlt {
   int m_ = 0;
 };
 
+// Equation (2): centred nodal-release energy per unit growth from the
+// reaction holding the tip node shut and the opening of the node behind it.
+double CentredTipEnergy(double reaction, double phi, double u_behind, double psi, double h) {
+  return (reaction * reaction * phi + u_behind * u_behind / psi) / (2.0 * h);
+}
+
+// Borders the flexibility of the free nodes 0..t-1 with node t once it is
+// released (v = F s_t, phi its flexibility).
+void BorderFlexibility(Eigen::MatrixXd& F, const Eigen::VectorXd& v, double phi, int t) {
+  F.topLeftCorner(t, t).noalias() += phi * v.head(t) * v.head(t).transpose();
+  F.col(t).head(t) = -phi * v.head(t);
+  F.row(t).head(t) = -phi * v.head(t).transpose();
+  F(t, t) = phi;
+}
+
 // One crack length in the flexibility form (1) restricted to the bridged
 // nodes z0..t-1 (k of them): Newton on (u_zone, p) with a dense LU, O(k^3).
 // F is the flexibility of nodes 0..t-1, Fg = F g, v = F s_t. On success `u`
@@ -198,7 +213,7 @@ bool SolveZoneDense(const Eigen::MatrixXd& F, const Eigen::VectorXd& Fg, const E
     const auto F_back = F.row(t - 1).segment(z0, k);
     const double reaction = alpha * x_p + tip_force - v.segment(z0, k).dot(b);
     const double u_back = Fg[t - 1] * x_p - F_back.dot(b);
-    const double G = (reaction * reaction * phi + u_back * u_back / psi) / (2.0 * h);
+    const double G = CentredTipEnergy(reaction, phi, u_back, psi, h);
     residual->resize(k + 1);
     residual->head(k).noalias() = x_u - Fg.segment(z0, k) * x_p;
     residual->head(k).noalias() += F_zz * b;
@@ -322,7 +337,7 @@ void GrowBordered(const CrackPlaneModel& m, const laws::BridgingLaw* law, double
       ru.head(t).noalias() = S.topLeftCorner(t, t).selfadjointView<Eigen::Lower>() * x_u.head(t);
       ru.head(t) += b.head(t) - g.head(t) * x_p;
       reaction = s_t.dot(x_u.head(t)) - g[t] * x_p + tip_force;
-      G = (reaction * reaction * phi + x_u[t - 1] * x_u[t - 1] / psi) / (2.0 * h);
+      G = CentredTipEnergy(reaction, phi, x_u[t - 1], psi, h);
       const double sqrtG = std::sqrt(std::max(G, 1e-300));
       rg = sqrtG / std::sqrt(J_tip_c) - 1.0;
       const double scale = 1.0 / (2.0 * sqrtG * std::sqrt(J_tip_c) * h);
@@ -411,15 +426,12 @@ void GrowBordered(const CrackPlaneModel& m, const laws::BridgingLaw* law, double
     }
     slopes(u);
     const double R_t = s_t.dot(u.head(t)) - g[t] * p + tip_force;
-    const double J_tip = (R_t * R_t * phi + u[t - 1] * u[t - 1] / psi) / (2.0 * h);
+    const double J_tip = CentredTipEnergy(R_t, phi, u[t - 1], psi, h);
     RecordPoint(m, law, J_tip_c, t, u, p, J_tip, delta_max, broken, result);
     progress.Update(static_cast<size_t>(t));
 
     if (t + 1 < n) {
-      F.topLeftCorner(t, t).noalias() += phi * v.head(t) * v.head(t).transpose();
-      F.col(t).head(t) = -phi * v.head(t);
-      F.row(t).head(t) = -phi * v.head(t).transpose();
-      F(t, t) = phi;
+      BorderFlexibility(F, v, phi, t);
       elastic.Border(S.col(t), S(t, t), work);
       // Node t joins shut; its slope is the envelope's at zero opening.
       double slope_t = 0.0;
@@ -600,17 +612,12 @@ SimulationResult ReducedModel::Run(const laws::BridgingLaw* law, double J_tip_c,
     double reaction = alpha * p + tip_force;
     for (int r = z0; r < z0 + k; ++r)
       reaction -= v[r] * face_length(r) * BridgingTraction(*law, 2.0 * u[r], delta_max[r]).sigma;
-    const double J_tip = (reaction * reaction * phi + u[t - 1] * u[t - 1] / psi) / (2.0 * h);
+    const double J_tip = CentredTipEnergy(reaction, phi, u[t - 1], psi, h);
     RecordPoint(m, law, J_tip_c, t, u, p, J_tip, delta_max, broken, result);
     progress.Update(static_cast<size_t>(t));
 
     // Border F with node t for the next tip position.
-    if (t + 1 < n) {
-      F.topLeftCorner(t, t).noalias() += phi * v.head(t) * v.head(t).transpose();
-      F.col(t).head(t) = -phi * v.head(t);
-      F.row(t).head(t) = -phi * v.head(t).transpose();
-      F(t, t) = phi;
-    }
+    if (t + 1 < n) BorderFlexibility(F, v, phi, t);
   }
   progress.Finish();
   FillEnergyR(result.points, m.thickness);
