@@ -19,6 +19,7 @@
 #include "bridgefit/experiment/rcurve.hpp"
 #include "bridgefit/inverse/fit.hpp"
 #include "bridgefit/inverse/model_check.hpp"
+#include "bridgefit/inverse/reduced_forward.hpp"
 #include "bridgefit/io/csv.hpp"
 #include "bridgefit/io/hdf5.hpp"
 #include "bridgefit/io/scene_file.hpp"
@@ -432,11 +433,7 @@ class FitCommand final : public Command {
       reduced.mesh.max_crack_length = std::max(
           data_end + 2e-3, scene.run.max_crack_length.value_or(0.0));
       if (model_ != "mpm") {
-        auto reduced_model = std::make_shared<models::ReducedModel>(scene, reduced.mesh);
-        auto simulation = std::make_unique<inverse::SimulationForwardModel>(
-            "reduced", [reduced_model, reduced](const laws::BridgingLaw* law, double J_tip_c) {
-              return reduced_model->Run(law, J_tip_c, reduced);
-            });
+        auto simulation = inverse::MakeReducedForwardModel(scene, reduced);
         if (kind == inverse::RKind::kAsData) simulation->SetReducer(ModelRecordReducer(input));
         model = std::move(simulation);
       }

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "bridgefit/inverse/fit.hpp"
+#include "bridgefit/inverse/reduced_forward.hpp"
 #include "bridgefit/io/scene_file.hpp"
 #include "bridgefit/models/reduced.hpp"
 
@@ -34,11 +35,8 @@ int main(int argc, char** argv) {
   models::ReducedOptions options;
   options.mesh.resolution = resolution;
   options.mesh.max_crack_length = 0.086;
-  const auto reduced = std::make_shared<models::ReducedModel>(scene, options.mesh);
-  const SimulationForwardModel model(
-      "reduced", [reduced, options](const laws::BridgingLaw* law, double J_tip_c) {
-        return reduced->Run(law, J_tip_c, options);
-      });
+  const auto forward = MakeReducedForwardModel(scene, options);
+  const SimulationForwardModel& model = *forward;
   const LawParameters truth{0.45e6, 500.0, 2210.0};
   const laws::LawShape shape = laws::MakeLinearShape();
   FitData clean;

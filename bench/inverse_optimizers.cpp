@@ -13,6 +13,7 @@
 #include <fmt/format.h>
 
 #include "bridgefit/inverse/fit.hpp"
+#include "bridgefit/inverse/reduced_forward.hpp"
 #include "bridgefit/io/scene_file.hpp"
 #include "bridgefit/models/reduced.hpp"
 
@@ -64,11 +65,8 @@ int main(int argc, char** argv) {
   models::ReducedOptions options;
   options.mesh.resolution = resolution;
   options.mesh.max_crack_length = 0.086;
-  const auto reduced = std::make_shared<models::ReducedModel>(scene, options.mesh);
-  const SimulationForwardModel model(
-      "reduced", [reduced, options](const laws::BridgingLaw* law, double J_tip_c) {
-        return reduced->Run(law, J_tip_c, options);
-      });
+  const auto forward = MakeReducedForwardModel(scene, options);
+  const SimulationForwardModel& model = *forward;
 
   const Case cases[] = {{"recovery_1MPa", {1.0e6, 500.0, 2210.0}, 0.085},
                         {"truncated_0.45MPa", {0.45e6, 500.0, 2210.0}, 0.070},

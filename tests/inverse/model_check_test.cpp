@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "bridgefit/inverse/model_check.hpp"
+#include "bridgefit/inverse/reduced_forward.hpp"
 #include "bridgefit/io/scene_file.hpp"
 #include "bridgefit/models/reduced.hpp"
 
@@ -18,15 +19,11 @@ const std::string kScene = std::string(BRIDGEFIT_TEST_DATA_DIR) + "/scenes/ct_md
 
 std::shared_ptr<SimulationForwardModel> Reduced() {
   static std::shared_ptr<SimulationForwardModel> forward = [] {
-    const Scene scene = io::ReadSceneFile(kScene);
     models::ReducedOptions options;
     options.mesh.resolution = 1e-3;
     options.mesh.max_crack_length = 0.086;
-    auto model = std::make_shared<models::ReducedModel>(scene, options.mesh);
-    return std::make_shared<SimulationForwardModel>(
-        "reduced", [model, options](const laws::BridgingLaw* law, double J_tip_c) {
-          return model->Run(law, J_tip_c, options);
-        });
+    return std::shared_ptr<SimulationForwardModel>(
+        MakeReducedForwardModel(io::ReadSceneFile(kScene), options));
   }();
   return forward;
 }

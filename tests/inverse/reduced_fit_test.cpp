@@ -7,6 +7,7 @@
 #include <random>
 
 #include "bridgefit/inverse/fit.hpp"
+#include "bridgefit/inverse/reduced_forward.hpp"
 #include "bridgefit/io/scene_file.hpp"
 #include "bridgefit/models/reduced.hpp"
 
@@ -16,26 +17,16 @@ namespace {
 const std::string kScene = std::string(BRIDGEFIT_TEST_DATA_DIR) + "/scenes/ct_mdf.toml";
 
 struct Fixture {
-  models::ReducedOptions options;
-  std::shared_ptr<models::ReducedModel> model;
   std::unique_ptr<SimulationForwardModel> forward;
 };
 
 // The CT scene of the reduced-model issue, grown to 86 mm.
 Fixture& Ct() {
   static Fixture f = [] {
-    Fixture x;
-    const Scene scene = io::ReadSceneFile(kScene);
-    x.options.mesh.resolution = 1e-3;
-    x.options.mesh.max_crack_length = 0.086;
-    x.model = std::make_shared<models::ReducedModel>(scene, x.options.mesh);
-    auto model = x.model;
-    auto options = x.options;
-    x.forward = std::make_unique<SimulationForwardModel>(
-        "reduced", [model, options](const laws::BridgingLaw* law, double J_tip_c) {
-          return model->Run(law, J_tip_c, options);
-        });
-    return x;
+    models::ReducedOptions options;
+    options.mesh.resolution = 1e-3;
+    options.mesh.max_crack_length = 0.086;
+    return Fixture{MakeReducedForwardModel(io::ReadSceneFile(kScene), options)};
   }();
   return f;
 }

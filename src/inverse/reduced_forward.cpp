@@ -1,0 +1,14 @@
+#include "bridgefit/inverse/reduced_forward.hpp"
+
+namespace bridgefit::inverse {
+
+std::unique_ptr<SimulationForwardModel> MakeReducedForwardModel(
+    const Scene& scene, const models::ReducedOptions& options) {
+  auto model = std::make_shared<const models::ReducedModel>(scene, options.mesh);
+  return std::make_unique<SimulationForwardModel>(
+      "reduced", [model, options](const laws::BridgingLaw* law, double J_tip_c) {
+        return model->Run(law, J_tip_c, options);
+      });
+}
+
+}  // namespace bridgefit::inverse
