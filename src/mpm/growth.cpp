@@ -79,7 +79,6 @@ struct BridgedPoint {
   double delta_max = 0.0;
   bool broken = false;
   double delta = 0.0;  // current opening
-  double traction = 0.0;
 };
 
 class StaticGrowth {
@@ -689,6 +688,10 @@ GrowthResult StaticGrowth::Run(const laws::BridgingLaw* law, double J_tip_c) {
       c.push_back(half_ ? 0.5 * w : w);
     }
     const int nb = static_cast<int>(act.size());
+    // Opening functionals of every crack point, once per crack length.
+    std::vector<Functional> cod(pts.size());
+    for (std::size_t k = 0; k < pts.size(); ++k) cod[k] = CodFunctional(pts[k].x);
+    const Functional tip_cod = CodFunctional(x_tip);
     std::vector<Functional> g(nb);
     Vec U_d;
     Eigen::MatrixXd G(ndof_, nb);
@@ -696,7 +699,7 @@ GrowthResult StaticGrowth::Run(const laws::BridgingLaw* law, double J_tip_c) {
       Stopwatch s;
       U_d = ldlt_.solve(F_d_);
       for (int q = 0; q < nb; ++q) {
-        g[q] = CodFunctional(pts[act[q]].x);
+        g[q] = cod[act[q]];
         Vec rhs = Vec::Zero(ndof_);
         for (std::size_t e = 0; e < g[q].dof.size(); ++e) rhs[g[q].dof[e]] += g[q].coef[e];
         G.col(q) = ldlt_.solve(rhs);
@@ -765,32 +768,22 @@ GrowthResult StaticGrowth::Run(const laws::BridgingLaw* law, double J_tip_c) {
       for (std::size_t k = 0; k < pts.size(); ++k) {
         if (half_ || pts[k].x < x_tip - 1e-9 * h_) {
           xs.push_back(pts[k].x);
-          ds.push_back(CodFunctional(pts[k].x).Apply(u));
+          ds.push_back(cod[k].Apply(u));
           ss.push_back(law ? law->TractionWithHistory(ds.back(), pts[k].delta_max) : 0.0);
           if (pts[k].broken) ss.back() = 0.0;
         }
       }
       xs.push_back(x_tip);
-      ds.push_back(half_ ? 0.0 : CodFunctional(x_tip).Apply(u));
+      ds.push_back(half_ ? 0.0 : tip_cod.Apply(u));
       ss.push_back(law && !half_ ? law->TractionWithHistory(ds.back(), pts.back().delta_max)
                                  : 0.0);
       for (std::size_t q = 0; q < opt_.contour_cells.size(); ++q) {
         const int k = opt_.contour_cells[q];
         const double J = ContourJ(u, x_tip, k);
         const int it = static_cast<int>(std::lround((x_tip - x0_) * inv_h_));
-        const double xc = x0_ + (it - k) * h_;
-        double face = 0.0;
-        for (std::size_t e = xs.size() - 1; e > 0; --e) {
-          double d_far = ds[e - 1], s_far = ss[e - 1];
-          if (xs[e - 1] < xc) {
-            const double f = (xs[e] - xc) / (xs[e] - xs[e - 1]);
-            d_far = ds[e] + f * (d_far - ds[e]);
-            s_far = ss[e] + f * (s_far - ss[e]);
-            face += 0.5 * (ss[e] + s_far) * (d_far - ds[e]);
-            break;
-          }
-          face += 0.5 * (ss[e] + s_far) * (d_far - ds[e]);
-        }
+        const double face = detail::FaceWork(
+            xs, [&](std::size_t e) { return ds[e]; }, [&](std::size_t e) { return ss[e]; },
+            x0_ + (it - k) * h_);
         J_all[q] = J;
         Jtip_all[q] = J - face;
       }
@@ -838,10 +831,6 @@ GrowthResult StaticGrowth::Run(const laws::BridgingLaw* law, double J_tip_c) {
     d_prev = d;
     const Vec u = field(d);
     // ---- record this crack length
-    for (int q = 0; q < nb; ++q) {
-      pts[act[q]].delta = delta[q];
-      pts[act[q]].traction = sig[q] / c[q];
-    }
     SimulationPoint point;
     point.crack_length = x_tip;
     point.J_tip = Jtip_all[0];
@@ -850,9 +839,10 @@ GrowthResult StaticGrowth::Run(const laws::BridgingLaw* law, double J_tip_c) {
     point.cmod = mouth.Apply(u);
     double delta_root = 0.0, root = a0_;
     if (law && !pts.empty()) {
-      for (auto& b : pts) {
+      for (std::size_t k = 0; k < pts.size(); ++k) {
+        BridgedPoint& b = pts[k];
         if (b.broken) continue;
-        const double now = CodFunctional(b.x).Apply(u);
+        const double now = cod[k].Apply(u);
         b.delta = now;
         b.delta_max = std::max(b.delta_max, now);
         if (b.delta_max >= law->delta_c) b.broken = true;

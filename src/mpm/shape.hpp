@@ -4,6 +4,8 @@
 // solver and the quasi-static growth model so both discretise alike.
 
 #include <cmath>
+#include <cstddef>
+#include <vector>
 
 namespace bridgefit::mpm::detail {
 
@@ -64,6 +66,28 @@ inline void PatchWeights(double x, double y, double x0, double y0, double inv_h,
     wt.sy[a] = s;
     wt.gy[a] = g * inv_h;
   }
+}
+
+// The face term of J_tip (PHYSICS 4): int sigma d(delta) from the tip back
+// to the contour's crossing x_cross, by trapezoids over crack points
+// `opening(k)`, `traction(k)` at x[k] (ascending, the tip last).
+template <class Opening, class Traction>
+double FaceWork(const std::vector<double>& x, const Opening& opening, const Traction& traction,
+                double x_cross) {
+  double face = 0.0;
+  for (std::size_t near = x.size() - 1; near > 0; --near) {
+    const std::size_t far = near - 1;
+    const double d_near = opening(near), s_near = traction(near);
+    double d_far = opening(far), s_far = traction(far);
+    if (x[far] < x_cross) {
+      const double f = (x[near] - x_cross) / (x[near] - x[far]);
+      d_far = d_near + f * (d_far - d_near);
+      s_far = s_near + f * (s_far - s_near);
+      return face + 0.5 * (s_near + s_far) * (d_far - d_near);
+    }
+    face += 0.5 * (s_near + s_far) * (d_far - d_near);
+  }
+  return face;
 }
 
 }  // namespace bridgefit::mpm::detail

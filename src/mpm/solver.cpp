@@ -932,21 +932,9 @@ struct Solver::Impl {
     J += (ycrack - (y0 + jb * h)) * integrand(iL, jb, -1.0, 0.0);
     r.J = J;
     // Face term: sum sigma d(delta) from the tip back to the contour crossing.
-    const double xc = x0 + iL * h;
-    double face = 0.0;
-    for (std::size_t q = tip; q > 0; --q) {
-      const std::size_t near = q, far = q - 1;
-      double d_near = CodNormalAt(near), s_near = ctraction[near];
-      double d_far = CodNormalAt(far), s_far = ctraction[far];
-      if (cx[far] < xc) {
-        const double f = (cx[near] - xc) / (cx[near] - cx[far]);
-        d_far = d_near + f * (d_far - d_near);
-        s_far = s_near + f * (s_far - s_near);
-        face += 0.5 * (s_near + s_far) * (d_far - d_near);
-        break;
-      }
-      face += 0.5 * (s_near + s_far) * (d_far - d_near);
-    }
+    const double face = detail::FaceWork(
+        cx, [&](std::size_t k) { return CodNormalAt(k); },
+        [&](std::size_t k) { return ctraction[k]; }, x0 + iL * h);
     r.face_term = face;
     r.J_tip = J - face;
     return r;
