@@ -469,23 +469,18 @@ class FitCommand final : public Command {
     std::vector<inverse::LawComparison> comparison;
     FitSummary s;
     if (compare) {
-      comparison = inverse::CompareLawFamilies(
-          *model,
-          {laws::MakeLinearShape(), laws::MakeCubicShape(), laws::MakeTriangularShape(0.1),
-           laws::MakeExponentialShape(3.0)},
-          data, options);
+      const std::vector<laws::LawShape> families = {
+          laws::MakeLinearShape(), laws::MakeCubicShape(), laws::MakeTriangularShape(0.1),
+          laws::MakeExponentialShape(3.0)};
+      comparison = inverse::CompareLawFamilies(*model, families, data, options);
       const auto best = std::min_element(
           comparison.begin(), comparison.end(), [](const auto& a, const auto& b) {
             return !std::isnan(a.aicc) && (std::isnan(b.aicc) || a.aicc < b.aicc);
           });
       s = best->summary;
       if (mpm_model) {
-        // The check runs on the family AICc preferred.
-        laws::LawShape best_shape;
-        if (best->law == "cubic") best_shape = laws::MakeCubicShape();
-        else if (best->law == "triangular") best_shape = laws::MakeTriangularShape(0.1);
-        else if (best->law == "exponential") best_shape = laws::MakeExponentialShape(3.0);
-        else best_shape = laws::MakeLinearShape();
+        // The check runs on the family AICc preferred (comparison follows families).
+        const laws::LawShape& best_shape = families[best - comparison.begin()];
         s = inverse::FitWithModelCheck(*model, *mpm_model, best_shape, data, options, check,
                                        &model_check);
       }

@@ -153,7 +153,6 @@ FitSummary FitWithModelCheck(const ForwardModel& cheap, const ForwardModel& accu
   for (int k = 0; k < check.max_corrections; ++k) {
     for (std::size_t i = 0; i < knots.size(); ++i) offset[i] = ra[i] - rc[i];
     const CorrectedModel surrogate(cheap, r.accurate_model, knots, offset);
-    const bool last = k + 1 == check.max_corrections;
     mapped = FitBridgingLaw(surrogate, shape, data, quick);
     r.correction_fit_s += mapped.wall_s;
     ++r.corrections;
@@ -176,7 +175,7 @@ FitSummary FitWithModelCheck(const ForwardModel& cheap, const ForwardModel& accu
     rc = rc_next;
     ra = ra_next;
     moved_little = change < check.parameter_tolerance;
-    if (moved_little || last) break;
+    if (moved_little) break;
   }
   if (!r.accurate_ok) {
     r.outcome = "correction stopped: the accurate model failed (" + failure + "); the " +
