@@ -31,10 +31,6 @@ Scene CtScene(double sigma_c) {
   return s;
 }
 
-double At(const std::vector<SimulationPoint>& pts, double a, double SimulationPoint::*field) {
-  return InterpolatePoints(pts, a, field);
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -77,8 +73,8 @@ int main(int argc, char** argv) {
         double err_r = 0.0, err_e = 0.0;
         for (const SimulationPoint& p : g.result.points) {
           if (p.crack_length > a_max + 1e-9) continue;
-          const double r = At(ref.points, p.crack_length, &SimulationPoint::R);
-          const double re = At(ref.points, p.crack_length, &SimulationPoint::R_energy);
+          const double r = InterpolatePoints(ref.points, p.crack_length, &SimulationPoint::R);
+          const double re = InterpolatePoints(ref.points, p.crack_length, &SimulationPoint::R_energy);
           if (!std::isfinite(r)) continue;
           err_r = std::max(err_r, std::abs(p.R / r - 1.0));
           err_e = std::max(err_e, std::abs(p.R_energy / re - 1.0));

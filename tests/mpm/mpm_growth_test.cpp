@@ -34,10 +34,6 @@ Scene BridgedCt(double sigma_c) {
   return scene;
 }
 
-double At(const std::vector<SimulationPoint>& pts, double a, double SimulationPoint::*field) {
-  return InterpolatePoints(pts, a, field);
-}
-
 TEST(MpmGrowth, NoBridgingEnergyReleaseStaysAtJtipc) {
   Scene scene = testing::CtScene();
   for (GrowthSymmetry sym : {GrowthSymmetry::kHalf, GrowthSymmetry::kFull}) {
@@ -86,7 +82,9 @@ TEST(MpmGrowth, JtipIndependentOfTheContourWithBridging) {
     EXPECT_NEAR(ratio, 1.0, 0.03) << "a = " << p.crack_length << ": J_tip " << g.J_tip_contours[i][0]
                                   << " (2 cells) vs " << g.J_tip_contours[i][1] << " (6 cells)";
     // With bridging the face term matters: the contour J itself differs.
-    if (zone > 6 * opt.cell) EXPECT_GT(g.J_contours[i][1], 1.05 * g.J_tip_contours[i][1]);
+    if (zone > 6 * opt.cell) {
+      EXPECT_GT(g.J_contours[i][1], 1.05 * g.J_tip_contours[i][1]);
+    }
   }
   EXPECT_GE(both_forms, 2);
   std::printf("  largest |J_tip(6)/J_tip(2) - 1| = %.3f %%, %d points with both forms\n",
@@ -132,8 +130,8 @@ TEST_F(MpmGrowthLinearSoftening, RCurveWithin5PercentOfTheReducedModel) {
     double worst_r = 0.0, worst_e = 0.0;
     int compared = 0;
     for (const SimulationPoint& p : g->result.points) {
-      const double r = At(reduced_->points, p.crack_length, &SimulationPoint::R);
-      const double re = At(reduced_->points, p.crack_length, &SimulationPoint::R_energy);
+      const double r = InterpolatePoints(reduced_->points, p.crack_length, &SimulationPoint::R);
+      const double re = InterpolatePoints(reduced_->points, p.crack_length, &SimulationPoint::R_energy);
       if (!std::isfinite(r)) continue;
       ++compared;
       worst_r = std::max(worst_r, std::abs(p.R / r - 1.0));
@@ -176,8 +174,8 @@ TEST_F(MpmGrowthLinearSoftening, ReachesSteadyStateAtJtipcPlusJB) {
 TEST_F(MpmGrowthLinearSoftening, HalfModelAgreesWithTheFullExplicitCrackWithin2Percent) {
   double worst_r = 0.0, worst_e = 0.0;
   for (const SimulationPoint& p : half_->result.points) {
-    const double r = At(full_->result.points, p.crack_length, &SimulationPoint::R);
-    const double re = At(full_->result.points, p.crack_length, &SimulationPoint::R_energy);
+    const double r = InterpolatePoints(full_->result.points, p.crack_length, &SimulationPoint::R);
+    const double re = InterpolatePoints(full_->result.points, p.crack_length, &SimulationPoint::R_energy);
     ASSERT_TRUE(std::isfinite(r));
     worst_r = std::max(worst_r, std::abs(p.R / r - 1.0));
     worst_e = std::max(worst_e, std::abs(p.R_energy / re - 1.0));
