@@ -325,6 +325,11 @@ class FitCommand final : public Command {
                        "Record input: column mapping, e.g. load=Force,crack_length=CrackExt"),
         sub.add_option("--units", reduction_.units,
                        "Record input: unit mapping, e.g. displacement=mm,load=N")};
+    sub.add_option("--fit-to", fit_to_,
+                   "What the model is fitted to: r-curve (the R curve, or a record's reduction) | "
+                   "load-displacement (a record's load at each displacement; started from the "
+                   "R-curve fit; docs/FIT.md)")
+        ->default_val("r-curve");
     sub.add_option("--resolution", resolution_, "Reduced model element size, e.g. '0.5 mm'");
     sub.add_flag("--no-profile", no_profile_, "Skip the profile likelihood (faster)");
     sub.add_option("--out", out_h5_, "Write the fit to this HDF5 file");
@@ -354,6 +359,24 @@ class FitCommand final : public Command {
             ? fmt::format("{} method, reduced in-process from the record", curve.method)
             : fmt::format("R curve read from the input ({})", curve.method);
     const inverse::FitData data = inverse::FitData::FromRCurve(curve, kind);
+    // --fit-to load-displacement: the record's rows, weighted by its noise
+    // (given, or estimated by the reduction).
+    const inverse::FitTarget target = inverse::ParseFitTarget(fit_to_);
+    std::optional<inverse::FitData> load_data;
+    if (target == inverse::FitTarget::kLoad) {
+      if (!input.record)
+        throw Error(ErrorKind::kUsage, "a load-displacement fit needs the test record",
+                    {.file = input_, .field = "--fit-to", .value = fit_to_,
+                     .expected = "a record as input (CSV with load and displacement columns, or "
+                                 "an HDF5 with /experiment)"});
+      const double load_noise = input.reduction ? input.reduction->load_noise
+                                                : experiment::RobustNoiseSigma(input.record->load);
+      const double displacement_noise =
+          input.reduction ? input.reduction->displacement_noise
+                          : experiment::RobustNoiseSigma(input.record->displacement);
+      load_data = inverse::FitData::FromRecord(*input.record, load_noise, displacement_noise);
+    }
+    const inverse::FitData& fit_data = load_data ? *load_data : data;
 
     // The law family, or "compare": every family, ranked by AICc.
     const bool compare = law_ == "compare";
@@ -427,6 +450,10 @@ class FitCommand final : public Command {
       if (input.record && input.record->has_crack_length())
         for (double a : input.record->crack_length)
           if (std::isfinite(a)) data_end = std::max(data_end, a);
+      // A load-displacement fit follows the model to the record's last
+      // displacement, which a tougher trial law reaches with a shorter crack
+      // and a weaker one with a longer crack: a tenth of the growth beyond.
+      if (load_data) data_end += 0.1 * std::max(data_end - scene.specimen.notch, 0.0);
       models::ReducedOptions reduced;
       if (!resolution_.empty())
         reduced.mesh.resolution = ParseOptionQuantity(resolution_, Dimension::Length(), "--resolution");
@@ -468,26 +495,68 @@ class FitCommand final : public Command {
 
     std::vector<inverse::LawComparison> comparison;
     FitSummary s;
+    const std::vector<laws::LawShape> families = {
+        laws::MakeLinearShape(), laws::MakeCubicShape(), laws::MakeTriangularShape(0.1),
+        laws::MakeExponentialShape(3.0)};
+    const laws::LawShape* used_shape = &shape;
+    // A load-displacement fit starts where the R-curve fit (of the one law,
+    // or the linear one when comparing) ends: quick, without profiles.
+    std::optional<FitSummary> start_fit;
+    if (load_data) {
+      inverse::FitOptions first = options;
+      first.profile_likelihood = false;
+      first.progress = false;
+      start_fit = inverse::FitBridgingLaw(*model, compare ? families[0] : shape, data, first);
+      if (start_fit->bridging_detected) {
+        for (int i = 0; i < inverse::kParameterCount; ++i)
+          if (std::isfinite(start_fit->best_parameters[i]))
+            options.initial[i] = start_fit->best_parameters[i];
+      } else if (std::isfinite(start_fit->J_tip_c.value)) {
+        // A flat R curve: its J_tip,c, a little bridging, sigma_c scanned.
+        options.initial[inverse::kJTipC] = start_fit->J_tip_c.value;
+        options.initial[inverse::kJB] = 0.05 * start_fit->J_tip_c.value;
+      }
+    }
     if (compare) {
-      const std::vector<laws::LawShape> families = {
-          laws::MakeLinearShape(), laws::MakeCubicShape(), laws::MakeTriangularShape(0.1),
-          laws::MakeExponentialShape(3.0)};
-      comparison = inverse::CompareLawFamilies(*model, families, data, options);
+      comparison = inverse::CompareLawFamilies(*model, families, fit_data, options);
       const auto best = std::min_element(
           comparison.begin(), comparison.end(), [](const auto& a, const auto& b) {
             return !std::isnan(a.aicc) && (std::isnan(b.aicc) || a.aicc < b.aicc);
           });
       s = best->summary;
-      if (mpm_model) {
-        // The check runs on the family AICc preferred (comparison follows families).
-        const laws::LawShape& best_shape = families[best - comparison.begin()];
-        s = inverse::FitWithModelCheck(*model, *mpm_model, best_shape, data, options, check,
+      // The family AICc preferred (comparison follows families).
+      used_shape = &families[best - comparison.begin()];
+      if (mpm_model)
+        s = inverse::FitWithModelCheck(*model, *mpm_model, *used_shape, fit_data, options, check,
                                        &model_check);
-      }
     } else if (mpm_model) {
-      s = inverse::FitWithModelCheck(*model, *mpm_model, shape, data, options, check, &model_check);
+      s = inverse::FitWithModelCheck(*model, *mpm_model, shape, fit_data, options, check,
+                                     &model_check);
     } else {
-      s = inverse::FitBridgingLaw(*model, shape, data, options);
+      s = inverse::FitBridgingLaw(*model, shape, fit_data, options);
+    }
+    // A load-displacement fit's R curve: the model's R (of the data's kind)
+    // at the R curve's crack lengths, for the report and the R residual.
+    std::vector<double> load_fit_R;
+    double load_fit_R_rms = NAN;
+    if (start_fit) {
+      s.evaluations += start_fit->evaluations;
+      s.failed_evaluations += start_fit->failed_evaluations;
+      s.wall_s += start_fit->wall_s;
+      const inverse::LawParameters at{
+          .sigma_c = s.best_parameters[inverse::kSigmaC],
+          .J_B = s.bridging_detected ? s.best_parameters[inverse::kJB] : 0.0,
+          .J_tip_c = s.bridging_detected ? s.best_parameters[inverse::kJTipC] : s.J_tip_c.value};
+      if (std::isfinite(at.sigma_c) && std::isfinite(at.J_tip_c)) {
+        const inverse::ForwardPrediction p =
+            model->Predict(*used_shape, at, data.crack_length, data.kind);
+        if (p.ok() && p.R.size() == data.R.size()) {
+          load_fit_R = p.R;
+          double sum = 0.0;
+          for (std::size_t i = 0; i < p.R.size(); ++i) sum += std::pow(p.R[i] - data.R[i], 2);
+          load_fit_R_rms = std::sqrt(sum / p.R.size());
+        }
+      }
     }
     if (mpm_model) model_note = "auto: " + model_check.outcome;
 
@@ -525,13 +594,40 @@ class FitCommand final : public Command {
       file.WriteAttribute(g, "converged", s.converged ? 1.0 : 0.0);
       file.WriteAttribute(g, "steady_state_reached", s.steady_state_reached ? 1.0 : 0.0);
       file.WriteAttribute(g, "bridging_detected", s.bridging_detected ? 1.0 : 0.0);
-      file.WriteAttribute(g, "rms_residual_J_per_m2", s.rms_residual);
-      file.WriteVector(g + "/outlier_crack_length", s.outlier_crack_lengths, "m", "removed points");
-      file.WriteVector(g + "/outlier_R", s.outlier_R, "J/m^2", "removed points");
+      file.WriteAttribute(g, "fit_to", inverse::FitTargetName(s.target));
       file.WriteVector(g + "/crack_length", data.crack_length, "m", "data crack length");
       file.WriteVector(g + "/R", data.R, "J/m^2", "data R");
-      file.WriteVector(g + "/fitted_crack_length", s.fitted_crack_length, "m", "points used");
-      if (!s.fitted_R.empty()) file.WriteVector(g + "/fitted_R", s.fitted_R, "J/m^2", "model R");
+      if (load_data) {
+        // The R curve shown with a load-displacement fit: the model's R at
+        // the data's crack lengths; the fit itself under /fit/load_displacement.
+        file.WriteAttribute(g, "rms_residual_J_per_m2", load_fit_R_rms);
+        file.WriteAttribute(g, "rms_residual_N", s.rms_residual);
+        if (!load_fit_R.empty()) {
+          file.WriteVector(g + "/fitted_crack_length", data.crack_length, "m", "data crack length");
+          file.WriteVector(g + "/fitted_R", load_fit_R, "J/m^2", "model R at the fitted parameters");
+        }
+        const std::string ld = g + "/load_displacement";
+        file.WriteVector(ld + "/displacement", s.fitted_displacement, "m", "record rows used");
+        std::vector<double> used_load;
+        for (double d : s.fitted_displacement)
+          for (std::size_t i = 0; i < load_data->displacement.size(); ++i)
+            if (load_data->displacement[i] == d) {
+              used_load.push_back(load_data->load[i]);
+              break;
+            }
+        file.WriteVector(ld + "/load", used_load, "N", "record load");
+        file.WriteVector(ld + "/fitted_load", s.fitted_load, "N", "model load");
+        file.WriteVector(ld + "/fitted_crack_length", s.fitted_crack_length, "m",
+                         "model crack length at each row");
+        file.WriteVector(ld + "/outlier_displacement", s.outlier_crack_lengths, "m", "removed rows");
+        file.WriteVector(ld + "/outlier_load", s.outlier_R, "N", "removed rows");
+      } else {
+        file.WriteAttribute(g, "rms_residual_J_per_m2", s.rms_residual);
+        file.WriteVector(g + "/outlier_crack_length", s.outlier_crack_lengths, "m", "removed points");
+        file.WriteVector(g + "/outlier_R", s.outlier_R, "J/m^2", "removed points");
+        file.WriteVector(g + "/fitted_crack_length", s.fitted_crack_length, "m", "points used");
+        if (!s.fitted_R.empty()) file.WriteVector(g + "/fitted_R", s.fitted_R, "J/m^2", "model R");
+      }
       if (!s.fitted_delta_root.empty())
         file.WriteVector(g + "/fitted_delta_root", s.fitted_delta_root, "m", "model notch-root COD");
       WriteEstimate(file, g + "/parameters/sigma_c", s.sigma_c, "Pa");
@@ -640,7 +736,19 @@ class FitCommand final : public Command {
       out["steady_state_crack_length_m"] = NumberOrNull(s.steady_state_crack_length);
       out["bridging_detected"] = s.bridging_detected;
       out["verdict"] = s.verdict;
-      out["rms_residual_J_per_m2"] = NumberOrNull(s.rms_residual);
+      out["fit_to"] = inverse::FitTargetName(s.target);
+      out["rms_residual_J_per_m2"] = NumberOrNull(load_data ? load_fit_R_rms : s.rms_residual);
+      if (load_data) {
+        out["rms_residual_N"] = NumberOrNull(s.rms_residual);
+        out["start_from_r_curve_fit"] = {
+            {"sigma_c_Pa", NumberOrNull(start_fit->best_parameters[inverse::kSigmaC])},
+            {"J_B_J_per_m2", NumberOrNull(start_fit->best_parameters[inverse::kJB])},
+            {"J_tip_c_J_per_m2", NumberOrNull(start_fit->best_parameters[inverse::kJTipC])},
+            {"evaluations", start_fit->evaluations},
+            {"wall_s", start_fit->wall_s}};
+        out["load_noise_N"] = NumberOrNull(
+            input.reduction ? input.reduction->load_noise : NAN);
+      }
       out["data_points"] = s.data_points;
       out["sigma_c_Pa"] = EstimateJson(s.sigma_c);
       out["J_B_J_per_m2"] = EstimateJson(s.J_B);
@@ -653,7 +761,10 @@ class FitCommand final : public Command {
       out["starts"] = std::move(starts);
       nlohmann::json outliers = nlohmann::json::array();
       for (size_t i = 0; i < s.outlier_R.size(); ++i)
-        outliers.push_back({{"crack_length_m", s.outlier_crack_lengths[i]}, {"R_J_per_m2", s.outlier_R[i]}});
+        outliers.push_back(load_data ? nlohmann::json{{"displacement_m", s.outlier_crack_lengths[i]},
+                                                      {"load_N", s.outlier_R[i]}}
+                                     : nlohmann::json{{"crack_length_m", s.outlier_crack_lengths[i]},
+                                                      {"R_J_per_m2", s.outlier_R[i]}});
       out["outliers_removed"] = std::move(outliers);
       nlohmann::json families = nlohmann::json::array();
       for (const auto& c : comparison)
@@ -673,7 +784,12 @@ class FitCommand final : public Command {
                                    c.summary.converged ? "" : "  (not converged)");
       }
       std::cout << "data: " << input_ << ": " << reduction_text << ", " << curve.size()
-                << " R points\n";
+                << " R points";
+      if (load_data)
+        std::cout << fmt::format("; fitted to the record's {} load-displacement rows (started "
+                                 "from the R-curve fit, {:.2f} s); R rms {:.4g} J/m^2",
+                                 load_data->size(), start_fit->wall_s, load_fit_R_rms);
+      std::cout << "\n";
       std::cout << s.BriefReport();
       if (!model_note.empty()) std::cout << "  " << model_note << "\n";
       if (!out_h5_.empty()) std::cout << "  written: " << out_h5_ << "\n";
@@ -683,7 +799,7 @@ class FitCommand final : public Command {
 
  private:
   std::string input_, scene_, model_, law_, optimizer_, fix_, bounds_, r_kind_, resolution_,
-      out_h5_, report_dir_, mpm_cell_ = "2.5 mm";
+      out_h5_, report_dir_, mpm_cell_ = "2.5 mm", fit_to_ = "r-curve";
   double model_tolerance_ = 0.03;
   int starts_ = 4;
   bool no_profile_ = false;

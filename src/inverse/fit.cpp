@@ -66,22 +66,29 @@ class Objective {
     return full;
   }
 
-  // Residuals r_i = (R_model - R_i) / u_i. False when the forward run failed.
+  // Residuals r_i = (R_model - R_i) / u_i, or (P_model - P_i) / u_i for a
+  // load-displacement fit. False when the forward run failed.
   bool Residuals(const std::vector<double>& full, double* residuals,
                  ForwardPrediction* prediction = nullptr) const {
     ++evaluations_;
-    ForwardPrediction p = model_.Predict(shape_, Parameters(full), data_.crack_length, data_.kind);
-    if (!p.ok() || p.R.size() != data_.R.size()) {
+    const bool load = data_.target == FitTarget::kLoad;
+    ForwardPrediction p =
+        load ? model_.PredictLoad(shape_, Parameters(full), data_.displacement)
+             : model_.Predict(shape_, Parameters(full), data_.crack_length, data_.kind);
+    const std::vector<double>& model_values = load ? p.load : p.R;
+    const std::vector<double>& values = load ? data_.load : data_.R;
+    const std::vector<double>& uncertainty = load ? data_.load_uncertainty : data_.R_uncertainty;
+    if (!p.ok() || model_values.size() != values.size()) {
       ++failures_;
       last_failure_ = p.message;
       return false;
     }
-    for (size_t i = 0; i < data_.R.size(); ++i) {
-      const double u = data_.R_uncertainty.empty() ? 1.0 : data_.R_uncertainty[i];
-      residuals[i] = (p.R[i] - data_.R[i]) / u;
+    for (size_t i = 0; i < values.size(); ++i) {
+      const double u = uncertainty.empty() ? 1.0 : uncertainty[i];
+      residuals[i] = (model_values[i] - values[i]) / u;
       if (!std::isfinite(residuals[i])) {
         ++failures_;
-        last_failure_ = "non-finite model R";
+        last_failure_ = load ? "non-finite model load" : "non-finite model R";
         return false;
       }
     }
@@ -90,7 +97,7 @@ class Objective {
   }
 
   double Chi2(const std::vector<double>& full) const {
-    std::vector<double> r(data_.R.size());
+    std::vector<double> r(data_.size());
     if (!Residuals(full, r.data())) return kFailedCost;
     double sum = 0.0;
     for (double v : r) sum += v * v;
@@ -205,7 +212,7 @@ LocalResult MinimizeNlopt(const Objective& objective, Optimizer optimizer, std::
 LocalResult MinimizeCeres(const Objective& objective, std::vector<double> x0, int max_evaluations,
                           int pinned = -1, double pinned_value = 0.0) {
   const int n = static_cast<int>(x0.size());
-  const int m = static_cast<int>(objective.data().R.size());
+  const int m = static_cast<int>(objective.data().size());
   LocalResult result;
   const int before = objective.evaluations();
   // Forward differences: n + 1 forward runs per Jacobian instead of 2 n + 1.
@@ -277,7 +284,7 @@ std::vector<std::vector<double>> LatinHypercube(int points, int dims, unsigned s
 bool PhysicalJacobian(const Objective& objective, const std::vector<double>& full,
                       Eigen::MatrixXd* jacobian) {
   const auto& free = objective.free();
-  const int m = static_cast<int>(objective.data().R.size());
+  const int m = static_cast<int>(objective.data().size());
   jacobian->resize(m, static_cast<int>(free.size()));
   std::vector<double> plus(m), minus(m);
   for (size_t k = 0; k < free.size(); ++k) {
@@ -297,12 +304,39 @@ bool PhysicalJacobian(const Objective& objective, const std::vector<double>& ful
 std::vector<double> DataInformedStart(const Objective& objective) {
   const FitData& data = objective.data();
   const FitOptions& o = objective.options();
-  const size_t head = std::min<size_t>(3, data.R.size());
-  const double J_tip = *std::min_element(data.R.begin(), data.R.begin() + head);
-  const double rise = *std::max_element(data.R.begin(), data.R.end()) - J_tip;
   std::vector<double> full = objective.Expand(std::vector<double>(objective.free().size(), 0.5).data());
-  if (!o.fixed[kJTipC]) full[kJTipC] = std::clamp(J_tip, o.lower[kJTipC], o.upper[kJTipC]);
-  if (!o.fixed[kJB]) full[kJB] = std::clamp(std::max(rise, 0.05 * J_tip), o.lower[kJB], o.upper[kJB]);
+  if (data.target == FitTarget::kLoad) {
+    // No R to read: J_tip,c and J_B from FitOptions::initial (an R-curve fit),
+    // else J_tip,c from a scan of the box without bridging and J_B a fifth of it.
+    if (!o.fixed[kJTipC] && std::isfinite(o.initial[kJTipC])) {
+      full[kJTipC] = std::clamp(o.initial[kJTipC], o.lower[kJTipC], o.upper[kJTipC]);
+    } else if (!o.fixed[kJTipC]) {
+      std::vector<double> flat = full;
+      flat[kJB] = 0.0;
+      double best_chi2 = kFailedCost, best_value = full[kJTipC];
+      for (int i = 0; i <= 8; ++i) {
+        flat[kJTipC] = FromBox(kJTipC, (i + 0.5) / 9.0, o);
+        const double chi2 = objective.Chi2(flat);
+        if (chi2 < best_chi2) best_chi2 = chi2, best_value = flat[kJTipC];
+      }
+      full[kJTipC] = best_value;
+    }
+    if (!o.fixed[kJB])
+      full[kJB] = std::clamp(std::isfinite(o.initial[kJB]) ? o.initial[kJB] : 0.2 * full[kJTipC],
+                             o.lower[kJB], o.upper[kJB]);
+    if (!o.fixed[kSigmaC] && std::isfinite(o.initial[kSigmaC])) {
+      full[kSigmaC] = std::clamp(o.initial[kSigmaC], o.lower[kSigmaC], o.upper[kSigmaC]);
+      std::vector<double> x;
+      for (int index : objective.free()) x.push_back(ToBox(index, full[index], o));
+      return x;
+    }
+  } else {
+    const size_t head = std::min<size_t>(3, data.R.size());
+    const double J_tip = *std::min_element(data.R.begin(), data.R.begin() + head);
+    const double rise = *std::max_element(data.R.begin(), data.R.end()) - J_tip;
+    if (!o.fixed[kJTipC]) full[kJTipC] = std::clamp(J_tip, o.lower[kJTipC], o.upper[kJTipC]);
+    if (!o.fixed[kJB]) full[kJB] = std::clamp(std::max(rise, 0.05 * J_tip), o.lower[kJB], o.upper[kJB]);
+  }
   if (!o.fixed[kSigmaC]) {
     double best_chi2 = kFailedCost, best_value = full[kSigmaC];
     for (int i = 0; i <= 8; ++i) {
@@ -357,6 +391,8 @@ bool FitOptions::IsValid(std::string* why) const {
   if (starts < 1) return fail("starts must be >= 1");
   if (max_evaluations < 10) return fail("max_evaluations must be >= 10");
   if (threads < 0) return fail("threads must be >= 0");
+  if (!(min_bridging_fraction >= 0.0 && min_bridging_fraction < 1.0))
+    return fail("min_bridging_fraction must be in [0, 1)");
   for (int i = 0; i < kParameterCount; ++i) {
     if (fixed[i]) {
       if (!(fixed_value[i] >= 0.0) || !std::isfinite(fixed_value[i]))
@@ -400,7 +436,86 @@ FitData FitData::FromRCurve(const RCurve& curve, RKind kind) {
   return data;
 }
 
+const char* FitTargetName(FitTarget target) {
+  return target == FitTarget::kLoad ? "load-displacement" : "r-curve";
+}
+
+FitTarget ParseFitTarget(const std::string& name) {
+  if (name == "r-curve") return FitTarget::kRCurve;
+  if (name == "load-displacement") return FitTarget::kLoad;
+  throw Error(ErrorKind::kUsage, "unknown fit target",
+              {.field = "--fit-to", .value = name, .expected = "r-curve or load-displacement"});
+}
+
+FitData FitData::FromRecord(const ExperimentRecord& record, double load_noise,
+                            double displacement_noise) {
+  BF_CHECK_INPUT(load_noise >= 0.0 && displacement_noise >= 0.0,
+                 "record noise must be >= 0", {.file = record.source, .field = "noise"});
+  FitData data;
+  data.target = FitTarget::kLoad;
+  std::vector<std::size_t> rows;
+  for (std::size_t i = 0; i < record.size(); ++i)
+    if (record.displacement[i] > 0.0) rows.push_back(i);
+  for (std::size_t i : rows) {
+    data.displacement.push_back(record.displacement[i]);
+    data.load.push_back(record.load[i]);
+  }
+  if (load_noise > 0.0 || displacement_noise > 0.0) {
+    constexpr int kHalf = 3;
+    const int n = static_cast<int>(rows.size());
+    for (int i = 0; i < n; ++i) {
+      // Least-squares slope dP/dd over rows i - 3 .. i + 3.
+      double sd = 0, sp = 0, sdd = 0, sdp = 0;
+      int count = 0;
+      for (int j = std::max(0, i - kHalf); j <= std::min(n - 1, i + kHalf); ++j, ++count) {
+        sd += data.displacement[j];
+        sp += data.load[j];
+        sdd += data.displacement[j] * data.displacement[j];
+        sdp += data.displacement[j] * data.load[j];
+      }
+      const double denominator = count * sdd - sd * sd;
+      const double slope = denominator > 0.0 ? (count * sdp - sd * sp) / denominator : 0.0;
+      data.load_uncertainty.push_back(
+          std::hypot(load_noise, slope * displacement_noise));
+    }
+  }
+  data.Validate();
+  return data;
+}
+
+FitData FitData::Subset(const std::vector<int>& keep) const {
+  FitData out;
+  out.target = target;
+  out.kind = kind;
+  auto pick = [&keep](const std::vector<double>& from, std::vector<double>& to) {
+    if (from.empty()) return;
+    for (int i : keep) to.push_back(from[i]);
+  };
+  pick(crack_length, out.crack_length);
+  pick(R, out.R);
+  pick(R_uncertainty, out.R_uncertainty);
+  pick(displacement, out.displacement);
+  pick(load, out.load);
+  pick(load_uncertainty, out.load_uncertainty);
+  return out;
+}
+
 void FitData::Validate() const {
+  if (target == FitTarget::kLoad) {
+    BF_CHECK_INPUT(load.size() >= 4, "a load-displacement fit needs at least four rows",
+                   {.field = "load", .value = std::to_string(load.size()) + " rows"});
+    BF_CHECK_INPUT(displacement.size() == load.size(), "displacement and load differ in length");
+    BF_CHECK_INPUT(load_uncertainty.empty() || load_uncertainty.size() == load.size(),
+                   "load_uncertainty and load differ in length");
+    for (size_t i = 0; i < load.size(); ++i) {
+      BF_CHECK_INPUT(std::isfinite(load[i]) && std::isfinite(displacement[i]),
+                     "record values must be finite", {.field = "row " + std::to_string(i + 1)});
+      if (!load_uncertainty.empty())
+        BF_CHECK_INPUT(load_uncertainty[i] > 0.0, "load uncertainties must be positive",
+                       {.field = "load_uncertainty", .value = std::to_string(load_uncertainty[i])});
+    }
+    return;
+  }
   BF_CHECK_INPUT(R.size() >= 4, "a fit needs at least four R-curve points",
                  {.field = "R", .value = std::to_string(R.size()) + " points"});
   BF_CHECK_INPUT(crack_length.size() == R.size(), "crack_length and R differ in length");
@@ -432,10 +547,11 @@ std::string FitSummary::BriefReport() const {
     return fmt::format("  {:<8}   not identifiable: {}\n", name, e.note);
   };
   std::string out = fmt::format(
-      "fit ({} law, {} model, {}): {} evaluations ({} failed), {:.2f} s, {}; rms residual {:.4g} "
-      "J/m^2\n  {}\n",
-      law, model, optimizer, evaluations, failed_evaluations, wall_s,
-      converged ? "converged" : "NOT converged (" + stop_reason + ")", rms_residual, verdict);
+      "fit ({} law, {} model, {}, {}): {} evaluations ({} failed), {:.2f} s, {}; rms residual "
+      "{:.4g} {}\n  {}\n",
+      law, model, optimizer, FitTargetName(target), evaluations, failed_evaluations, wall_s,
+      converged ? "converged" : "NOT converged (" + stop_reason + ")", rms_residual,
+      target == FitTarget::kLoad ? "N" : "J/m^2", verdict);
   out += line("sigma_c", sigma_c, 1e6, "MPa");
   out += line("J_B", J_B, 1.0, "J/m^2");
   out += line("delta_c", delta_c, 1e-3, "mm");
@@ -452,10 +568,12 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
   const Objective objective(model, shape, data, options);
   const std::vector<int>& free = objective.free();
   const int n_free = static_cast<int>(free.size());
-  const int m = static_cast<int>(data.R.size());
-  const bool weighted = !data.R_uncertainty.empty();
+  const int m = static_cast<int>(data.size());
+  const bool weighted = data.weighted();
+  const bool load_fit = data.target == FitTarget::kLoad;
 
   FitSummary s;
+  s.target = data.target;
   s.model = model.Name();
   s.optimizer = OptimizerName(options.optimizer);
   s.law = std::string(laws::LawFamilyName(shape.family));
@@ -468,7 +586,7 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
   auto design = LatinHypercube(starts, n_free, options.seed);
   if (global) design[0].assign(n_free, 0.5);
   else design[0] = DataInformedStart(objective);
-  if (std::isfinite(options.initial[free[0]])) {
+  if (!load_fit && std::isfinite(options.initial[free[0]])) {
     for (int i = 0; i < n_free; ++i) {
       design[0][i] = ToBox(free[i], options.initial[free[i]], options);
     }
@@ -516,25 +634,23 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
     std::nth_element(sorted.begin(), sorted.begin() + m / 2, sorted.end());
     const double robust_sd = 1.4826 * sorted[m / 2];
     const double limit = options.outlier_threshold * std::max(robust_sd, weighted ? 1.0 : 1e-300);
-    FitData kept = data;
-    kept.crack_length.clear();
-    kept.R.clear();
-    kept.R_uncertainty.clear();
+    std::vector<int> keep;
     std::vector<double> removed_a, removed_R;
     for (int i = 0; i < m; ++i) {
-      if (magnitude[i] > limit) {
+      if (magnitude[i] <= limit) {
+        keep.push_back(i);
+      } else if (load_fit) {
+        removed_a.push_back(data.displacement[i]);
+        removed_R.push_back(data.load[i]);
+      } else {
         removed_a.push_back(data.crack_length[i]);
         removed_R.push_back(data.R[i]);
-        continue;
       }
-      kept.crack_length.push_back(data.crack_length[i]);
-      kept.R.push_back(data.R[i]);
-      if (weighted) kept.R_uncertainty.push_back(data.R_uncertainty[i]);
     }
     if (!removed_a.empty() && removed_a.size() * 5 <= static_cast<size_t>(m)) {
       FitOptions again = options;
       again.outlier_threshold = 0.0;
-      FitSummary refit = FitBridgingLaw(model, shape, kept, again);
+      FitSummary refit = FitBridgingLaw(model, shape, data.Subset(keep), again);
       refit.outlier_crack_lengths = removed_a;
       refit.outlier_R = removed_R;
       refit.evaluations += objective.evaluations();
@@ -546,11 +662,17 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
     }
   }
   s.chi2 = best.chi2;
-  s.fitted_crack_length = data.crack_length;
-  s.fitted_R = prediction.R;
+  s.fitted_crack_length = load_fit ? prediction.crack_length_physical : data.crack_length;
+  s.fitted_R = load_fit ? prediction.R_physical : prediction.R;
   s.fitted_delta_root = prediction.delta_root;
+  if (load_fit) {
+    s.fitted_displacement = data.displacement;
+    s.fitted_load = prediction.load;
+  }
+  const std::vector<double>& values = load_fit ? data.load : data.R;
+  const std::vector<double>& model_values = load_fit ? prediction.load : prediction.R;
   double sum_sq = 0.0;
-  for (int i = 0; i < m; ++i) sum_sq += std::pow(prediction.R[i] - data.R[i], 2);
+  for (int i = 0; i < m; ++i) sum_sq += std::pow(model_values[i] - values[i], 2);
   s.rms_residual = std::sqrt(sum_sq / m);
   // Without reported uncertainties the noise scale comes from the residuals.
   const int dof = std::max(1, m - n_free);
@@ -697,35 +819,95 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
     std::vector<double> flat = full;
     flat[kJB] = 0.0;
     double flat_chi2 = kFailedCost;
-    // Best constant: the weighted mean of R (sum of weights sw kept for its interval).
+    // Best constant: the weighted mean of R (sum of weights sw kept for its
+    // interval). A load-displacement record: J_tip,c re-optimized alone.
     double sw = 0.0, swr = 0.0;
-    for (int i = 0; i < m; ++i) {
-      const double w = weighted ? 1.0 / std::pow(data.R_uncertainty[i], 2) : 1.0;
-      sw += w;
-      swr += w * data.R[i];
+    bool flat_converged = true;  // the weighted mean is closed-form
+    std::string flat_stop_reason = "closed form";
+    if (load_fit) {
+      if (!options.fixed[kJTipC]) {
+        FitOptions only_tip = options;
+        only_tip.fixed = {true, true, false};
+        only_tip.fixed_value = {full[kSigmaC], 0.0, 0.0};
+        const Objective tip_only(model, shape, data, only_tip);
+        // From the better of the bridged optimum's J_tip,c and the given start's.
+        std::vector<double> x0{ToBox(kJTipC, full[kJTipC], options)};
+        if (std::isfinite(options.initial[kJTipC])) {
+          const std::vector<double> other{ToBox(kJTipC, options.initial[kJTipC], options)};
+          if (tip_only.Chi2(tip_only.Expand(other.data())) < tip_only.Chi2(tip_only.Expand(x0.data())))
+            x0 = other;
+        }
+        const LocalResult r = MinimizeNlopt(tip_only, Optimizer::kNelderMead, x0, 80);
+        objective.AddCounts(tip_only.evaluations(), tip_only.failures());
+        flat = tip_only.Expand(r.x.data());
+        flat_converged = r.converged;
+        flat_stop_reason = r.stop_reason;
+        // One-parameter curvature for the interval: sw = d2chi2/dJ^2 / 2.
+        const double J = flat[kJTipC], h = 1e-3 * J;
+        std::vector<double> up = flat, down = flat;
+        up[kJTipC] = J + h;
+        down[kJTipC] = J - h;
+        const double c0 = objective.Chi2(flat), cp = objective.Chi2(up), cm = objective.Chi2(down);
+        sw = (cp - 2 * c0 + cm) / (2 * h * h);
+      }
+    } else {
+      for (int i = 0; i < m; ++i) {
+        const double w = weighted ? 1.0 / std::pow(data.R_uncertainty[i], 2) : 1.0;
+        sw += w;
+        swr += w * data.R[i];
+      }
+      if (!options.fixed[kJTipC]) flat[kJTipC] = swr / sw;
     }
-    if (!options.fixed[kJTipC]) flat[kJTipC] = swr / sw;
     flat_chi2 = objective.Chi2(flat);
     const double statistic = (flat_chi2 - best.chi2) / scale2;
-    if (flat_chi2 < kFailedCost && statistic < 5.99) {
+    // Bridging below the models' own R accuracy is not reported either.
+    const bool below_resolution =
+        flat_chi2 < kFailedCost && full[kJB] < options.min_bridging_fraction * full[kJTipC];
+    if ((flat_chi2 < kFailedCost && statistic < 5.99) || below_resolution) {
       s.bridging_detected = false;
-      s.verdict = fmt::format(
-          "no bridging detected: a flat R curve fits as well (likelihood-ratio statistic {:.2f} < "
-          "5.99, 2 parameters at 95%)", statistic);
-      s.J_B = {.value = 0.0, .identified = true, .decided_by = "likelihood-ratio test",
+      s.verdict =
+          statistic < 0.0
+              ? fmt::format("no bridging detected: a flat R curve fits better than the best "
+                            "bridged law found (chi^2 {:.4g} against {:.4g})",
+                            flat_chi2, best.chi2)
+          : statistic < 5.99
+              ? fmt::format("no bridging detected: a flat R curve fits as well (likelihood-ratio "
+                            "statistic {:.2f} < 5.99, 2 parameters at 95%)", statistic)
+              : fmt::format("no bridging detected: the best law's J_B = {:.3g} J/m^2 is below "
+                            "{:g}% of J_tip,c, the forward models' R accuracy (likelihood-ratio "
+                            "statistic {:.2f})",
+                            full[kJB], 100 * options.min_bridging_fraction, statistic);
+      // The answer is the flat model: its convergence is the fit's.
+      s.converged = flat_converged;
+      s.stop_reason = "flat model (J_B = 0): " + flat_stop_reason;
+      s.J_B = {.value = 0.0, .identified = true,
+               .decided_by = statistic < 5.99 ? "likelihood-ratio test" : "model R accuracy",
                .note = "J_B consistent with 0"};
       s.sigma_c = {.decided_by = "likelihood-ratio test", .note = "no bridging detected"};
       s.delta_c = {.decided_by = "likelihood-ratio test", .note = "no bridging detected"};
       if (!options.fixed[kJTipC]) {
         const double flat_scale2 = weighted ? 1.0 : flat_chi2 / std::max(1, m - 1);
-        const double sd = std::sqrt(flat_scale2 / sw);
+        const double sd = sw > 0.0 ? std::sqrt(flat_scale2 / sw) : NAN;
         s.J_tip_c = {.value = flat[kJTipC], .ci95_low = flat[kJTipC] - 1.96 * sd,
-                     .ci95_high = flat[kJTipC] + 1.96 * sd, .identified = true,
-                     .decided_by = "weighted mean (flat R curve)", .note = "no bridging"};
+                     .ci95_high = flat[kJTipC] + 1.96 * sd, .identified = std::isfinite(sd),
+                     .decided_by = load_fit ? "load-displacement fit without bridging"
+                                            : "weighted mean (flat R curve)",
+                     .note = "no bridging"};
       }
-      s.fitted_R.assign(m, flat[kJTipC]);
       s.rms_residual = 0.0;
-      for (int i = 0; i < m; ++i) s.rms_residual += std::pow(flat[kJTipC] - data.R[i], 2);
+      if (load_fit) {
+        std::vector<double> r(m);
+        ForwardPrediction at_flat;
+        objective.Residuals(flat, r.data(), &at_flat);
+        s.fitted_crack_length = at_flat.crack_length_physical;
+        s.fitted_R = at_flat.R_physical;
+        s.fitted_load = at_flat.load;
+        for (int i = 0; i < m && i < static_cast<int>(at_flat.load.size()); ++i)
+          s.rms_residual += std::pow(at_flat.load[i] - data.load[i], 2);
+      } else {
+        s.fitted_R.assign(m, flat[kJTipC]);
+        for (int i = 0; i < m; ++i) s.rms_residual += std::pow(flat[kJTipC] - data.R[i], 2);
+      }
       s.rms_residual = std::sqrt(s.rms_residual / m);
       s.chi2 = flat_chi2;
       s.evaluations = objective.evaluations();
@@ -739,9 +921,15 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
   //    data window, with the J_B profile bounded above.
   // The data's axis may be an equivalent crack length (R kind as-data): the
   // model's physical crack length and R behind each point then decide.
+  // A record's last row need not hold its longest crack (an unloading tail):
+  // the bounds are read at the row whose model crack is the longest.
   const bool physical = !prediction.crack_length_physical.empty();
-  const double a_max =
-      physical ? prediction.crack_length_physical.back() : data.crack_length.back();
+  const std::size_t last =
+      physical ? static_cast<std::size_t>(std::max_element(prediction.crack_length_physical.begin(),
+                                                           prediction.crack_length_physical.end()) -
+                                          prediction.crack_length_physical.begin())
+               : data.crack_length.size() - 1;
+  const double a_max = physical ? prediction.crack_length_physical[last] : data.crack_length[last];
   const Profile* jb_profile = nullptr;
   for (const auto& p : s.profiles)
     if (p.parameter == kJB) jb_profile = &p;
@@ -788,9 +976,9 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
   if (!s.steady_state_reached && !options.fixed[kJB]) {
     // PHYSICS 7: bounds from the last valid point, never point values.
     // The fitted (smoothed) R at a_max; with as-data the model's own R there.
-    const double R_max = physical ? prediction.R_physical.back() : prediction.R.back();
+    const double R_max = physical ? prediction.R_physical[last] : prediction.R[last];
     const double J_tip = full[kJTipC];
-    s.bounds = laws::BoundsFromTruncatedCurve(R_max, J_tip, prediction.delta_root.back(), a_max);
+    s.bounds = laws::BoundsFromTruncatedCurve(R_max, J_tip, prediction.delta_root[last], a_max);
     const std::string evidence = fmt::format(
         "steady state not reached by a = {:.4g} mm: J_B >= R_max - J_tip,c = {:.4g} - {:.4g}",
         a_max * 1e3, R_max, J_tip);
@@ -825,7 +1013,7 @@ std::vector<LawComparison> CompareLawFamilies(const ForwardModel& model,
     c.summary = FitBridgingLaw(model, shape, data, options);
     out.push_back(std::move(c));
   }
-  const bool weighted = !data.R_uncertainty.empty();
+  const bool weighted = data.weighted();
   double scale2 = 1.0;
   if (!weighted) {
     double best = INFINITY;

@@ -68,6 +68,10 @@ FitSummary FitWithModelCheck(const ForwardModel& cheap, const ForwardModel& accu
                              ModelCheckResult* result) {
   std::string why;
   if (!check.IsValid(&why)) throw Error(ErrorKind::kUsage, "invalid model check: " + why);
+  if (data.target != FitTarget::kRCurve)
+    throw Error(ErrorKind::kUsage,
+                "the model check corrects R curves; a load-displacement fit runs with one model",
+                {.field = "--model", .value = "auto", .expected = "reduced or mpm"});
   ModelCheckResult local;
   ModelCheckResult& r = result ? *result : local;
   r = ModelCheckResult{};

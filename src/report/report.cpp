@@ -51,10 +51,12 @@ struct Estimate {
 };
 
 struct FitData {
-  std::string model, optimizer, law, verdict, r_kind, scene, stop_reason;
-  double converged = NAN, steady = NAN, bridging = NAN, rms = NAN, wall_s = NAN;
+  std::string model, optimizer, law, verdict, r_kind, scene, stop_reason, fit_to;
+  double converged = NAN, steady = NAN, bridging = NAN, rms = NAN, rms_load = NAN, wall_s = NAN;
   double evaluations = NAN;
   std::vector<double> a, R, fit_a, fit_R, out_a, out_R;
+  // A load-displacement fit: rows used, their load and the model's load.
+  std::vector<double> fit_d, fit_P, data_P, out_d, out_P;
   std::vector<Estimate> estimates;  // sigma_c, J_B, delta_c, J_tip_c
   struct Profile {
     std::string name;
@@ -101,6 +103,17 @@ FitData ReadFit(const fs::path& path) {
   f.steady = NumberAttr(r, g, "steady_state_reached");
   f.bridging = NumberAttr(r, g, "bridging_detected");
   f.rms = NumberAttr(r, g, "rms_residual_J_per_m2");
+  f.fit_to = StringAttr(r, g, "fit_to");
+  if (r.Exists(g + "/load_displacement")) {
+    const std::string ld = g + "/load_displacement";
+    f.rms_load = NumberAttr(r, g, "rms_residual_N");
+    f.fit_d = VectorOrEmpty(r, ld + "/displacement");
+    f.data_P = VectorOrEmpty(r, ld + "/load");
+    f.fit_P = VectorOrEmpty(r, ld + "/fitted_load");
+    f.out_d = VectorOrEmpty(r, ld + "/outlier_displacement");
+    f.out_P = VectorOrEmpty(r, ld + "/outlier_load");
+    if (f.fit_P.size() != f.fit_d.size() || f.data_P.size() != f.fit_d.size()) f.fit_P.clear();
+  }
   f.wall_s = NumberAttr(r, g, "wall_s");
   f.evaluations = NumberAttr(r, g, "evaluations");
   f.a = VectorOrEmpty(r, g + "/crack_length");
@@ -397,8 +410,34 @@ ReportSummary WriteFitReport(const fs::path& fit_h5, const fs::path& out_dir,
     WriteFile(tmp / "record.dat", dat);
     gp += kTerminal;
     gp += "set output 'load_displacement.png'\nset title 'Load against load-point displacement'\n";
-    gp += "set xlabel 'displacement [mm]'\nset ylabel 'load P [N]'\nunset key\n";
-    gp += "plot 'record.dat' u 2:3 w lp pt 7 ps 0.4 lc rgb '#1f77b4'\nunset title\nset key top left\n";
+    gp += "set xlabel 'displacement [mm]'\nset ylabel 'load P [N]'\n";
+    if (!f.fit_P.empty()) {
+      // A load-displacement fit: the model's load over the record, residuals below.
+      std::string fit = "# displacement[mm] load_model[N] residual[N]\n";
+      for (size_t i = 0; i < f.fit_d.size(); ++i)
+        fit += fmt::format("{:.8g} {:.8g} {:.8g}\n", f.fit_d[i] * 1e3, f.fit_P[i],
+                           f.data_P[i] - f.fit_P[i]);
+      WriteFile(tmp / "load_fit.dat", fit);
+      std::string out = "# displacement[mm] load[N]\n";
+      for (size_t i = 0; i < f.out_d.size() && i < f.out_P.size(); ++i)
+        out += fmt::format("{:.8g} {:.8g}\n", f.out_d[i] * 1e3, f.out_P[i]);
+      out += "nan nan\n";
+      WriteFile(tmp / "load_outliers.dat", out);
+      gp += "set multiplot\nset size 1,0.68\nset origin 0,0.32\nset bmargin 0\nset lmargin 10\n"
+            "set format x ''\nunset xlabel\nset key top right\n";
+      gp += "plot 'record.dat' u 2:3 w p pt 7 ps 0.4 lc rgb '#1f77b4' t 'record', "
+            "'load_outliers.dat' u 1:2 w p pt 2 ps 1.2 lc rgb '#d62728' t 'outliers (removed)', "
+            "'load_fit.dat' u 1:2 w l lw 2 lc rgb '#ff7f0e' t 'fitted model'\n";
+      gp += "set size 1,0.30\nset origin 0,0.02\nset bmargin 3\nset tmargin 0\nset format x '%g'\n"
+            "unset title\nset xlabel 'displacement [mm]'\nset ylabel 'residual [N]'\nunset key\n"
+            "set ytics out\nset ytics scale 0.5\n";
+      gp += "plot 'load_fit.dat' u 1:3 w p pt 7 ps 0.4 lc rgb '#1f77b4', 0 w l lc rgb 'black'\n";
+      gp += "unset multiplot\nset key top left\nunset tmargin\nunset bmargin\nunset lmargin\n"
+            "unset xlabel\nset ytics in\nunset title\n";
+    } else {
+      gp += "unset key\nplot 'record.dat' u 2:3 w lp pt 7 ps 0.4 lc rgb '#1f77b4'\nunset title\n"
+            "set key top left\n";
+    }
     summary.figures.push_back("load_displacement.png");
     bool have_crack = !rec.crack_length.empty();
     std::string dic_plot;
@@ -527,7 +566,10 @@ img { max-width: 100%; }
   row("converged", f.converged == 1.0 ? "yes" : "no" + (f.stop_reason.empty() ? "" : " (" + Escape(f.stop_reason) + ")"));
   row("bridging detected", f.bridging == 1.0 ? "yes" : "no");
   row("steady state reached in the data", f.steady == 1.0 ? "yes" : "no");
-  row("rms residual", Num(f.rms) + " J/m<sup>2</sup>");
+  if (!f.fit_to.empty()) row("fitted to", Escape(f.fit_to));
+  if (std::isfinite(f.rms_load)) row("rms residual (load)", Num(f.rms_load) + " N");
+  row(std::isfinite(f.rms_load) ? "rms residual (R at the fitted parameters)" : "rms residual",
+      Num(f.rms) + " J/m<sup>2</sup>");
   row("data points", fmt::format("{} ({} used, {} outliers removed)", f.a.size(), f.fit_a.size(), f.out_a.size()));
   if (std::isfinite(f.evaluations)) row("model evaluations", Num(f.evaluations));
   row("fit time", Num(f.wall_s) + " s");
@@ -540,7 +582,10 @@ img { max-width: 100%; }
                   "where &delta;<sub>c</sub> and J<sub>B</sub> are only bounded below the region is open to the right."},
       {"profiles.png", "Profile likelihood &chi;<sup>2</sup> of each parameter with the others re-optimized; "
                        "the dashed line is the 95% threshold."},
-      {"load_displacement.png", "Load against load-point displacement (the record)."},
+      {"load_displacement.png", f.fit_P.empty()
+                                    ? "Load against load-point displacement (the record)."
+                                    : "Load against load-point displacement: the record, the model "
+                                      "fitted to it, residuals (record &minus; model) below."},
       {"crack_length.png", "Crack length against frame: the record and, when given, DIC on the images."}};
   for (const std::string& fig : summary.figures) {
     const auto it = captions.find(fig);

@@ -1,7 +1,8 @@
 // The bundled samples end to end through the CLI (BRIDGEFIT_CLI):
 // record -> bridgefit rcurve -> bridgefit fit -> bridgefit report, checking
 // the expected outcome written in each sample's README:
-//   mdf_ct: sigma_c within 5% of the true 0.45 MPa; J_B and delta_c lower bounds;
+//   mdf_ct: sigma_c within 5% of the true 0.45 MPa; J_B and delta_c lower bounds
+//           (noisy record fitted as load-displacement, exact record as an R curve);
 //   pb_ct: no bridging detected;  dcb_composite: a converged fit.
 #include <gtest/gtest.h>
 
@@ -76,15 +77,9 @@ void ExpectReport(const Chain& chain) {
 
 }  // namespace
 
-TEST(Samples, MdfSigmaCWithinFivePercentAndLowerBounds) {
-  // The noise-free record (README: with the noisy one the bridging rise is
-  // below the energy method's resolution); tiny declared noise for the weights.
-  const fs::path record = kSamples / "mdf_ct" / "record_exact.csv";
-  ASSERT_TRUE(fs::exists(record)) << "run scripts/make_samples.sh";
-  const Chain c = RunChain("mdf_ct",
-                           "'" + record.string() +
-                               "' --load-noise 0.01N --displacement-noise 0.01um --crack-noise 0.001mm",
-                           "--law linear --resolution 1mm");
+// The MDF test's expected outcome (sigma_c within 5% of 0.45 MPa, J_B and
+// delta_c lower bounds below the truth) from a fit `c`.
+void ExpectMdfOutcome(const Chain& c) {
   ASSERT_TRUE(c.fit.is_object());
   const double sigma_c = c.fit["sigma_c_Pa"]["value"].get<double>();
   EXPECT_NEAR(sigma_c, 0.45e6, 0.05 * 0.45e6);
@@ -98,6 +93,30 @@ TEST(Samples, MdfSigmaCWithinFivePercentAndLowerBounds) {
   EXPECT_LE(c.fit["J_B_J_per_m2"]["lower_bound"].get<double>(), 500.0);
   EXPECT_LE(c.fit["delta_c_m"]["lower_bound"].get<double>(), 2 * 500.0 / 0.45e6);
   ExpectReport(c);
+}
+
+// The demo's route: the noisy record (0.5% load, 1 um displacement, 0.3 mm
+// crack length), its R curve for the start, the fit to its load-displacement rows.
+TEST(Samples, MdfNoisyRecordSigmaCWithinFivePercentAndLowerBounds) {
+  const fs::path record = kSamples / "mdf_ct" / "record.csv";
+  ASSERT_TRUE(fs::exists(record)) << "run scripts/make_samples.sh";
+  const Chain c = RunChain("mdf_ct", "'" + record.string() + "' --smooth 30",
+                           "--fit-to load-displacement --law linear --resolution 1mm");
+  ExpectMdfOutcome(c);
+  EXPECT_EQ(c.fit["fit_to"], "load-displacement");
+  EXPECT_TRUE(fs::exists(c.report / "load_fit.dat"));
+}
+
+// The R-curve route on the noise-free record (with the noisy one the bridging
+// rise is below the energy method's resolution); tiny declared noise for the weights.
+TEST(Samples, MdfExactRecordRCurveSigmaCWithinFivePercent) {
+  const fs::path record = kSamples / "mdf_ct" / "record_exact.csv";
+  ASSERT_TRUE(fs::exists(record)) << "run scripts/make_samples.sh";
+  const Chain c = RunChain("mdf_ct",
+                           "'" + record.string() +
+                               "' --load-noise 0.01N --displacement-noise 0.01um --crack-noise 0.001mm",
+                           "--law linear --resolution 1mm");
+  ExpectMdfOutcome(c);
 }
 
 TEST(Samples, ParticleBoardHasNoBridging) {

@@ -35,6 +35,8 @@ struct FitOptions {
   std::array<double, kParameterCount> fixed_value = {0.0, 0.0, 0.0};
   // First start (physical values, SI) for the free parameters; NaN: read
   // one off the data (J_tip,c from the first points, J_B from the rise).
+  // A load-displacement fit takes each finite value on its own (sigma_c NaN:
+  // a scan of the box at the given J_tip,c and J_B).
   std::array<double, kParameterCount> initial = {NAN, NAN, NAN};
   // Profile-likelihood intervals for every free parameter. J_B's profile
   // runs regardless: it decides whether steady state was reached.
@@ -44,6 +46,12 @@ struct FitOptions {
   // (at most a fifth of the data), listed in the summary, and the fit is
   // repeated without them. 0 disables the check.
   double outlier_threshold = 5.0;
+  // A fitted J_B below this fraction of J_tip,c is reported as no bridging
+  // even when statistically significant: it is below the forward models' R
+  // accuracy (reduced model: flat R within 0.5% without bridging, MPM within
+  // 0.4%; docs/REDUCED.md, docs/MPM.md), so a fit to a long record can find
+  // it in the model's own discretisation error (docs/FIT.md).
+  double min_bridging_fraction = 0.01;
   unsigned seed = 12345;          // Latin-hypercube design
   int threads = 0;                // profiles side by side (0: two OpenMP threads, 1: serial)
   bool progress = false;
@@ -51,13 +59,39 @@ struct FitOptions {
   bool IsValid(std::string* why) const;
 };
 
-// The data of a fit: R against crack length, with optional uncertainties.
+// What a fit compares the model with: an R curve (R against crack length), or
+// the test record itself (load against load-point displacement, docs/FIT.md
+// "Fitting the load-displacement record").
+enum class FitTarget { kRCurve, kLoad };
+const char* FitTargetName(FitTarget target);  // "r-curve", "load-displacement"
+FitTarget ParseFitTarget(const std::string& name);
+
+// The data of a fit.
 struct FitData {
+  FitTarget target = FitTarget::kRCurve;
+  // kRCurve: R against crack length, with optional uncertainties.
   std::vector<double> crack_length;   // [m]
   std::vector<double> R;              // [J/m^2]
   std::vector<double> R_uncertainty;  // [J/m^2], empty: equal weights, scale from residuals
   RKind kind = RKind::kEnergy;
+  // kLoad: the record's rows in test order.
+  std::vector<double> displacement;      // load-point displacement [m]
+  std::vector<double> load;              // [N]
+  std::vector<double> load_uncertainty;  // [N], one sigma; empty: equal weights, scale from residuals
   static FitData FromRCurve(const RCurve& curve, RKind kind);
+  // The rows of `record` with a displacement above zero. Each row's
+  // uncertainty combines the load noise with the displacement noise carried
+  // through the record's local slope: u^2 = u_P^2 + (dP/dd u_d)^2, the slope
+  // from a straight line through the row and its neighbours (+-3 rows).
+  // Both noises zero: equal weights, scale from the residuals.
+  static FitData FromRecord(const ExperimentRecord& record, double load_noise,
+                            double displacement_noise);
+  std::size_t size() const { return target == FitTarget::kLoad ? load.size() : R.size(); }
+  bool weighted() const {
+    return target == FitTarget::kLoad ? !load_uncertainty.empty() : !R_uncertainty.empty();
+  }
+  // The rows `keep` (indices into this data, ascending).
+  FitData Subset(const std::vector<int>& keep) const;
   void Validate() const;
 };
 
@@ -104,7 +138,8 @@ struct FitSummary {
   std::string stop_reason;
   bool steady_state_reached = false;
   double steady_state_crack_length = NAN;
-  double rms_residual = NAN;      // [J/m^2]
+  FitTarget target = FitTarget::kRCurve;
+  double rms_residual = NAN;      // [J/m^2] (R-curve fit) or [N] (load-displacement fit)
   double chi2 = NAN;
   int data_points = 0;
   bool bridging_detected = true;
@@ -112,12 +147,20 @@ struct FitSummary {
   ParameterEstimate sigma_c, J_B, delta_c, J_tip_c;
   laws::TruncationBounds bounds;  // evidence when steady state was not reached
   std::vector<StartResult> starts;
-  std::vector<double> outlier_crack_lengths;  // removed points [m]
-  std::vector<double> outlier_R;              // their R [J/m^2]
+  // Removed points: crack length [m] and R [J/m^2] of an R-curve fit, or
+  // displacement [m] and load [N] of a load-displacement fit.
+  std::vector<double> outlier_crack_lengths;
+  std::vector<double> outlier_R;
   std::vector<Profile> profiles;
-  std::vector<double> fitted_crack_length;  // the data points used (outliers removed) [m]
-  std::vector<double> fitted_R;   // model R there [J/m^2]
+  // R-curve fit: the data points used (outliers removed) [m] and the model's
+  // R there [J/m^2]. Load-displacement fit: the model's physical crack
+  // length and elastic-zone R at each row used.
+  std::vector<double> fitted_crack_length;
+  std::vector<double> fitted_R;
   std::vector<double> fitted_delta_root;
+  // Load-displacement fit: the rows used [m] and the model's load there [N].
+  std::vector<double> fitted_displacement;
+  std::vector<double> fitted_load;
   // The full parameter vector (sigma_c, J_B, J_tip_c) at the chi^2 minimum
   // [SI], also when only bounds are reported (NaN when the fit failed).
   std::array<double, kParameterCount> best_parameters = {NAN, NAN, NAN};

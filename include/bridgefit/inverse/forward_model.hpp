@@ -41,6 +41,8 @@ struct ForwardPrediction {
   // equivalent crack length), for steady state and the PHYSICS 7 bounds.
   std::vector<double> crack_length_physical;  // [m]
   std::vector<double> R_physical;             // [J/m^2]
+  // PredictLoad only: the model's load at the data's displacements [N].
+  std::vector<double> load;
   bool ok() const { return status == RunStatus::kOk; }
 };
 
@@ -52,6 +54,13 @@ class ForwardModel {
   virtual ForwardPrediction Predict(const laws::LawShape& shape, const LawParameters& p,
                                     const std::vector<double>& crack_lengths,
                                     RKind kind) const = 0;
+  // The load at the load-point displacements `displacements` [m] of a test
+  // record, on the model's own loading path (linear to initiation, then
+  // growth), with the physical crack length, elastic-zone R and notch-root
+  // COD there (crack_length_physical, R_physical, delta_root). The default:
+  // a status saying the model has no load-displacement record.
+  virtual ForwardPrediction PredictLoad(const laws::LawShape& shape, const LawParameters& p,
+                                        const std::vector<double>& displacements) const;
 };
 
 // The analytic model: R(delta_root) of PHYSICS 3 with the small-scale
@@ -106,8 +115,12 @@ class SimulationForwardModel final : public ForwardModel {
   std::string Name() const override { return name_; }
   ForwardPrediction Predict(const laws::LawShape& shape, const LawParameters& p,
                             const std::vector<double>& crack_lengths, RKind kind) const override;
+  ForwardPrediction PredictLoad(const laws::LawShape& shape, const LawParameters& p,
+                                const std::vector<double>& displacements) const override;
 
  private:
+  // Runs the simulator for `p`; a failure is in the result's status.
+  SimulationResult Simulate(const laws::LawShape& shape, const LawParameters& p) const;
   std::string name_;
   Simulator simulate_;
   Reducer reduce_;
