@@ -51,6 +51,9 @@ class RcurveCommand final : public Command {
     sub.add_option("--units", units_, "Unit mapping, e.g. displacement=mm,load=N,crack_length=mm");
     sub.add_option("--out", out_, "Write the record and the R curve to this HDF5 file");
     sub.add_option("--csv", csv_, "Write the R curve to this CSV file");
+    sub.add_option("--crack-length-from", crack_from_,
+                   "Crack lengths measured on the record's images: the CSV of `bridgefit dic "
+                   "--csv`, matched by the record's image column, linear in time between frames");
     // Specimen options (without --scene, or overriding it).
     sub.add_option("--type", type_, "Specimen type: ct|dcb");
     sub.add_option("--width", width_, "CT: W; DCB: b (e.g. '25 mm')");
@@ -115,8 +118,22 @@ class RcurveCommand final : public Command {
     std::string why;
     if (!options.IsValid(&why)) throw Error(ErrorKind::kUsage, why);
 
-    const ExperimentRecord record = ReadRecord();
-    const experiment::RCurveResult result = experiment::ComputeRCurve(record, options);
+    ExperimentRecord record = ReadRecord();
+    std::vector<std::string> frame_notes;
+    if (!crack_from_.empty()) {
+      // `bridgefit dic --csv`: one row per frame, its image and crack length.
+      const io::CsvTable frames = io::ReadCsvTable(crack_from_);
+      for (const char* column : {"image", "crack_length"})
+        if (frames.Find(column) < 0)
+          throw Error(ErrorKind::kInput, "the crack-length file lacks a column",
+                      {.file = crack_from_, .field = column,
+                       .expected = "the CSV of `bridgefit dic --csv` (image, crack_length [mm])"});
+      record = experiment::CrackLengthFromFrames(
+          record, frames.TextColumn("image"), frames.ColumnSi("crack_length", Dimension::Length()),
+          crack_from_, &frame_notes);
+    }
+    experiment::RCurveResult result = experiment::ComputeRCurve(record, options);
+    result.notes.insert(result.notes.begin(), frame_notes.begin(), frame_notes.end());
 
     if (!out_.empty()) {
       io::H5Writer file(out_);
@@ -247,7 +264,7 @@ class RcurveCommand final : public Command {
     }
   }
 
-  std::string record_, scene_, method_ = "energy", columns_, units_, out_, csv_;
+  std::string record_, scene_, method_ = "energy", columns_, units_, out_, csv_, crack_from_;
   std::string type_, width_, height_, thickness_, length_, notch_, modulus_, g13_, plane_;
   std::string load_noise_, displacement_noise_, crack_noise_, min_increment_, max_crack_;
   std::string block_offset_, block_half_length_;

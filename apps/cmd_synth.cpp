@@ -6,6 +6,7 @@
 // Writes DIR/record.csv (`time [s], load [N], displacement [mm], crack_length [mm]`),
 // DIR/images/frame_NN.png and DIR/images/truth.csv (true tip per frame).
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -106,15 +107,37 @@ class SynthCommand final : public Command {
       exact[i].time = exact[i - 1].time +
                       std::abs(exact[i].displacement - exact[i - 1].displacement) / rate;
 
+    // Speckle frames: frame 0 unloaded (row 0), frames 1.. spread over the
+    // growth rows from initiation to the last row; each frame's growth row
+    // index and record row.
+    std::vector<size_t> frame_growth(frames_, 0), frame_row(frames_, 0);
+    for (int f = 1; f < frames_; ++f) {
+      const size_t g = frames_ <= 2 ? 0
+                                    : static_cast<size_t>(std::llround(
+                                          double(f - 1) * (growth_index.size() - 1) / (frames_ - 2)));
+      frame_growth[f] = std::min(g, growth_index.size() - 1);
+      frame_row[f] = loading_points_ + frame_growth[f];
+    }
+    auto frame_name = [](int f) { return fmt::format("frame_{:02d}.png", f); };
+
     std::mt19937_64 rng(seed_);
     std::normal_distribution<double> normal(0.0, 1.0);
-    std::string csv = "time [s], load [N], displacement [mm], crack_length [mm]\n";
+    // With frames, an `image` column names the frame taken at a row (the
+    // link `bridgefit rcurve --crack-length-from` uses).
+    std::string csv = std::string("time [s], load [N], displacement [mm], crack_length [mm]") +
+                      (frames_ > 0 ? ", image\n" : "\n");
     for (size_t i = 0; i < exact.size(); ++i) {
       const Row& r = exact[i];
       const double load = r.load * (1.0 + load_noise_ * normal(rng));
       const double disp = r.displacement + (i == 0 ? 0.0 : disp_noise * normal(rng));
       const double crack = r.crack_length + crack_noise * normal(rng);
-      csv += fmt::format("{:.4f}, {:.5f}, {:.6f}, {:.4f}\n", r.time, load, disp * 1e3, crack * 1e3);
+      csv += fmt::format("{:.4f}, {:.5f}, {:.6f}, {:.4f}", r.time, load, disp * 1e3, crack * 1e3);
+      if (frames_ > 0) {
+        const auto it = std::find(frame_row.begin(), frame_row.end(), i);
+        csv += ", " + (it == frame_row.end() ? std::string()
+                                             : "images/" + frame_name(static_cast<int>(it - frame_row.begin())));
+      }
+      csv += "\n";
     }
     std::filesystem::create_directories(out_);
     WriteTextFileAtomic(std::filesystem::path(out_) / record_name_, csv);
@@ -148,16 +171,13 @@ class SynthCommand final : public Command {
         field.tip_y = 0.5 * image_height_;
         field.kappa = kappa;
         double a = scene.specimen.notch, K = 0.0;
-        size_t row = 0;
+        const size_t row = frame_row[f];
         if (f > 0) {
-          const size_t g = frames_ == 1 ? 0 : static_cast<size_t>(std::llround(
-                                                  double(f - 1) * (growth_index.size() - 1) / (frames_ - 1 > 0 ? frames_ - 1 : 1)));
-          const SimulationPoint& p = sim.points[growth_index[std::min(g, growth_index.size() - 1)]];
+          const SimulationPoint& p = sim.points[growth_index[frame_growth[f]]];
           a = p.crack_length;
           // Far-field K (tip plus bridging), so the opening grows as in the test.
           const double J = std::isfinite(p.J_ff) ? p.J_ff : scene.fracture->J_tip_c;
           K = std::sqrt(E_eff * J);
-          row = loading_points_ + std::min(g, growth_index.size() - 1);
         }
         field.tip_x = (a - x0) / scale;
         field.k_over_2mu = K / (2 * mu) / std::sqrt(scale);
@@ -165,7 +185,7 @@ class SynthCommand final : public Command {
         field.translation_y = -0.2 * f;
         const dic::Image image = f == 0 ? renderer.RenderReference(seed_ * 1000 + f)
                                         : renderer.Render(field, seed_ * 1000 + f);
-        dic::WriteImage(dir / fmt::format("frame_{:02d}.png", f), image, 8);
+        dic::WriteImage(dir / frame_name(f), image, 8);
         truth += fmt::format("{}, {}, {:.4f}, {:.3f}, {:.3f}, {:.5f}, {:.3f}, {:.3f}\n", f, row, a * 1e3,
                              field.tip_x, field.tip_y, K * 1e-6, field.translation_x, field.translation_y);
         ++frames_written;

@@ -90,6 +90,19 @@ TEST(RcurveCli, ClearErrors) {
   r = RunCli("rcurve '" + kData + "' " + kSpecimen + kColumns + kUnits +
              "--method energy --large-displacement");
   EXPECT_EQ(r.exit_code, 2) << r.err;
+  // Crack lengths from images: a file that is not a DIC CSV (no image column).
+  r = RunCli("rcurve '" + kData + "' " + kSpecimen + kColumns + kUnits + "--crack-length-from '" +
+             kData + "'");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("image"), std::string::npos) << r.err;
+  // The record names no images: nothing to match the frames to.
+  const std::string frames = (std::filesystem::temp_directory_path() / "bf_rcurve_frames.csv").string();
+  { std::ofstream(frames) << "frame, image, crack_length [mm]\n1, a.png, 40\n2, b.png, 45\n"; }
+  r = RunCli("rcurve '" + kData + "' " + kSpecimen + kColumns + kUnits + "--crack-length-from '" +
+             frames + "'");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("names no images"), std::string::npos) << r.err;
+  std::filesystem::remove(frames);
 }
 
 // D5528's F/N corrections from the command line: reported in `figures`

@@ -1,5 +1,6 @@
 // The bundled samples end to end through the CLI (BRIDGEFIT_CLI):
-// record -> bridgefit rcurve -> bridgefit fit -> bridgefit report, checking
+// (images -> bridgefit dic ->) record -> bridgefit rcurve -> bridgefit fit ->
+// bridgefit report, checking
 // the expected outcome written in each sample's README:
 //   mdf_ct: sigma_c within 5% of the true 0.45 MPa; J_B and delta_c lower bounds
 //           (noisy record fitted as load-displacement, exact record as an R curve);
@@ -44,14 +45,28 @@ struct Chain {
   fs::path report;
 };
 
-// rcurve -> fit -> report for one sample; `record_args` reads its record.
-Chain RunChain(const std::string& sample, const std::string& record_args, const std::string& fit_args) {
-  const fs::path work = fs::temp_directory_path() / ("bf_samples_" + sample + "_" + std::to_string(::getpid()));
+// (dic ->) rcurve -> fit -> report for one sample; `record_args` reads its
+// record. With `with_dic` the crack lengths come from DIC on the sample's
+// images (as in scripts/demo.sh), matched by the record's image column.
+Chain RunChain(const std::string& sample, std::string record_args, const std::string& fit_args,
+               bool with_dic = false) {
+  static int chains = 0;  // one folder per chain (a test may run two)
+  const fs::path work = fs::temp_directory_path() / ("bf_samples_" + sample + "_" + std::to_string(::getpid()) +
+                                                     "_" + std::to_string(++chains));
   fs::remove_all(work);
   fs::create_directories(work);
   const fs::path scene = kSamples / sample / "scene.toml";
   std::string out;
   Chain chain;
+  if (with_dic) {
+    const fs::path dic = work / "dic.csv";
+    if (Cli("dic '" + (kSamples / sample / "images").string() +
+                "' --crack-line 0,150,399,150 --scale 0.15mm/px --offset 20mm --csv '" + dic.string() +
+                "' --quiet",
+            work, &out) != 0)
+      return chain;
+    record_args += " --crack-length-from '" + dic.string() + "'";
+  }
   if (Cli("rcurve " + record_args + " --scene '" + scene.string() + "' --method energy --out '" +
               (work / "rcurve.h5").string() + "' --quiet",
           work, &out) != 0)
@@ -95,13 +110,14 @@ void ExpectMdfOutcome(const Chain& c) {
   ExpectReport(c);
 }
 
-// The demo's route: the noisy record (0.5% load, 1 um displacement, 0.3 mm
-// crack length), its R curve for the start, the fit to its load-displacement rows.
+// The demo's route: crack lengths from DIC on the 10 frames, the noisy record
+// (0.5% load, 1 um displacement), its R curve for the start, the fit to its
+// load-displacement rows.
 TEST(Samples, MdfNoisyRecordSigmaCWithinFivePercentAndLowerBounds) {
   const fs::path record = kSamples / "mdf_ct" / "record.csv";
   ASSERT_TRUE(fs::exists(record)) << "run scripts/make_samples.sh";
   const Chain c = RunChain("mdf_ct", "'" + record.string() + "' --smooth 30",
-                           "--fit-to load-displacement --law linear --resolution 1mm");
+                           "--fit-to load-displacement --law linear --resolution 1mm", true);
   ExpectMdfOutcome(c);
   EXPECT_EQ(c.fit["fit_to"], "load-displacement");
   EXPECT_TRUE(fs::exists(c.report / "load_fit.dat"));
@@ -119,15 +135,21 @@ TEST(Samples, MdfExactRecordRCurveSigmaCWithinFivePercent) {
   ExpectMdfOutcome(c);
 }
 
+// The demo's route (DIC, load-displacement fit) and the R curve of the
+// record's own crack-length column.
 TEST(Samples, ParticleBoardHasNoBridging) {
   const fs::path record = kSamples / "pb_ct" / "record.csv";
   ASSERT_TRUE(fs::exists(record)) << "run scripts/make_samples.sh";
-  const Chain c = RunChain("pb_ct", "'" + record.string() + "'", "--law linear --resolution 1mm");
-  ASSERT_TRUE(c.fit.is_object());
-  EXPECT_FALSE(c.fit["bridging_detected"].get<bool>());
-  // R stays at J_tip,c = 1450 J/m^2 (5%).
-  EXPECT_NEAR(c.fit["J_tip_c_J_per_m2"]["value"].get<double>(), 1450.0, 0.05 * 1450.0);
-  ExpectReport(c);
+  const Chain demo = RunChain("pb_ct", "'" + record.string() + "' --smooth 30",
+                              "--fit-to load-displacement --law linear --resolution 1mm", true);
+  const Chain r_curve = RunChain("pb_ct", "'" + record.string() + "'", "--law linear --resolution 1mm");
+  for (const Chain* c : {&demo, &r_curve}) {
+    ASSERT_TRUE(c->fit.is_object());
+    EXPECT_FALSE(c->fit["bridging_detected"].get<bool>()) << c->fit["verdict"];
+    // R stays at J_tip,c = 1450 J/m^2 (5%).
+    EXPECT_NEAR(c->fit["J_tip_c_J_per_m2"]["value"].get<double>(), 1450.0, 0.05 * 1450.0);
+    ExpectReport(*c);
+  }
 }
 
 TEST(Samples, DcbCompositeConvergedFit) {

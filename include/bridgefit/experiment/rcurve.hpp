@@ -137,6 +137,20 @@ struct RCurveResult {
 // Throws Error (kInput) for bad records and options; see docs/RCURVE_METHODS.md.
 RCurveResult ComputeRCurve(const ExperimentRecord& record, const RCurveOptions& options);
 
+// Crack lengths measured on images (e.g. `bridgefit dic --csv`) put into a
+// record whose `images` column names the image taken at a row. Frames are
+// matched to rows by file name (without folders); frames without a crack
+// length (the reference) are skipped. Every row gets the crack length
+// interpolated linearly in time (row index without a time column) between
+// the matched frames around it; rows before the first such frame take its
+// value (the crack has not grown before it) and rows after the last are
+// removed (no measurement). What was done is appended to `notes`. Throws
+// Error (kInput, naming `source`) when fewer than two frames match.
+ExperimentRecord CrackLengthFromFrames(const ExperimentRecord& record,
+                                       const std::vector<std::string>& frame_images,
+                                       const std::vector<double>& frame_crack_lengths,
+                                       const std::string& source, std::vector<std::string>* notes);
+
 // ---- building blocks (exposed for tests) ---------------------------------
 // Least-squares non-decreasing fit (pool adjacent violators, equal weights).
 std::vector<double> IsotonicIncreasing(const std::vector<double>& values);
