@@ -31,6 +31,8 @@
 #            dic_sample15       (table only) subset size against smearing of a step
 #   fit      bf_inverse_bench   every optimizer on the three issue-7 cases: CPU time
 #                               per fit against the largest parameter error
+#            bf_fit_load_bench  the load-displacement fit: CPU time per fit against
+#                               sigma_c's error over noise draws, per element size
 #
 # Timings are wall clock unless a column says CPU; the load average before and
 # after each bench is in summary.md (on a shared machine wall times are upper
@@ -68,11 +70,13 @@ if [[ $QUICK == 1 ]]; then
   MPM_CELLS=5; MPM_THREADS=1   # mm
   DIC_STEP=4; DIC_SUBSETS=21,33; DIC_THREADS=1
   FIT_H=2                      # mm, reduced-model elements inside the fits
+  LOAD_FIT_DRAWS=2; LOAD_FIT_H=2,1  # load-displacement fit: noise draws, element sizes (mm)
 else
   REDUCED_H=4,2,1,0.5,0.25,0.125
   MPM_CELLS=5,2.5,1.25; MPM_THREADS=1,2
   DIC_STEP=2; DIC_SUBSETS=15,21,27,33,41; DIC_THREADS=1,2
   FIT_H=0.5
+  LOAD_FIT_DRAWS=10; LOAD_FIT_H=2,1,0.5
 fi
 
 mkdir -p "$OUT/logs"
@@ -142,7 +146,7 @@ if [[ $BUILD_BENCHES == 1 ]]; then
   wants reduced && TARGETS+=(bf_models_bench)
   wants mpm && TARGETS+=(bf_mpm_bench)
   wants dic && TARGETS+=(dic_speed dic_sample15)
-  wants fit && TARGETS+=(bf_inverse_bench)
+  wants fit && TARGETS+=(bf_inverse_bench bf_fit_load_bench)
   # MPM crack growth (issue 5): built when bench/*.cmake defines it.
   # (the target list is read whole: grep -q would end the pipe early and, with
   # pipefail, read as "absent")
@@ -256,6 +260,10 @@ if wants fit; then
   step fit "$BENCH_DIR/bf_inverse_bench" "$OUT/fit_bench" "$FIT_H"
   ROWS+=$(pick "$OUT/fit_bench.csv" "case;optimizer;profile;cpu [s];max relative error" |
     awk '$3 == "no" { printf "| fit (%s) | %s | %s CPU s | %s (largest relative error) |\n", $1, $2, $4, $5 }')$'\n'
+  # The load-displacement fit (docs/FIT.md): sigma_c error over noise draws per element size.
+  step fit_load "$BENCH_DIR/bf_fit_load_bench" "$OUT/fit_load_bench" "$LOAD_FIT_DRAWS" "$LOAD_FIT_H"
+  ROWS+=$(pick "$OUT/fit_load_bench_summary.csv" "elements [mm];mean cpu [s];max abs error [%];noise-free error [%]" |
+    awk '{ printf "| load-displacement fit (truncated MDF) | %s mm | %s CPU s | %s%% (largest sigma_c error over the draws; %s%% without noise) |\n", $1, $2, $3, $4 }')$'\n'
 fi
 
 # ---------------------------------------------------------------- summary.md
@@ -328,6 +336,15 @@ T_END=$(date +%s)
     echo "verdict (bridging missed or invented, or a J_B bound above the truth), not drawn."
     echo
     md_table "$OUT/fit_bench.csv" "case;optimizer;profile;evaluations;failed;wall [s];cpu [s];max relative error;converged"
+    echo
+    echo "## Load-displacement fit ([fit_load_bench_summary.csv](fit_load_bench_summary.csv), [per draw](fit_load_bench.csv))"
+    echo
+    echo "![load-displacement fit](fit_load_bench.png)"
+    echo
+    echo "Truncated MDF test (0.45 MPa, 500, 2210 to a = 70 mm), records from the reduced model at"
+    echo "0.0625 mm with 0.5% load noise, fitted at each element size; sigma_c error in %."
+    echo
+    md_table "$OUT/fit_load_bench_summary.csv" "elements [mm];draws;max abs error [%];mean error [%];sd [%];within 3%;within 5%;ci covers;mean cpu [s];noise-free error [%]"
   fi
 } > "$OUT/summary.md"
 echo "written: $OUT/summary.md ($((T_END - T_START)) s)" >&2

@@ -34,7 +34,7 @@ run_sample() {
   if [[ -d $dir/images ]]; then
     echo "-- DIC on $dir/images (crack length per frame; true tips in images/truth.csv)"
     "$BF" dic "$dir/images" --crack-line 0,150,399,150 --scale 0.15mm/px --offset 20mm \
-      --csv "$o.work/dic.csv" --quiet > "$o.work/dic.txt"
+      --csv "$o.work/dic.csv" > "$o.work/dic.txt"
     report_extra+=(--dic "$o.work/dic.csv")
     # The record's image column links its rows to the frames: the R curve
     # uses the crack lengths DIC measured, not the record's own column.

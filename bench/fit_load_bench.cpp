@@ -1,0 +1,165 @@
+// Speed against accuracy of the load-displacement fit (`fit --fit-to
+// load-displacement`, docs/FIT.md) on the truncated MDF test of the samples
+// ((0.45 MPa, 500, 2210) to a = 70 mm): records like `bridgefit synth` makes
+// (20 loading rows, 400 growth rows, load noise 0.5% of the reading, seed =
+// draw; draw 0 without noise: the fit's bias from the element size alone)
+// from the reduced model at 0.0625 mm elements (the nearest to its continuum
+// limit), fitted with the reduced model at several element sizes.
+//   bf_fit_load_bench OUT_PREFIX [draws=10] [sizes_mm=2,1,0.5]
+// writes OUT_PREFIX.csv (one row per fit), OUT_PREFIX_summary.csv (one row
+// per element size), OUT_PREFIX.gp and OUT_PREFIX.png (gnuplot, when found).
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "bridgefit/inverse/fit.hpp"
+#include "bridgefit/inverse/reduced_forward.hpp"
+#include "bridgefit/models/reduced.hpp"
+#include "bridgefit/scene/reference.hpp"
+
+using namespace bridgefit;
+using namespace bridgefit::inverse;
+
+namespace {
+
+constexpr double kTruthSigmaC = 0.45e6;
+constexpr double kLoadNoise = 0.005;
+
+// The noise-free rows of the test (as `bridgefit synth`).
+ExperimentRecord ExactRecord(const Scene& scene) {
+  models::ReducedOptions options;
+  options.mesh.resolution = 0.0625e-3;
+  options.mesh.max_crack_length = 0.070;
+  const SimulationResult sim = models::SimulateReduced(scene, options);
+  ExperimentRecord record;
+  record.source = "fit_load_bench";
+  const SimulationPoint& first = sim.points.front();
+  for (int i = 0; i < 20; ++i) {
+    record.load.push_back(first.load * i / 20.0);
+    record.displacement.push_back(first.displacement * i / 20.0);
+  }
+  const std::size_t n = sim.points.size();
+  for (int i = 0; i < 400; ++i) {
+    const double s = double(i) * (n - 1) / 399.0;
+    const std::size_t k = std::min<std::size_t>(static_cast<std::size_t>(s), n - 2);
+    const double w = s - k;
+    const SimulationPoint& p = sim.points[k];
+    const SimulationPoint& q = sim.points[k + 1];
+    record.load.push_back(p.load + w * (q.load - p.load));
+    record.displacement.push_back(p.displacement + w * (q.displacement - p.displacement));
+  }
+  return record;
+}
+
+std::vector<double> ParseSizes(const std::string& text) {
+  std::vector<double> out;
+  std::stringstream stream(text);
+  std::string item;
+  while (std::getline(stream, item, ',')) out.push_back(std::atof(item.c_str()) * 1e-3);
+  return out;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    std::fprintf(stderr, "usage: bf_fit_load_bench OUT_PREFIX [draws=10] [sizes_mm=2,1,0.5]\n");
+    return 2;
+  }
+  const std::string prefix = argv[1];
+  const int draws = argc > 2 ? std::atoi(argv[2]) : 10;
+  const std::vector<double> sizes = ParseSizes(argc > 3 ? argv[3] : "2,1,0.5");
+  Scene truth = ReferenceCtScene();
+  AddLinearBridging(truth, kTruthSigmaC, 500.0);
+  const ExperimentRecord exact = ExactRecord(truth);
+  double peak = 0.0;
+  for (double p : exact.load) peak = std::max(peak, p);
+
+  std::string rows =
+      "elements [mm], seed, sigma_c [Pa], sigma_c error [%], ci covers, J_B lower bound [J/m^2], "
+      "evaluations, wall [s], cpu [s]\n";
+  std::string summary =
+      "elements [mm], draws, max abs error [%], mean error [%], sd [%], within 3%, within 5%, "
+      "ci covers, mean wall [s], mean cpu [s], noise-free error [%]\n";
+  for (double h : sizes) {
+    models::ReducedOptions options;
+    options.mesh.resolution = h;
+    options.mesh.max_crack_length = 0.075;
+    Scene fit_scene = truth;
+    fit_scene.bridging.reset();
+    const auto model = MakeReducedForwardModel(fit_scene, options);
+    std::vector<double> errors;
+    int covers = 0;
+    double wall_sum = 0.0, cpu_sum = 0.0, noise_free = NAN;
+    for (int seed = 0; seed <= draws; ++seed) {
+      ExperimentRecord record = exact;
+      std::mt19937 rng(seed);
+      std::normal_distribution<double> gauss(0.0, 1.0);
+      if (seed > 0)
+        for (double& load : record.load) load *= 1.0 + kLoadNoise * gauss(rng);
+      FitOptions fo;
+      fo.starts = 2;
+      fo.initial = {NAN, 300.0, 2000.0};  // an R-curve fit's kind of start
+      const auto wall0 = std::chrono::steady_clock::now();
+      const std::clock_t cpu0 = std::clock();
+      const FitSummary s = FitBridgingLaw(*model, laws::MakeLinearShape(),
+                                          FitData::FromRecord(record, kLoadNoise * 0.6 * peak, 0.0), fo);
+      const double cpu = double(std::clock() - cpu0) / CLOCKS_PER_SEC;
+      const double wall =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+      const double error = 100.0 * (s.sigma_c.value / kTruthSigmaC - 1.0);
+      const bool cover = s.sigma_c.ci95_low <= kTruthSigmaC && kTruthSigmaC <= s.sigma_c.ci95_high;
+      if (seed == 0) {
+        noise_free = error;
+      } else {
+        errors.push_back(error);
+        covers += cover;
+        wall_sum += wall;
+        cpu_sum += cpu;
+      }
+      char line[256];
+      std::snprintf(line, sizeof line, "%g, %d, %.6g, %+.3f, %s, %.4g, %d, %.3f, %.3f\n", h * 1e3,
+                    seed, s.sigma_c.value, error, cover ? "yes" : "no", s.J_B.lower_bound,
+                    s.evaluations, wall, cpu);
+      rows += line;
+      std::fputs(line, stdout);
+    }
+    double mean = 0.0, sd = 0.0, max_abs = 0.0;
+    int within3 = 0, within5 = 0;
+    for (double e : errors) {
+      mean += e / errors.size();
+      max_abs = std::max(max_abs, std::abs(e));
+      within3 += std::abs(e) <= 3.0;
+      within5 += std::abs(e) <= 5.0;
+    }
+    for (double e : errors) sd += (e - mean) * (e - mean) / std::max<std::size_t>(1, errors.size() - 1);
+    char line[256];
+    std::snprintf(line, sizeof line, "%g, %d, %.3f, %+.3f, %.3f, %d, %d, %d, %.3f, %.3f, %+.3f\n",
+                  h * 1e3, draws, max_abs, mean, std::sqrt(sd), within3, within5, covers,
+                  wall_sum / draws, cpu_sum / draws, noise_free);
+    summary += line;
+  }
+  std::ofstream(prefix + ".csv") << rows;
+  std::ofstream(prefix + "_summary.csv") << summary;
+  std::fputs(summary.c_str(), stdout);
+  // Chart: mean CPU time per fit against the largest |error| over the draws.
+  const std::string png = prefix + ".png";
+  std::string gp = "set terminal pngcairo size 760,480 enhanced font 'Sans,11'\n";
+  gp += "set output '" + png + "'\nset datafile separator ','\nset key bottom right\nset grid\n";
+  gp += "set title 'Load-displacement fit, truncated MDF test: time against sigma_c error'\n";
+  gp += "set xlabel 'CPU time per fit [s]'\nset ylabel 'sigma_c error over the draws [%]'\n";
+  gp += "plot '" + prefix + "_summary.csv' skip 1 u 10:3:(sprintf('%g mm', $1)) w labels offset 0,1 notitle, "
+        "'' skip 1 u 10:3 w lp pt 7 t 'largest |error| (noisy draws)', '' skip 1 u 10:5 w lp pt 5 t "
+        "'SD (noisy draws)', '' skip 1 u 10:(abs($11)) w lp pt 9 t '|error| without noise'\n";
+  std::ofstream(prefix + ".gp") << gp;
+  if (std::system(("gnuplot '" + prefix + ".gp' 2>/dev/null").c_str()) != 0)
+    std::fprintf(stderr, "gnuplot failed: %s.gp kept, no chart\n", prefix.c_str());
+  return 0;
+}
