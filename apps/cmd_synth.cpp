@@ -29,10 +29,6 @@
 namespace bridgefit::cli {
 namespace {
 
-struct Row {
-  double time, load, displacement, crack_length;
-};
-
 class SynthCommand final : public Command {
  public:
   const char* name() const override { return "synth"; }
@@ -80,32 +76,15 @@ class SynthCommand final : public Command {
     if (sim.status != RunStatus::kOk || sim.points.size() < 2)
       throw Error(ErrorKind::kRuntime, "the forward model failed: " + sim.message, {.file = scene.source});
 
-    // Exact rows: linear loading at a0 up to initiation, then growth.
-    const SimulationPoint& first = sim.points.front();
-    const double compliance = first.displacement / first.load;
-    std::vector<Row> exact;
-    for (int i = 0; i < loading_points_; ++i) {
-      const double d = first.displacement * i / loading_points_;
-      exact.push_back({0, d / compliance, d, scene.specimen.notch});
-    }
-    // Growth rows evenly spaced along the simulated path (linear between its points).
-    const size_t n = sim.points.size();
-    std::vector<size_t> growth_index;  // nearest simulated point of each row
-    for (int i = 0; i < growth_points_; ++i) {
-      const double s = double(i) * (n - 1) / (growth_points_ - 1);
-      const size_t k = std::min(static_cast<size_t>(s), n - 2);
-      const double w = s - k;
-      const SimulationPoint& p = sim.points[k];
-      const SimulationPoint& q = sim.points[k + 1];
-      growth_index.push_back(w < 0.5 ? k : k + 1);
-      exact.push_back({0, p.load + w * (q.load - p.load),
-                       p.displacement + w * (q.displacement - p.displacement),
-                       p.crack_length + w * (q.crack_length - p.crack_length)});
-    }
-    // Time at a constant displacement rate along the path.
+    // Exact rows: linear loading at a0 up to initiation, then growth rows
+    // evenly spaced along the simulated path; time at a constant
+    // displacement rate along it.
+    std::vector<size_t> growth_index;  // nearest simulated point of each growth row
+    ExperimentRecord exact = RecordAlongPath(sim, loading_points_, growth_points_, &growth_index);
+    exact.time.assign(exact.size(), 0.0);
     for (size_t i = 1; i < exact.size(); ++i)
-      exact[i].time = exact[i - 1].time +
-                      std::abs(exact[i].displacement - exact[i - 1].displacement) / rate;
+      exact.time[i] = exact.time[i - 1] +
+                      std::abs(exact.displacement[i] - exact.displacement[i - 1]) / rate;
 
     // Speckle frames: frame 0 unloaded (row 0), frames 1.. spread over the
     // growth rows from initiation to the last row; each frame's growth row
@@ -127,11 +106,11 @@ class SynthCommand final : public Command {
     std::string csv = std::string("time [s], load [N], displacement [mm], crack_length [mm]") +
                       (frames_ > 0 ? ", image\n" : "\n");
     for (size_t i = 0; i < exact.size(); ++i) {
-      const Row& r = exact[i];
-      const double load = r.load * (1.0 + load_noise_ * normal(rng));
-      const double disp = r.displacement + (i == 0 ? 0.0 : disp_noise * normal(rng));
-      const double crack = r.crack_length + crack_noise * normal(rng);
-      csv += fmt::format("{:.4f}, {:.5f}, {:.6f}, {:.4f}", r.time, load, disp * 1e3, crack * 1e3);
+      const double load = exact.load[i] * (1.0 + load_noise_ * normal(rng));
+      const double disp = exact.displacement[i] + (i == 0 ? 0.0 : disp_noise * normal(rng));
+      const double crack = exact.crack_length[i] + crack_noise * normal(rng);
+      csv += fmt::format("{:.4f}, {:.5f}, {:.6f}, {:.4f}", exact.time[i], load, disp * 1e3,
+                         crack * 1e3);
       if (frames_ > 0) {
         const auto it = std::find(frame_row.begin(), frame_row.end(), i);
         csv += ", " + (it == frame_row.end() ? std::string()
@@ -199,7 +178,7 @@ class SynthCommand final : public Command {
       PrintJson({{"record", (std::filesystem::path(out_) / record_name_).string()},
                  {"rows", exact.size()},
                  {"frames", frames_written},
-                 {"initiation_load_N", first.load},
+                 {"initiation_load_N", sim.points.front().load},
                  {"final_crack_length_m", sim.points.back().crack_length},
                  {"wall_s", watch.Seconds()}});
     } else {

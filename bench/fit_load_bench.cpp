@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <random>
 #include <sstream>
@@ -37,25 +38,7 @@ ExperimentRecord ExactRecord(const Scene& scene) {
   models::ReducedOptions options;
   options.mesh.resolution = 0.0625e-3;
   options.mesh.max_crack_length = 0.070;
-  const SimulationResult sim = models::SimulateReduced(scene, options);
-  ExperimentRecord record;
-  record.source = "fit_load_bench";
-  const SimulationPoint& first = sim.points.front();
-  for (int i = 0; i < 20; ++i) {
-    record.load.push_back(first.load * i / 20.0);
-    record.displacement.push_back(first.displacement * i / 20.0);
-  }
-  const std::size_t n = sim.points.size();
-  for (int i = 0; i < 400; ++i) {
-    const double s = double(i) * (n - 1) / 399.0;
-    const std::size_t k = std::min<std::size_t>(static_cast<std::size_t>(s), n - 2);
-    const double w = s - k;
-    const SimulationPoint& p = sim.points[k];
-    const SimulationPoint& q = sim.points[k + 1];
-    record.load.push_back(p.load + w * (q.load - p.load));
-    record.displacement.push_back(p.displacement + w * (q.displacement - p.displacement));
-  }
-  return record;
+  return RecordAlongPath(models::SimulateReduced(scene, options), 20, 400);
 }
 
 std::vector<double> ParseSizes(const std::string& text) {
@@ -149,17 +132,21 @@ int main(int argc, char** argv) {
   std::ofstream(prefix + ".csv") << rows;
   std::ofstream(prefix + "_summary.csv") << summary;
   std::fputs(summary.c_str(), stdout);
-  // Chart: mean CPU time per fit against the largest |error| over the draws.
-  const std::string png = prefix + ".png";
+  // Chart: mean CPU time per fit against the largest |error| over the draws;
+  // the script names its files relative to its own folder.
+  const std::filesystem::path where = std::filesystem::path(prefix).parent_path();
+  const std::string base = std::filesystem::path(prefix).filename().string();
+  const std::string png = base + ".png";
   std::string gp = "set terminal pngcairo size 760,480 enhanced font 'Sans,11'\n";
   gp += "set output '" + png + "'\nset datafile separator ','\nset key bottom right\nset grid\n";
   gp += "set title 'Load-displacement fit, truncated MDF test: time against sigma_c error'\n";
   gp += "set xlabel 'CPU time per fit [s]'\nset ylabel 'sigma_c error over the draws [%]'\n";
-  gp += "plot '" + prefix + "_summary.csv' skip 1 u 10:3:(sprintf('%g mm', $1)) w labels offset 0,1 notitle, "
+  gp += "plot '" + base + "_summary.csv' skip 1 u 10:3:(sprintf('%g mm', $1)) w labels offset 0,1 notitle, "
         "'' skip 1 u 10:3 w lp pt 7 t 'largest |error| (noisy draws)', '' skip 1 u 10:5 w lp pt 5 t "
         "'SD (noisy draws)', '' skip 1 u 10:(abs($11)) w lp pt 9 t '|error| without noise'\n";
   std::ofstream(prefix + ".gp") << gp;
-  if (std::system(("gnuplot '" + prefix + ".gp' 2>/dev/null").c_str()) != 0)
+  const std::string dir = where.empty() ? std::string(".") : where.string();
+  if (std::system(("cd '" + dir + "' && gnuplot '" + base + ".gp' 2>/dev/null").c_str()) != 0)
     std::fprintf(stderr, "gnuplot failed: %s.gp kept, no chart\n", prefix.c_str());
   return 0;
 }

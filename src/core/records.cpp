@@ -1,5 +1,6 @@
 #include "bridgefit/core/records.hpp"
 
+#include <algorithm>
 #include <string>
 
 #include "bridgefit/core/error.hpp"
@@ -94,6 +95,38 @@ void FillEnergyR(std::vector<SimulationPoint>& points, double thickness) {
     else if (i + 1 == n) points[i].R_energy = step[n - 2];
     else points[i].R_energy = 0.5 * (step[i - 1] + step[i]);
   }
+}
+
+ExperimentRecord RecordAlongPath(const SimulationResult& sim, int loading_rows, int growth_rows,
+                                 std::vector<std::size_t>* nearest_point) {
+  const std::vector<SimulationPoint>& points = sim.points;
+  if (points.size() < 2 || growth_rows < 2 || loading_rows < 0)
+    throw Error(ErrorKind::kUsage, "a record along a path needs two points and two growth rows");
+  ExperimentRecord record;
+  record.source = "simulation (" + sim.model + ")";
+  auto add = [&record](double load, double displacement, double crack_length) {
+    record.load.push_back(load);
+    record.displacement.push_back(displacement);
+    record.crack_length.push_back(crack_length);
+  };
+  const SimulationPoint& first = points.front();
+  for (int i = 0; i < loading_rows; ++i) {
+    const double f = static_cast<double>(i) / loading_rows;
+    add(f * first.load, f * first.displacement, first.crack_length);
+  }
+  if (nearest_point) nearest_point->clear();
+  const std::size_t n = points.size();
+  for (int i = 0; i < growth_rows; ++i) {
+    const double s = double(i) * (n - 1) / (growth_rows - 1);
+    const std::size_t k = std::min(static_cast<std::size_t>(s), n - 2);
+    const double w = s - k;
+    const SimulationPoint& p = points[k];
+    const SimulationPoint& q = points[k + 1];
+    add(p.load + w * (q.load - p.load), p.displacement + w * (q.displacement - p.displacement),
+        p.crack_length + w * (q.crack_length - p.crack_length));
+    if (nearest_point) nearest_point->push_back(w < 0.5 ? k : k + 1);
+  }
+  return record;
 }
 
 }  // namespace bridgefit

@@ -27,25 +27,8 @@ ExperimentRecord Record(const Scene& scene, double resolution, unsigned seed) {
   options.mesh.max_crack_length = 0.070;
   const SimulationResult sim = models::SimulateReduced(scene, options);
   EXPECT_EQ(sim.status, RunStatus::kOk) << sim.message;
-  ExperimentRecord record;
+  ExperimentRecord record = RecordAlongPath(sim, 20, 400);
   record.source = "load_fit_test";
-  const SimulationPoint& first = sim.points.front();
-  auto add = [&](double load, double displacement, double crack) {
-    record.load.push_back(load);
-    record.displacement.push_back(displacement);
-    record.crack_length.push_back(crack);
-  };
-  for (int i = 0; i < 20; ++i) add(first.load * i / 20.0, first.displacement * i / 20.0, first.crack_length);
-  const std::size_t n = sim.points.size();
-  for (int i = 0; i < 400; ++i) {
-    const double s = double(i) * (n - 1) / 399.0;
-    const std::size_t k = std::min<std::size_t>(static_cast<std::size_t>(s), n - 2);
-    const double w = s - k;
-    const SimulationPoint& p = sim.points[k];
-    const SimulationPoint& q = sim.points[k + 1];
-    add(p.load + w * (q.load - p.load), p.displacement + w * (q.displacement - p.displacement),
-        p.crack_length + w * (q.crack_length - p.crack_length));
-  }
   std::mt19937 rng(seed);
   std::normal_distribution<double> gauss(0.0, 1.0);
   for (double& load : record.load) load *= 1.0 + kRelativeLoadNoise * gauss(rng);

@@ -91,4 +91,13 @@ void FillEnergyR(std::vector<SimulationPoint>& points, double thickness);
 double InterpolatePoints(const std::vector<SimulationPoint>& points, double a,
                          double SimulationPoint::*field);
 
+// A test record along a simulation's path, as `bridgefit synth` writes it
+// (no time, no noise): `loading_rows` rows of linear loading from the origin
+// toward the first point (initiation, crack length a0), then `growth_rows`
+// rows evenly spaced in point index from the first point to the last (linear
+// between points). `nearest_point`, when given, receives the simulation point
+// nearest each growth row. Needs two points and growth_rows >= 2.
+ExperimentRecord RecordAlongPath(const SimulationResult& sim, int loading_rows, int growth_rows,
+                                 std::vector<std::size_t>* nearest_point = nullptr);
+
 }  // namespace bridgefit
