@@ -500,38 +500,37 @@ FitData FitData::Subset(const std::vector<int>& keep) const {
   return out;
 }
 
+namespace {
+// One series of a fit's data: values against an axis, optional uncertainties.
+void ValidateSeries(const char* axis_name, const std::vector<double>& axis, const char* name,
+                    const std::vector<double>& values, const std::vector<double>& uncertainty,
+                    bool axis_ascending) {
+  BF_CHECK_INPUT(values.size() >= 4, fmt::format("a fit needs at least four {} values", name),
+                 {.field = name, .value = std::to_string(values.size()) + " points"});
+  BF_CHECK_INPUT(axis.size() == values.size(),
+                 fmt::format("{} and {} differ in length", axis_name, name));
+  BF_CHECK_INPUT(uncertainty.empty() || uncertainty.size() == values.size(),
+                 fmt::format("the {} uncertainties and {} differ in length", name, name));
+  for (size_t i = 0; i < values.size(); ++i) {
+    BF_CHECK_INPUT(std::isfinite(values[i]) && std::isfinite(axis[i]), "fit data must be finite",
+                   {.field = "row " + std::to_string(i + 1)});
+    if (axis_ascending && i > 0)
+      BF_CHECK_INPUT(axis[i] >= axis[i - 1],
+                     fmt::format("the {} of the data must not decrease", axis_name),
+                     {.field = axis_name, .value = std::to_string(axis[i])});
+    if (!uncertainty.empty())
+      BF_CHECK_INPUT(uncertainty[i] > 0.0, "uncertainties must be positive",
+                     {.field = std::string(name) + "_uncertainty",
+                      .value = std::to_string(uncertainty[i])});
+  }
+}
+}  // namespace
+
 void FitData::Validate() const {
-  if (target == FitTarget::kLoad) {
-    BF_CHECK_INPUT(load.size() >= 4, "a load-displacement fit needs at least four rows",
-                   {.field = "load", .value = std::to_string(load.size()) + " rows"});
-    BF_CHECK_INPUT(displacement.size() == load.size(), "displacement and load differ in length");
-    BF_CHECK_INPUT(load_uncertainty.empty() || load_uncertainty.size() == load.size(),
-                   "load_uncertainty and load differ in length");
-    for (size_t i = 0; i < load.size(); ++i) {
-      BF_CHECK_INPUT(std::isfinite(load[i]) && std::isfinite(displacement[i]),
-                     "record values must be finite", {.field = "row " + std::to_string(i + 1)});
-      if (!load_uncertainty.empty())
-        BF_CHECK_INPUT(load_uncertainty[i] > 0.0, "load uncertainties must be positive",
-                       {.field = "load_uncertainty", .value = std::to_string(load_uncertainty[i])});
-    }
-    return;
-  }
-  BF_CHECK_INPUT(R.size() >= 4, "a fit needs at least four R-curve points",
-                 {.field = "R", .value = std::to_string(R.size()) + " points"});
-  BF_CHECK_INPUT(crack_length.size() == R.size(), "crack_length and R differ in length");
-  BF_CHECK_INPUT(R_uncertainty.empty() || R_uncertainty.size() == R.size(),
-                 "R_uncertainty and R differ in length");
-  for (size_t i = 0; i < R.size(); ++i) {
-    BF_CHECK_INPUT(std::isfinite(R[i]) && std::isfinite(crack_length[i]),
-                   "R-curve values must be finite", {.field = "row " + std::to_string(i + 1)});
-    if (i > 0)
-      BF_CHECK_INPUT(crack_length[i] >= crack_length[i - 1],
-                     "crack lengths of an R curve must not decrease",
-                     {.field = "crack_length", .value = std::to_string(crack_length[i])});
-    if (!R_uncertainty.empty())
-      BF_CHECK_INPUT(R_uncertainty[i] > 0.0, "R uncertainties must be positive",
-                     {.field = "R_uncertainty", .value = std::to_string(R_uncertainty[i])});
-  }
+  if (target == FitTarget::kLoad)
+    ValidateSeries("displacement", displacement, "load", load, load_uncertainty, false);
+  else
+    ValidateSeries("crack_length", crack_length, "R", R, R_uncertainty, true);
 }
 
 std::string FitSummary::BriefReport() const {

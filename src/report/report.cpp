@@ -206,6 +206,16 @@ void WriteFile(const fs::path& path, const std::string& text) {
   if (!out) throw Error(ErrorKind::kRuntime, "cannot write file", {.file = path.string()});
 }
 
+// Removed points as a gnuplot table: x [m] written in mm, then y; a final
+// "nan nan" row keeps an empty table plottable.
+std::string OutlierTable(const char* header, const std::vector<double>& x,
+                         const std::vector<double>& y) {
+  std::string out = std::string(header) + "\n";
+  for (size_t i = 0; i < x.size() && i < y.size(); ++i)
+    out += fmt::format("{:.8g} {:.8g}\n", x[i] * 1e3, y[i]);
+  return out + "nan nan\n";
+}
+
 // Residual data - model at each fitted crack length (same points as the data).
 std::vector<double> Residuals(const FitData& f) {
   std::vector<double> res;
@@ -275,11 +285,8 @@ ReportSummary WriteFitReport(const fs::path& fit_h5, const fs::path& out_dir,
     for (size_t i = 0; i < f.fit_R.size(); ++i)
       fit += fmt::format("{:.8g} {:.8g} {:.8g}\n", f.fit_a[i] * 1e3, f.fit_R[i], res[i]);
     WriteFile(tmp / "rcurve_fit.dat", fit);
-    std::string out = "# crack_length[mm] R[J/m^2]\n";
-    for (size_t i = 0; i < f.out_a.size() && i < f.out_R.size(); ++i)
-      out += fmt::format("{:.8g} {:.8g}\n", f.out_a[i] * 1e3, f.out_R[i]);
-    out += "nan nan\n";
-    WriteFile(tmp / "rcurve_outliers.dat", out);
+    WriteFile(tmp / "rcurve_outliers.dat",
+              OutlierTable("# crack_length[mm] R[J/m^2]", f.out_a, f.out_R));
     gp += kTerminal;
     gp += "set output 'rcurve.png'\n";
     if (!f.fit_R.empty()) {
@@ -418,11 +425,8 @@ ReportSummary WriteFitReport(const fs::path& fit_h5, const fs::path& out_dir,
         fit += fmt::format("{:.8g} {:.8g} {:.8g}\n", f.fit_d[i] * 1e3, f.fit_P[i],
                            f.data_P[i] - f.fit_P[i]);
       WriteFile(tmp / "load_fit.dat", fit);
-      std::string out = "# displacement[mm] load[N]\n";
-      for (size_t i = 0; i < f.out_d.size() && i < f.out_P.size(); ++i)
-        out += fmt::format("{:.8g} {:.8g}\n", f.out_d[i] * 1e3, f.out_P[i]);
-      out += "nan nan\n";
-      WriteFile(tmp / "load_outliers.dat", out);
+      WriteFile(tmp / "load_outliers.dat",
+                OutlierTable("# displacement[mm] load[N]", f.out_d, f.out_P));
       gp += "set multiplot\nset size 1,0.68\nset origin 0,0.32\nset bmargin 0\nset lmargin 10\n"
             "set format x ''\nunset xlabel\nset key top right\n";
       gp += "plot 'record.dat' u 2:3 w p pt 7 ps 0.4 lc rgb '#1f77b4' t 'record', "
