@@ -66,6 +66,10 @@ ExperimentRecord ReadExperimentH5(const H5Reader& file, const std::string& group
   if (file.Exists(group + "/crack_length"))
     record.crack_length = file.ReadVector(group + "/crack_length");
   if (file.Exists(group + "/images")) record.images = file.ReadStrings(group + "/images");
+  // The metadata keys the library writes and reads back.
+  for (const char* key : {"columns", "crack_length"})
+    if (file.Exists(group + "/metadata") && file.HasAttribute(group + "/metadata", key))
+      record.metadata[key] = file.ReadStringAttribute(group + "/metadata", key);
   record.Validate();
   return record;
 }

@@ -445,6 +445,7 @@ ReportSummary WriteFitReport(const fs::path& fit_h5, const fs::path& out_dir,
     summary.figures.push_back("load_displacement.png");
     bool have_crack = !rec.crack_length.empty();
     std::string dic_plot;
+    bool dic_on_rows = false;  // DIC frames drawn at their record rows (image column)
     if (!options.dic_csv.empty()) {
       const io::CsvTable t = io::ReadCsvTable(options.dic_csv);
       int col = -1;
@@ -452,10 +453,26 @@ ReportSummary WriteFitReport(const fs::path& fit_h5, const fs::path& out_dir,
         if (t.names[i].find("crack_length") != std::string::npos) { col = static_cast<int>(i); break; }
       if (col >= 0) {
         const std::vector<double> a = t.ColumnSi(t.names[col], Dimension::Length());
-        std::string d = "# frame crack_length[mm]\n";
-        for (size_t i = 0; i < a.size(); ++i) d += fmt::format("{} {:.8g}\n", i, a[i] * 1e3);
+        // A record whose image column names the frames: each frame at its row.
+        std::vector<double> row(a.size(), NAN);
+        if (!rec.images.empty() && t.Find("image") >= 0) {
+          const std::vector<std::string>& images = t.TextColumn("image");
+          for (size_t k = 0; k < a.size(); ++k)
+            for (size_t r = 0; r < rec.images.size(); ++r)
+              if (!rec.images[r].empty() &&
+                  fs::path(rec.images[r]).filename() == fs::path(images[k]).filename()) {
+                row[k] = static_cast<double>(r);
+                dic_on_rows = true;
+                break;
+              }
+        }
+        std::string d = dic_on_rows ? "# record_row crack_length[mm]\n" : "# frame crack_length[mm]\n";
+        for (size_t i = 0; i < a.size(); ++i)
+          d += fmt::format("{} {:.8g}\n", dic_on_rows ? row[i] : static_cast<double>(i), a[i] * 1e3);
         WriteFile(tmp / "dic.dat", d);
-        dic_plot = ", 'dic.dat' u 1:2 axes x2y1 w lp pt 6 ps 1 lw 2 lc rgb '#2ca02c' t 'DIC (image index, top axis)'";
+        dic_plot = dic_on_rows
+                       ? ", 'dic.dat' u 1:2 w p pt 6 ps 1.5 lw 2 lc rgb '#2ca02c' t 'DIC (at the rows of its images)'"
+                       : ", 'dic.dat' u 1:2 axes x2y1 w lp pt 6 ps 1 lw 2 lc rgb '#2ca02c' t 'DIC (image index, top axis)'";
         have_crack = true;
       } else {
         summary.notes.push_back("DIC CSV has no crack_length column: " + options.dic_csv.string());
@@ -465,9 +482,14 @@ ReportSummary WriteFitReport(const fs::path& fit_h5, const fs::path& out_dir,
       gp += kTerminal;
       gp += "set output 'crack_length.png'\nset title 'Crack length against frame'\n";
       gp += "set xlabel 'record row'\nset ylabel 'crack length a [mm]'\n";
-      if (!dic_plot.empty()) gp += "set xtics nomirror\nset x2tics\nset x2label 'image index (DIC)'\n";
+      if (!dic_plot.empty() && !dic_on_rows)
+        gp += "set xtics nomirror\nset x2tics\nset x2label 'image index (DIC)'\n";
       gp += "plot ";
-      gp += rec.crack_length.empty() ? "1/0 notitle" : "'record.dat' u 1:4 w p pt 7 ps 0.4 lc rgb '#1f77b4' t 'record'";
+      const bool from_images = rec.metadata.count("crack_length") > 0;  // rcurve --crack-length-from
+      gp += rec.crack_length.empty()
+                ? "1/0 notitle"
+                : std::string("'record.dat' u 1:4 w p pt 7 ps 0.4 lc rgb '#1f77b4' t '") +
+                      (from_images ? "record (from the images, linear between frames)" : "record") + "'";
       gp += dic_plot + "\nunset title\nunset x2label\n";
       summary.figures.push_back("crack_length.png");
     }

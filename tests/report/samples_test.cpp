@@ -58,6 +58,7 @@ Chain RunChain(const std::string& sample, std::string record_args, const std::st
   const fs::path scene = kSamples / sample / "scene.toml";
   std::string out;
   Chain chain;
+  std::string report_args;
   if (with_dic) {
     const fs::path dic = work / "dic.csv";
     if (Cli("dic '" + (kSamples / sample / "images").string() +
@@ -66,6 +67,7 @@ Chain RunChain(const std::string& sample, std::string record_args, const std::st
             work, &out) != 0)
       return chain;
     record_args += " --crack-length-from '" + dic.string() + "'";
+    report_args = " --dic '" + dic.string() + "'";
   }
   if (Cli("rcurve " + record_args + " --scene '" + scene.string() + "' --method energy --out '" +
               (work / "rcurve.h5").string() + "' --quiet",
@@ -78,7 +80,7 @@ Chain RunChain(const std::string& sample, std::string record_args, const std::st
   chain.fit = nlohmann::json::parse(out, nullptr, false);
   chain.report = work / "report";
   Cli("report '" + (work / "fit.h5").string() + "' --out '" + chain.report.string() + "' --record '" +
-          (work / "rcurve.h5").string() + "' --truth '" + scene.string() + "' --quiet",
+          (work / "rcurve.h5").string() + "' --truth '" + scene.string() + "' --quiet" + report_args,
       work, &out);
   return chain;
 }
@@ -121,6 +123,8 @@ TEST(Samples, MdfNoisyRecordSigmaCWithinFivePercentAndLowerBounds) {
   ExpectMdfOutcome(c);
   EXPECT_EQ(c.fit["fit_to"], "load-displacement");
   EXPECT_TRUE(fs::exists(c.report / "load_fit.dat"));
+  // DIC's crack lengths drawn at the rows of their images (the record's image column).
+  EXPECT_EQ(ReadText(c.report / "dic.dat").rfind("# record_row", 0), 0u);
 }
 
 // The R-curve route on the noise-free record (with the noisy one the bridging
