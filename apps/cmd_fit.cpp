@@ -97,6 +97,10 @@ struct FitInput {
   std::optional<ExperimentRecord> record;             // stored as /experiment when known
   std::optional<experiment::RCurveResult> reduction;  // when from_record
   experiment::RCurveOptions reduction_options;
+  // The record's initial loading line d = d0 + C0 P (the reduction's fit,
+  // or /rcurve/figures of an rcurve.h5); NaN when unknown.
+  double initial_compliance = NAN;   // C0 [m/N]
+  double displacement_offset = NAN;  // d0 [m]
 };
 
 // The `bridgefit rcurve` options that `bridgefit fit RECORD` takes.
@@ -149,8 +153,17 @@ FitInput ReadFitInput(const std::string& path, const Scene& scene, const Reducti
                             "--rcurve-smooth, --rcurve-*-noise, --columns, --units",
                    .expected = "a load-displacement record as input, or none of these options"});
     input.curve = ReadRCurveInput(path);
-    if (IsHdf5(path) && io::H5Reader(path).Exists("/experiment/load"))
-      input.record = io::ReadExperimentH5(io::H5Reader(path), "/experiment");
+    if (IsHdf5(path)) {
+      const io::H5Reader reader(path);
+      if (reader.Exists("/experiment/load")) input.record = io::ReadExperimentH5(reader, "/experiment");
+      if (reader.Exists("/rcurve/figures") &&
+          reader.HasAttribute("/rcurve/figures", "initial_compliance_m_per_N")) {
+        input.initial_compliance =
+            reader.ReadNumberAttribute("/rcurve/figures", "initial_compliance_m_per_N");
+        input.displacement_offset =
+            reader.ReadNumberAttribute("/rcurve/figures", "displacement_offset_m");
+      }
+    }
     return input;
   }
   experiment::RCurveOptions& options = input.reduction_options;
@@ -197,6 +210,8 @@ FitInput ReadFitInput(const std::string& path, const Scene& scene, const Reducti
   }
   input.reduction = experiment::ComputeRCurve(*input.record, options);
   input.curve = input.reduction->curve;
+  input.initial_compliance = input.reduction->initiation.initial_compliance;
+  input.displacement_offset = input.reduction->initiation.displacement_offset;
   return input;
 }
 
@@ -330,6 +345,10 @@ class FitCommand final : public Command {
                    "load-displacement (a record's load at each displacement; started from the "
                    "R-curve fit; docs/FIT.md)")
         ->default_val("r-curve");
+    sub.add_flag("--calibrate-compliance", calibrate_compliance_,
+                 "--fit-to load-displacement: scale the scene's moduli to the record's initial "
+                 "compliance and count the displacement from the loading line's intercept (for "
+                 "real records whose E or machine compliance is not known; docs/FIT.md)");
     sub.add_option("--resolution", resolution_, "Reduced model element size, e.g. '0.5 mm'");
     sub.add_flag("--no-profile", no_profile_, "Skip the profile likelihood (faster)");
     sub.add_option("--out", out_h5_, "Write the fit to this HDF5 file");
@@ -362,6 +381,7 @@ class FitCommand final : public Command {
     // --fit-to load-displacement: the record's rows, weighted by its noise
     // (given, or estimated by the reduction).
     const inverse::FitTarget target = inverse::ParseFitTarget(fit_to_);
+    const bool calibrate = target == inverse::FitTarget::kLoad && calibrate_compliance_;
     std::optional<inverse::FitData> load_data;
     if (target == inverse::FitTarget::kLoad) {
       if (!input.record)
@@ -374,7 +394,12 @@ class FitCommand final : public Command {
       const double displacement_noise =
           input.reduction ? input.reduction->displacement_noise
                           : experiment::RobustNoiseSigma(input.record->displacement);
-      load_data = inverse::FitData::FromRecord(*input.record, load_noise, displacement_noise);
+      // Toe compensation: the displacement counts from the initial loading
+      // line's intercept d0 (seating, slack), as the model's does from zero.
+      ExperimentRecord zeroed = *input.record;
+      if (calibrate && std::isfinite(input.displacement_offset))
+        for (double& d : zeroed.displacement) d -= input.displacement_offset;
+      load_data = inverse::FitData::FromRecord(zeroed, load_noise, displacement_noise);
     }
     const inverse::FitData& fit_data = load_data ? *load_data : data;
 
@@ -440,50 +465,81 @@ class FitCommand final : public Command {
             ? 1.0 - scene.material.nu * scene.material.nu
             : 1.0;
     const double effective_modulus = scene.material.AxialModulus() / plane_factor;
-    if (model_ == "analytic") {
-      model = std::make_unique<inverse::AnalyticForwardModel>(effective_modulus,
-                                                              scene.specimen.notch);
-    } else if (model_ == "reduced" || model_ == "auto" || model_ == "mpm") {
-      // The models must grow past the data: its crack lengths, and for a
-      // record the measured ones (an equivalent crack length trails them).
-      double data_end = *std::max_element(data.crack_length.begin(), data.crack_length.end());
-      if (input.record && input.record->has_crack_length())
-        for (double a : input.record->crack_length)
-          if (std::isfinite(a)) data_end = std::max(data_end, a);
-      // A load-displacement fit follows the model to the record's last
-      // displacement, which a tougher trial law reaches with a shorter crack
-      // and a weaker one with a longer crack: a tenth of the growth beyond.
-      if (load_data) data_end += 0.1 * std::max(data_end - scene.specimen.notch, 0.0);
-      models::ReducedOptions reduced;
-      if (!resolution_.empty())
-        reduced.mesh.resolution = ParseOptionQuantity(resolution_, Dimension::Length(), "--resolution");
-      reduced.mesh.max_crack_length = std::max(
-          data_end + 2e-3, scene.run.max_crack_length.value_or(0.0));
-      if (model_ != "mpm") {
-        auto simulation = inverse::MakeReducedForwardModel(scene, reduced);
-        if (kind == inverse::RKind::kAsData) simulation->SetReducer(ModelRecordReducer(input));
-        model = std::move(simulation);
+    // Builds the forward models on `model_scene` (the scene, or with its
+    // moduli scaled to the record's initial compliance).
+    auto build_models = [&](const Scene& model_scene) {
+      if (model_ == "analytic") {
+        model = std::make_unique<inverse::AnalyticForwardModel>(effective_modulus,
+                                                                model_scene.specimen.notch);
+      } else if (model_ == "reduced" || model_ == "auto" || model_ == "mpm") {
+        // The models must grow past the data: its crack lengths, and for a
+        // record the measured ones (an equivalent crack length trails them).
+        double data_end = *std::max_element(data.crack_length.begin(), data.crack_length.end());
+        if (input.record && input.record->has_crack_length())
+          for (double a : input.record->crack_length)
+            if (std::isfinite(a)) data_end = std::max(data_end, a);
+        // A load-displacement fit follows the model to the record's last
+        // displacement, which a tougher trial law reaches with a shorter crack
+        // and a weaker one with a longer crack: a tenth of the growth beyond.
+        if (load_data) data_end += 0.1 * std::max(data_end - model_scene.specimen.notch, 0.0);
+        models::ReducedOptions reduced;
+        if (!resolution_.empty())
+          reduced.mesh.resolution = ParseOptionQuantity(resolution_, Dimension::Length(), "--resolution");
+        reduced.mesh.max_crack_length = std::max(
+            data_end + 2e-3, model_scene.run.max_crack_length.value_or(0.0));
+        if (model_ != "mpm") {
+          auto simulation = inverse::MakeReducedForwardModel(model_scene, reduced);
+          if (kind == inverse::RKind::kAsData) simulation->SetReducer(ModelRecordReducer(input));
+          model = std::move(simulation);
+        }
+        if (model_ == "mpm" || model_ == "auto") {
+          mpm::GrowthOptions growth;
+          growth.cell = ParseOptionQuantity(mpm_cell_, Dimension::Length(), "--mpm-cell");
+          growth.max_crack_length = data_end + 2.0 * growth.cell;
+          std::string why;
+          if (!growth.IsValid(&why))
+            throw Error(ErrorKind::kUsage, "invalid MPM options: " + why, {.field = "--mpm-cell"});
+          auto accurate = std::make_unique<inverse::SimulationForwardModel>(
+              "mpm", [model_scene, growth](const laws::BridgingLaw* law, double J_tip_c) {
+                return mpm::SimulateGrowth(model_scene, law, J_tip_c, growth).result;
+              });
+          if (kind == inverse::RKind::kAsData) accurate->SetReducer(ModelRecordReducer(input));
+          if (model_ == "mpm") model = std::move(accurate);
+          else mpm_model = std::move(accurate);
+          mpm_cell_m = growth.cell;
+        }
+      } else {
+        throw Error(ErrorKind::kUsage, "unknown model",
+                    {.field = "--model", .value = model_,
+                     .expected = "reduced, analytic, mpm or auto"});
       }
-      if (model_ == "mpm" || model_ == "auto") {
-        mpm::GrowthOptions growth;
-        growth.cell = ParseOptionQuantity(mpm_cell_, Dimension::Length(), "--mpm-cell");
-        growth.max_crack_length = data_end + 2.0 * growth.cell;
-        std::string why;
-        if (!growth.IsValid(&why))
-          throw Error(ErrorKind::kUsage, "invalid MPM options: " + why, {.field = "--mpm-cell"});
-        auto accurate = std::make_unique<inverse::SimulationForwardModel>(
-            "mpm", [scene, growth](const laws::BridgingLaw* law, double J_tip_c) {
-              return mpm::SimulateGrowth(scene, law, J_tip_c, growth).result;
-            });
-        if (kind == inverse::RKind::kAsData) accurate->SetReducer(ModelRecordReducer(input));
-        if (model_ == "mpm") model = std::move(accurate);
-        else mpm_model = std::move(accurate);
-        mpm_cell_m = growth.cell;
-      }
-    } else {
-      throw Error(ErrorKind::kUsage, "unknown model",
-                  {.field = "--model", .value = model_,
-                   .expected = "reduced, analytic, mpm or auto"});
+    };
+    build_models(scene);
+    // --calibrate-compliance: the model's moduli are scaled so that its
+    // compliance at a0 is the record's initial one (all moduli by one factor
+    // scale an elastic model's compliance exactly). For real records, whose E
+    // or machine compliance is known to percents while a load-displacement
+    // fit reads sigma_c from ~0.1% of the load; on a record made with the
+    // scene's own E the noise of the initial slope costs more than it gains
+    // (docs/FIT.md).
+    double modulus_factor = NAN, model_compliance = NAN;
+    if (calibrate && model_ != "analytic" && std::isfinite(input.initial_compliance)) {
+      const double d_probe = 1e-3 * input.initial_compliance;  // on the linear branch
+      const inverse::ForwardPrediction probe =
+          model->PredictLoad(laws::MakeLinearShape(), {.sigma_c = 1e6, .J_B = 0.0, .J_tip_c = 1000.0},
+                             {d_probe});
+      if (!probe.ok() || probe.load.empty() || !(probe.load[0] > 0.0))
+        throw Error(ErrorKind::kRuntime, "the model's initial compliance could not be computed: " +
+                                             probe.message, {.file = scene_});
+      model_compliance = d_probe / probe.load[0];
+      modulus_factor = model_compliance / input.initial_compliance;
+      Scene scaled = scene;
+      for (double* modulus : {&scaled.material.E, &scaled.material.E1, &scaled.material.E2,
+                              &scaled.material.G12, &scaled.material.G13})
+        *modulus *= modulus_factor;
+      model.reset();
+      mpm_model.reset();
+      build_models(scaled);
     }
     inverse::ModelCheckOptions check;
     check.tolerance = model_tolerance_;
@@ -594,7 +650,14 @@ class FitCommand final : public Command {
       file.WriteAttribute(g, "converged", s.converged ? 1.0 : 0.0);
       file.WriteAttribute(g, "steady_state_reached", s.steady_state_reached ? 1.0 : 0.0);
       file.WriteAttribute(g, "bridging_detected", s.bridging_detected ? 1.0 : 0.0);
+      file.WriteAttribute(g, "reduced_chi2", s.reduced_chi2);
       file.WriteAttribute(g, "fit_to", inverse::FitTargetName(s.target));
+      if (std::isfinite(modulus_factor)) {
+        file.WriteAttribute(g, "modulus_factor", modulus_factor);
+        file.WriteAttribute(g, "model_initial_compliance_m_per_N", model_compliance);
+        file.WriteAttribute(g, "record_initial_compliance_m_per_N", input.initial_compliance);
+        file.WriteAttribute(g, "displacement_offset_m", input.displacement_offset);
+      }
       file.WriteVector(g + "/crack_length", data.crack_length, "m", "data crack length");
       file.WriteVector(g + "/R", data.R, "J/m^2", "data R");
       if (load_data) {
@@ -748,8 +811,16 @@ class FitCommand final : public Command {
             {"wall_s", start_fit->wall_s}};
         out["load_noise_N"] = NumberOrNull(
             input.reduction ? input.reduction->load_noise : NAN);
+        out["compliance_calibration"] =
+            std::isfinite(modulus_factor)
+                ? nlohmann::json{{"modulus_factor", modulus_factor},
+                                 {"model_initial_compliance_m_per_N", model_compliance},
+                                 {"record_initial_compliance_m_per_N", input.initial_compliance},
+                                 {"displacement_offset_m", input.displacement_offset}}
+                : nlohmann::json();
       }
       out["data_points"] = s.data_points;
+      out["reduced_chi2"] = NumberOrNull(s.reduced_chi2);
       out["sigma_c_Pa"] = EstimateJson(s.sigma_c);
       out["J_B_J_per_m2"] = EstimateJson(s.J_B);
       out["delta_c_m"] = EstimateJson(s.delta_c);
@@ -790,6 +861,12 @@ class FitCommand final : public Command {
                                  "from the R-curve fit, {:.2f} s); R rms {:.4g} J/m^2",
                                  load_data->size(), start_fit->wall_s, load_fit_R_rms);
       std::cout << "\n";
+      if (std::isfinite(modulus_factor))
+        std::cout << fmt::format(
+            "compliance: the scene's moduli x {:.4f} (model {:.4g} m/N at a0, record {:.4g} m/N), "
+            "displacement from the loading line's intercept {:.4g} mm\n",
+            modulus_factor, model_compliance, input.initial_compliance,
+            input.displacement_offset * 1e3);
       std::cout << s.BriefReport();
       if (!model_note.empty()) std::cout << "  " << model_note << "\n";
       if (!out_h5_.empty()) std::cout << "  written: " << out_h5_ << "\n";
@@ -803,6 +880,7 @@ class FitCommand final : public Command {
   double model_tolerance_ = 0.03;
   int starts_ = 4;
   bool no_profile_ = false;
+  bool calibrate_compliance_ = false;
   ReductionFlags reduction_;
   std::vector<CLI::Option*> reduction_options_;
   CLI::Option* r_kind_option_ = nullptr;

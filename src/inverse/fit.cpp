@@ -551,6 +551,9 @@ std::string FitSummary::BriefReport() const {
       law, model, optimizer, FitTargetName(target), evaluations, failed_evaluations, wall_s,
       converged ? "converged" : "NOT converged (" + stop_reason + ")", rms_residual,
       target == FitTarget::kLoad ? "N" : "J/m^2", verdict);
+  if (reduced_chi2 > 1.5 && std::isfinite(reduced_chi2))
+    out += fmt::format("  reduced chi^2 {:.3g}: the data scatter more than their uncertainties say; "
+                       "intervals widened by it\n", reduced_chi2);
   out += line("sigma_c", sigma_c, 1e6, "MPa");
   out += line("J_B", J_B, 1.0, "J/m^2");
   out += line("delta_c", delta_c, 1e-3, "mm");
@@ -675,7 +678,12 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
   s.rms_residual = std::sqrt(sum_sq / m);
   // Without reported uncertainties the noise scale comes from the residuals.
   const int dof = std::max(1, m - n_free);
-  const double scale2 = weighted ? 1.0 : std::max(best.chi2 / dof, 1e-300);
+  // With reported uncertainties a reduced chi^2 above 1 says they miss part
+  // of the scatter (model error, an effect the model lacks, as on a real
+  // record): the intervals and tests are widened by it (Birge ratio), never
+  // narrowed below what the uncertainties give.
+  s.reduced_chi2 = best.chi2 / dof;
+  const double scale2 = weighted ? std::max(1.0, s.reduced_chi2) : std::max(s.reduced_chi2, 1e-300);
 
   // 2. Covariance from the Jacobian: C = s^2 (J^T J)^-1.
   Eigen::MatrixXd jacobian;
@@ -885,7 +893,8 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
       s.sigma_c = {.decided_by = "likelihood-ratio test", .note = "no bridging detected"};
       s.delta_c = {.decided_by = "likelihood-ratio test", .note = "no bridging detected"};
       if (!options.fixed[kJTipC]) {
-        const double flat_scale2 = weighted ? 1.0 : flat_chi2 / std::max(1, m - 1);
+        const double flat_reduced = flat_chi2 / std::max(1, m - 1);
+        const double flat_scale2 = weighted ? std::max(1.0, flat_reduced) : flat_reduced;
         const double sd = sw > 0.0 ? std::sqrt(flat_scale2 / sw) : NAN;
         s.J_tip_c = {.value = flat[kJTipC], .ci95_low = flat[kJTipC] - 1.96 * sd,
                      .ci95_high = flat[kJTipC] + 1.96 * sd, .identified = std::isfinite(sd),

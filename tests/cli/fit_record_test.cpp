@@ -195,5 +195,52 @@ TEST(FitRecord, AsDataNeedsARecordInput) {
   EXPECT_NE(r.err.find("as-data"), std::string::npos) << r.err;
 }
 
+// --fit-to load-displacement --calibrate-compliance on a record 10% stiffer
+// than the scene (displacement x 0.9) with a 0.05 mm toe (seating): the
+// moduli are scaled by about 1/0.9 (the model's own compliance differs from
+// the record's by its discretisation, < 0.5% at 1 mm) and the displacement
+// counts from 0.05 mm. Without the flag nothing is calibrated. An R-curve
+// input cannot be fitted as a record.
+TEST(FitRecord, LoadDisplacementFitCalibratesTheCompliance) {
+  const WorkDir work;
+  const fs::path record = work.path / "stiff.csv", scene = kSample / "scene.toml";
+  {
+    std::ifstream in(kSample / "record_exact.csv");
+    std::ofstream out(record);
+    std::string line;
+    std::getline(in, line);
+    out << "time [s], load [N], displacement [mm], crack_length [mm]\n";
+    while (std::getline(in, line)) {
+      double t, P, d, a;
+      char c;
+      std::istringstream row(line);
+      row >> t >> c >> P >> c >> d >> c >> a;
+      out << t << ", " << P << ", " << 0.9 * d + 0.05 << ", " << a << "\n";
+    }
+  }
+  const std::string base = "fit " + Quote(record) + " --scene " + Quote(scene) + " " +
+                           NoiseOptions("rcurve-") +
+                           " --fit-to load-displacement --law linear --resolution 1mm "
+                           "--no-profile --json --quiet";
+  auto r = RunCli(base + " --calibrate-compliance");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["fit_to"], "load-displacement");
+  ASSERT_TRUE(j["compliance_calibration"].is_object());
+  EXPECT_NEAR(j["compliance_calibration"]["modulus_factor"].get<double>(), 1.0 / 0.9, 0.005 / 0.9);
+  EXPECT_NEAR(j["compliance_calibration"]["displacement_offset_m"].get<double>(), 5e-5, 2e-6);
+  EXPECT_TRUE(j["converged"].get<bool>()) << j["stop_reason"];
+  r = RunCli(base);
+  ASSERT_EQ(r.exit_code == 0 || r.exit_code == 1, true) << r.err;
+  EXPECT_TRUE(nlohmann::json::parse(r.out)["compliance_calibration"].is_null());
+
+  const fs::path rcurve_csv = work.path / "rc.csv";
+  { std::ofstream(rcurve_csv) << "crack_length [mm], R [J/m^2]\n30,2200\n40,2300\n50,2350\n60,2400\n"; }
+  r = RunCli("fit " + Quote(rcurve_csv) + " --scene " + Quote(scene) +
+             " --fit-to load-displacement --json --quiet");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("--fit-to"), std::string::npos) << r.err;
+}
+
 }  // namespace
 }  // namespace bridgefit

@@ -119,6 +119,32 @@ TEST(Fit, ConfidenceIntervalsCoverTheTruth) {
   for (int i = 0; i < 3; ++i) EXPECT_GE(covered[i], 17) << ParameterName(i);
 }
 
+// Uncertainties declared 3x too small (3% noise, weights for 1%): the reduced
+// chi^2 is about 9 and the intervals widen by its root, to those of a fit
+// told the truth (Birge ratio); with the right weights nothing changes.
+TEST(Fit, IntervalsWidenWhenTheDataScatterMoreThanDeclared) {
+  const laws::LawShape shape = laws::MakeLinearShape();
+  const LawParameters truth{1.0e6, 500.0, 2210.0};
+  const AnalyticForwardModel model(kModulus, kA0);
+  const FitData honest = MakeData(shape, truth, kA0 + 0.08, 40, 0.03, 7);  // weights 3%
+  FitData understated = honest;
+  for (double& u : understated.R_uncertainty) u /= 3.0;                     // weights 1%
+  FitOptions options = FastOptions();
+  options.starts = 2;
+  const FitSummary a = FitBridgingLaw(model, shape, honest, options);
+  const FitSummary b = FitBridgingLaw(model, shape, understated, options);
+  ASSERT_TRUE(a.converged && b.converged);
+  EXPECT_LT(a.reduced_chi2, 2.0);
+  EXPECT_NEAR(b.reduced_chi2, 9.0 * a.reduced_chi2, 1e-6 * b.reduced_chi2);
+  EXPECT_NEAR(b.sigma_c.value, a.sigma_c.value, 1e-3 * a.sigma_c.value);
+  // Same chi^2 surface up to the factor 9, so the same profile intervals
+  // when a's reduced chi^2 is at most 1 (else a is widened too, by its own).
+  const double widening = std::sqrt(std::max(1.0, a.reduced_chi2));
+  const double width_a = (a.sigma_c.ci95_high - a.sigma_c.ci95_low) / widening;
+  const double width_b = (b.sigma_c.ci95_high - b.sigma_c.ci95_low) / std::sqrt(b.reduced_chi2 / 9.0);
+  EXPECT_NEAR(width_b / width_a, 1.0, 0.1);
+}
+
 TEST(Fit, TruncatedCurveGivesLowerBounds) {
   const laws::LawShape shape = laws::MakeLinearShape();
   const LawParameters truth{0.45e6, 500.0, 2210.0};  // steady state only at Delta a = 179 mm

@@ -141,6 +141,9 @@ struct FitSummary {
   FitTarget target = FitTarget::kRCurve;
   double rms_residual = NAN;      // [J/m^2] (R-curve fit) or [N] (load-displacement fit)
   double chi2 = NAN;
+  // chi^2 / (points - free parameters) at the optimum; with reported
+  // uncertainties the intervals are widened by it when it exceeds 1.
+  double reduced_chi2 = NAN;
   int data_points = 0;
   bool bridging_detected = true;
   std::string verdict;            // one sentence for the report
