@@ -594,31 +594,15 @@ double StaticGrowth::ContourJ(const Vec& u, double x_tip, int k) const {
     const double uxx = ext[q + 4] / m, uyx = ext[q + 5] / m, wd = ext[q + 6] / m;
     return wd * nxn - (s11 * nxn + s12 * nyn) * uxx - (s12 * nxn + s22 * nyn) * uyx;
   };
-  double J = 0.0;
-  auto side = [&](int i_a, int j_a, int i_b, int j_b, double nxn, double nyn) {
-    const int n = std::max(std::abs(i_b - i_a), std::abs(j_b - j_a));
-    if (n == 0) return;
-    const int di = (i_b > i_a) - (i_b < i_a), dj = (j_b > j_a) - (j_b < j_a);
-    for (int s = 0; s <= n; ++s) {
-      const double wgt = (s == 0 || s == n) ? 0.5 * h_ : h_;
-      J += wgt * integrand(i_a + s * di, j_a + s * dj, nxn, nyn);
-    }
-  };
-  if (half_) {
-    side(iR, jB, iR, jT, 1.0, 0.0);   // right, up from the ligament
-    side(iR, jT, iL, jT, 0.0, 1.0);   // top
-    side(iL, jT, iL, jB, -1.0, 0.0);  // left, down to the crack face
-    return 2.0 * J;
+  detail::ContourBox box{.iL = iL, .iR = iR, .jB = jB, .jT = jT, .half = half_};
+  if (!half_) {
+    // The crack line is y = 0.
+    box.jb = jb_;
+    box.ja = ja_;
+    box.above = y0_ + ja_ * h_;
+    box.below = -(y0_ + jb_ * h_);
   }
-  side(iL, jB, iR, jB, 0.0, -1.0);  // bottom
-  side(iR, jB, iR, jT, 1.0, 0.0);   // right
-  side(iR, jT, iL, jT, 0.0, 1.0);   // top
-  side(iL, jT, iL, ja_, -1.0, 0.0);  // left, upper part
-  side(iL, jb_, iL, jB, -1.0, 0.0);  // left, lower part
-  // Left-side pieces between the face nodes and the crack faces (y = 0).
-  J += (y0_ + ja_ * h_) * integrand(iL, ja_, -1.0, 0.0);
-  J += -(y0_ + jb_ * h_) * integrand(iL, jb_, -1.0, 0.0);
-  return J;
+  return detail::ContourIntegral(box, h_, integrand);
 }
 
 GrowthResult StaticGrowth::Run(const laws::BridgingLaw* law, double J_tip_c) {

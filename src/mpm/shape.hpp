@@ -3,8 +3,10 @@
 // linear weights on the 3 x 3 node patch of a particle. Shared by the explicit
 // solver and the quasi-static growth model so both discretise alike.
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdlib>
 #include <vector>
 
 namespace bridgefit::mpm::detail {
@@ -88,6 +90,50 @@ double FaceWork(const std::vector<double>& x, const Opening& opening, const Trac
     face += 0.5 * (s_near + s_far) * (d_far - d_near);
   }
   return face;
+}
+
+// A rectangular J contour of grid nodes around the tip of a horizontal crack
+// (node indices; the nodes of column iL and rows jb/ja sit just below/above
+// the crack line). Full model: the box [iL, iR] x [jB, jT], its left side
+// split at the crack, closed by the pieces between the face nodes and the
+// crack line (`above` = y(ja) - y_crack, `below` = y_crack - y(jb)). Half
+// model (symmetry plane at row jB): right, top and left sides, doubled.
+struct ContourBox {
+  int iL = 0, iR = 0, jB = 0, jT = 0;
+  bool half = false;
+  int jb = 0, ja = 0;                 // full model: rows below / above the crack
+  double above = 0.0, below = 0.0;    // full model [m]
+};
+
+// J = sum over the box's sides of the nodal integrand (trapezoids, spacing
+// h) with the outward normal: integrand(i, j, n_x, n_y) at node (i, j).
+template <class Integrand>
+double ContourIntegral(const ContourBox& box, double h, const Integrand& integrand) {
+  double J = 0.0;
+  auto side = [&](int i_a, int j_a, int i_b, int j_b, double nxn, double nyn) {
+    const int n = std::max(std::abs(i_b - i_a), std::abs(j_b - j_a));
+    if (n == 0) return;
+    const int di = (i_b > i_a) - (i_b < i_a), dj = (j_b > j_a) - (j_b < j_a);
+    for (int s = 0; s <= n; ++s) {
+      const double weight = (s == 0 || s == n) ? 0.5 * h : h;
+      J += weight * integrand(i_a + s * di, j_a + s * dj, nxn, nyn);
+    }
+  };
+  const auto& [iL, iR, jB, jT, half, jb, ja, above, below] = box;
+  if (half) {
+    side(iR, jB, iR, jT, 1.0, 0.0);   // right, up from the ligament
+    side(iR, jT, iL, jT, 0.0, 1.0);   // top
+    side(iL, jT, iL, jB, -1.0, 0.0);  // left, down to the crack face
+    return 2.0 * J;
+  }
+  side(iL, jB, iR, jB, 0.0, -1.0);  // bottom
+  side(iR, jB, iR, jT, 1.0, 0.0);   // right
+  side(iR, jT, iL, jT, 0.0, 1.0);   // top
+  side(iL, jT, iL, ja, -1.0, 0.0);  // left, upper part
+  side(iL, jb, iL, jB, -1.0, 0.0);  // left, lower part
+  J += above * integrand(iL, ja, -1.0, 0.0);
+  J += below * integrand(iL, jb, -1.0, 0.0);
+  return J;
 }
 
 }  // namespace bridgefit::mpm::detail

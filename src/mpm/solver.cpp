@@ -911,25 +911,10 @@ struct Solver::Impl {
       const double kd = 0.5 * model.density * (v1 * v1 + v2 * v2);
       return (wd + kd) * nxn - (s11 * nxn + s12 * nyn) * uxx - (s12 * nxn + s22 * nyn) * uyx;
     };
-    double J = 0.0;
-    auto side = [&](int i_a, int j_a, int i_b, int j_b, double nxn, double nyn) {
-      const int n = std::max(std::abs(i_b - i_a), std::abs(j_b - j_a));
-      const int di = (i_b > i_a) - (i_b < i_a), dj = (j_b > j_a) - (j_b < j_a);
-      for (int s = 0; s <= n; ++s) {
-        const double wgt = (s == 0 || s == n) ? 0.5 * h : h;
-        if (n == 0) break;
-        J += wgt * integrand(i_a + s * di, j_a + s * dj, nxn, nyn);
-      }
-    };
-    side(iL, jB, iR, jB, 0.0, -1.0);  // bottom
-    side(iR, jB, iR, jT, 1.0, 0.0);   // right
-    side(iR, jT, iL, jT, 0.0, 1.0);   // top
-    side(iL, jT, iL, ja, -1.0, 0.0);  // left, upper part
-    side(iL, jb, iL, jB, -1.0, 0.0);  // left, lower part
-    // Left-side pieces between the face nodes and the crack faces.
-    const double ycrack = yt;
-    J += (y0 + ja * h - ycrack) * integrand(iL, ja, -1.0, 0.0);
-    J += (ycrack - (y0 + jb * h)) * integrand(iL, jb, -1.0, 0.0);
+    const detail::ContourBox box{.iL = iL, .iR = iR, .jB = jB, .jT = jT, .half = false,
+                                 .jb = jb, .ja = ja, .above = y0 + ja * h - yt,
+                                 .below = yt - (y0 + jb * h)};
+    const double J = detail::ContourIntegral(box, h, integrand);
     r.J = J;
     // Face term: sum sigma d(delta) from the tip back to the contour crossing.
     const double face = detail::FaceWork(
