@@ -203,7 +203,8 @@ FitInput ReadFitInput(const std::string& path, const Scene& scene, const Reducti
                 {.file = path,
                  .field = columns.crack_length,
                  .expected = "a column 'crack_length [mm]' (another header: --columns "
-                             "crack_length=HEADER), or an R curve as input"});
+                             "crack_length=HEADER), an R curve as input, or --rcurve-method "
+                             "equivalent (crack length from the compliance)"});
   }
   input.reduction = experiment::ComputeRCurve(*input.record, options);
   input.curve = input.reduction->curve;

@@ -415,9 +415,10 @@ FitData FitData::FromRCurve(const RCurve& curve, RKind kind) {
                  {.field = "coverage_factor"});
   for (double u : curve.R_uncertainty) data.R_uncertainty.push_back(u / curve.uncertainty_coverage);
   data.kind = kind;
-  if (kind == RKind::kAsData) {
+  {
     // An equivalent crack length from a noisy compliance is not monotone:
-    // order the points by it (the model's curve is compared the same way).
+    // order the points by it (an R curve is R(a); the model's curve is
+    // compared the same way).
     std::vector<std::size_t> order(data.R.size());
     for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
     std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {

@@ -243,5 +243,36 @@ TEST(FitRecord, LoadDisplacementFitCalibratesTheCompliance) {
   EXPECT_NE(r.err.find("--fit-to"), std::string::npos) << r.err;
 }
 
+// No crack-length readings at all: the R curve that starts the fit comes from
+// the compliance (equivalent crack), the load-displacement rows decide. The
+// sample's noisy record without its crack_length column: sigma_c within 5%,
+// J_B and delta_c lower bounds below the truth.
+TEST(FitRecord, LoadDisplacementFitNeedsNoCrackLength) {
+  const WorkDir work;
+  const fs::path record = work.path / "no_crack.csv";
+  {
+    std::ifstream in(kSample / "record.csv");
+    std::ofstream out(record);
+    std::string line;
+    while (std::getline(in, line)) {
+      const std::size_t second = line.find(',', line.find(',') + 1);
+      out << line.substr(0, line.find(',', second + 1)) << "\n";  // time, load, displacement
+    }
+  }
+  auto r = RunCli("fit " + Quote(record) + " --scene " + Quote(kSample / "scene.toml") +
+                  " --fit-to load-displacement --law linear --resolution 1mm --json --quiet");
+  EXPECT_EQ(r.exit_code, 1);  // the energy method needs crack lengths: said, with the way out
+  EXPECT_NE(r.err.find("--rcurve-method equivalent"), std::string::npos) << r.err;
+  r = RunCli("fit " + Quote(record) + " --scene " + Quote(kSample / "scene.toml") +
+             " --rcurve-method equivalent --fit-to load-displacement --law linear --resolution 1mm "
+             "--json --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_NEAR(j["sigma_c_Pa"]["value"].get<double>(), 0.45e6, 0.05 * 0.45e6);
+  EXPECT_FALSE(j["J_B_J_per_m2"]["identified"].get<bool>());
+  EXPECT_LT(j["J_B_J_per_m2"]["lower_bound"].get<double>(), 500.0);
+  EXPECT_LT(j["delta_c_m"]["lower_bound"].get<double>(), 2 * 500.0 / 0.45e6);
+}
+
 }  // namespace
 }  // namespace bridgefit
