@@ -118,16 +118,22 @@ TEST(FitRecord, ReportShowsTheRecordsLoadDisplacement) {
   EXPECT_TRUE(fs::exists(report / "crack_length.png"));
 }
 
+// A sample record's first three columns (time, load, displacement) written to `to`.
+void WithoutCrackLength(const fs::path& from, const fs::path& to) {
+  std::ifstream in(from);
+  std::ofstream out(to);
+  std::string line;
+  while (std::getline(in, line)) {
+    const std::size_t second = line.find(',', line.find(',') + 1);
+    out << line.substr(0, line.find(',', second + 1)) << "\n";
+  }
+}
+
 TEST(FitRecord, RecordWithoutCrackLengthFailsNamingFileAndColumn) {
   const WorkDir work;
   // The sample record without its crack_length column.
   const fs::path record = work.path / "no_crack.csv";
-  {
-    std::ifstream in(kSample / "record_exact.csv");
-    std::ofstream out(record);
-    std::string line;
-    while (std::getline(in, line)) out << line.substr(0, line.rfind(',')) << "\n";
-  }
+  WithoutCrackLength(kSample / "record_exact.csv", record);
   const fs::path fit_h5 = work.path / "fit.h5", report = work.path / "report";
   const auto r = RunCli("fit " + Quote(record) + " --scene " + Quote(kSample / "scene.toml") +
                         " --json --out " + Quote(fit_h5) + " --report " + Quote(report));
@@ -250,15 +256,7 @@ TEST(FitRecord, LoadDisplacementFitCalibratesTheCompliance) {
 TEST(FitRecord, LoadDisplacementFitNeedsNoCrackLength) {
   const WorkDir work;
   const fs::path record = work.path / "no_crack.csv";
-  {
-    std::ifstream in(kSample / "record.csv");
-    std::ofstream out(record);
-    std::string line;
-    while (std::getline(in, line)) {
-      const std::size_t second = line.find(',', line.find(',') + 1);
-      out << line.substr(0, line.find(',', second + 1)) << "\n";  // time, load, displacement
-    }
-  }
+  WithoutCrackLength(kSample / "record.csv", record);
   auto r = RunCli("fit " + Quote(record) + " --scene " + Quote(kSample / "scene.toml") +
                   " --fit-to load-displacement --law linear --resolution 1mm --json --quiet");
   EXPECT_EQ(r.exit_code, 1);  // the energy method needs crack lengths: said, with the way out
