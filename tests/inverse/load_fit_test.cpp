@@ -35,9 +35,9 @@ ExperimentRecord Record(const Scene& scene, double resolution, unsigned seed) {
   return record;
 }
 
-std::unique_ptr<SimulationForwardModel> FitModel(const Scene& scene) {
+std::unique_ptr<SimulationForwardModel> FitModel(const Scene& scene, double resolution = 1e-3) {
   models::ReducedOptions options;
-  options.mesh.resolution = 1e-3;
+  options.mesh.resolution = resolution;
   options.mesh.max_crack_length = 0.075;
   return MakeReducedForwardModel(scene, options);
 }
@@ -81,19 +81,23 @@ TEST(LoadFit, TruncatedMdfRecordGivesSigmaCAndLowerBounds) {
   EXPECT_GT(s.fitted_crack_length.back(), 0.069);
 }
 
+// At 1 and 2 mm elements (at 2 mm the fit finds a weak, long zone that adds
+// 0.5% to R by the end: below the models' R accuracy, so no bridging).
 TEST(LoadFit, FlatRecordHasNoBridging) {
   Scene truth = ReferenceCtScene();
   truth.fracture->J_tip_c = 1450.0;
   const ExperimentRecord record = Record(truth, 0.125e-3, 2);
-  const auto model = FitModel(truth);
-  FitOptions options;
-  options.starts = 2;
-  options.initial = {NAN, 0.05 * 1400.0, 1400.0};
-  const FitSummary s = FitBridgingLaw(*model, laws::MakeLinearShape(), LoadData(record), options);
-  std::cout << s.BriefReport();
-  EXPECT_TRUE(s.converged) << s.stop_reason;
-  EXPECT_FALSE(s.bridging_detected) << s.verdict;
-  EXPECT_NEAR(s.J_tip_c.value, 1450.0, 0.02 * 1450.0);
+  for (double resolution : {1e-3, 2e-3}) {
+    const auto model = FitModel(truth, resolution);
+    FitOptions options;
+    options.starts = 2;
+    options.initial = {NAN, 0.05 * 1400.0, 1400.0};
+    const FitSummary s = FitBridgingLaw(*model, laws::MakeLinearShape(), LoadData(record), options);
+    std::cout << s.BriefReport();
+    EXPECT_TRUE(s.converged) << s.stop_reason;
+    EXPECT_FALSE(s.bridging_detected) << resolution << ": " << s.verdict;
+    EXPECT_NEAR(s.J_tip_c.value, 1450.0, 0.02 * 1450.0);
+  }
 }
 
 TEST(LoadFit, ModelWithoutARecordIsAReportedFailure) {

@@ -46,11 +46,13 @@ struct FitOptions {
   // (at most a fifth of the data), listed in the summary, and the fit is
   // repeated without them. 0 disables the check.
   double outlier_threshold = 5.0;
-  // A fitted J_B below this fraction of J_tip,c is reported as no bridging
-  // even when statistically significant: it is below the forward models' R
-  // accuracy (reduced model: flat R within 0.5% without bridging, MPM within
-  // 0.4%; docs/REDUCED.md, docs/MPM.md), so a fit to a long record can find
-  // it in the model's own discretisation error (docs/FIT.md).
+  // Bridging that adds less than this fraction of J_tip,c to R (the smaller
+  // of the fitted J_B and the fitted R's rise inside the data window) is
+  // reported as no bridging even when statistically significant: it is
+  // below the forward models' R accuracy (reduced model: flat R within 0.5%
+  // without bridging, MPM within 0.4%; docs/REDUCED.md, docs/MPM.md), so a
+  // fit to a long record can find it in the model's own discretisation
+  // error (docs/FIT.md).
   double min_bridging_fraction = 0.01;
   unsigned seed = 12345;          // Latin-hypercube design
   int threads = 0;                // profiles side by side (0: two OpenMP threads, 1: serial)
