@@ -534,8 +534,6 @@ class FitCommand final : public Command {
                                              probe.message, {.file = scene_});
       model_compliance = d_probe / probe.load[0];
       modulus_factor = model_compliance / input.initial_compliance;
-      model.reset();
-      mpm_model.reset();
       build_models(ScaledModuli(scene, modulus_factor));
     }
     inverse::ModelCheckOptions check;
@@ -554,12 +552,13 @@ class FitCommand final : public Command {
     const laws::LawShape* used_shape = &shape;
     // A load-displacement fit starts where the R-curve fit (of the one law,
     // or the linear one when comparing) ends: quick, without profiles.
+    const laws::LawShape& start_shape = compare ? families[0] : shape;
     std::optional<FitSummary> start_fit;
     if (load_data) {
       inverse::FitOptions first = options;
       first.profile_likelihood = false;
       first.progress = false;
-      start_fit = inverse::FitBridgingLaw(*model, compare ? families[0] : shape, data, first);
+      start_fit = inverse::FitBridgingLaw(*model, start_shape, data, first);
       if (start_fit->bridging_detected) {
         for (int i = 0; i < inverse::kParameterCount; ++i)
           if (std::isfinite(start_fit->best_parameters[i]))
@@ -583,11 +582,10 @@ class FitCommand final : public Command {
       quick.profile_likelihood = false;
       quick.starts = 1;
       quick.progress = false;
-      const laws::LawShape& fit_shape = compare ? families[0] : shape;
       auto chi2_at = [&](double factor) {
         build_models(ScaledModuli(scene, factor));
         ++factor_fits;
-        const FitSummary q = inverse::FitBridgingLaw(*model, fit_shape, *load_data, quick);
+        const FitSummary q = inverse::FitBridgingLaw(*model, start_shape, *load_data, quick);
         refinement_s += q.wall_s;
         refinement_evaluations += q.evaluations;
         return q.converged ? q.chi2 : INFINITY;
@@ -711,14 +709,7 @@ class FitCommand final : public Command {
         }
         const std::string ld = g + "/load_displacement";
         file.WriteVector(ld + "/displacement", s.fitted_displacement, "m", "record rows used");
-        std::vector<double> used_load;
-        for (double d : s.fitted_displacement)
-          for (std::size_t i = 0; i < load_data->displacement.size(); ++i)
-            if (load_data->displacement[i] == d) {
-              used_load.push_back(load_data->load[i]);
-              break;
-            }
-        file.WriteVector(ld + "/load", used_load, "N", "record load");
+        file.WriteVector(ld + "/load", s.fitted_record_load, "N", "record load");
         file.WriteVector(ld + "/fitted_load", s.fitted_load, "N", "model load");
         file.WriteVector(ld + "/fitted_crack_length", s.fitted_crack_length, "m",
                          "model crack length at each row");

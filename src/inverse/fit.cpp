@@ -299,6 +299,18 @@ bool PhysicalJacobian(const Objective& objective, const std::vector<double>& ful
   return true;
 }
 
+// Sets full[index] to the best of 9 evenly spaced box points (chi^2 with the
+// other parameters as they are in `full`).
+void ScanBox(const Objective& objective, int index, std::vector<double>& full) {
+  double best_chi2 = kFailedCost, best_value = full[index];
+  for (int i = 0; i <= 8; ++i) {
+    full[index] = FromBox(index, (i + 0.5) / 9.0, objective.options());
+    const double chi2 = objective.Chi2(full);
+    if (chi2 < best_chi2) best_chi2 = chi2, best_value = full[index];
+  }
+  full[index] = best_value;
+}
+
 // A first start read off the data: J_tip,c from the first points, J_B from
 // the rise, and sigma_c from a coarse scan of the box (a few evaluations).
 std::vector<double> DataInformedStart(const Objective& objective) {
@@ -313,23 +325,12 @@ std::vector<double> DataInformedStart(const Objective& objective) {
     } else if (!o.fixed[kJTipC]) {
       std::vector<double> flat = full;
       flat[kJB] = 0.0;
-      double best_chi2 = kFailedCost, best_value = full[kJTipC];
-      for (int i = 0; i <= 8; ++i) {
-        flat[kJTipC] = FromBox(kJTipC, (i + 0.5) / 9.0, o);
-        const double chi2 = objective.Chi2(flat);
-        if (chi2 < best_chi2) best_chi2 = chi2, best_value = flat[kJTipC];
-      }
-      full[kJTipC] = best_value;
+      ScanBox(objective, kJTipC, flat);
+      full[kJTipC] = flat[kJTipC];
     }
     if (!o.fixed[kJB])
       full[kJB] = std::clamp(std::isfinite(o.initial[kJB]) ? o.initial[kJB] : 0.2 * full[kJTipC],
                              o.lower[kJB], o.upper[kJB]);
-    if (!o.fixed[kSigmaC] && std::isfinite(o.initial[kSigmaC])) {
-      full[kSigmaC] = std::clamp(o.initial[kSigmaC], o.lower[kSigmaC], o.upper[kSigmaC]);
-      std::vector<double> x;
-      for (int index : objective.free()) x.push_back(ToBox(index, full[index], o));
-      return x;
-    }
   } else {
     const size_t head = std::min<size_t>(3, data.R.size());
     const double J_tip = *std::min_element(data.R.begin(), data.R.begin() + head);
@@ -337,15 +338,11 @@ std::vector<double> DataInformedStart(const Objective& objective) {
     if (!o.fixed[kJTipC]) full[kJTipC] = std::clamp(J_tip, o.lower[kJTipC], o.upper[kJTipC]);
     if (!o.fixed[kJB]) full[kJB] = std::clamp(std::max(rise, 0.05 * J_tip), o.lower[kJB], o.upper[kJB]);
   }
-  if (!o.fixed[kSigmaC]) {
-    double best_chi2 = kFailedCost, best_value = full[kSigmaC];
-    for (int i = 0; i <= 8; ++i) {
-      full[kSigmaC] = FromBox(kSigmaC, (i + 0.5) / 9.0, o);
-      const double chi2 = objective.Chi2(full);
-      if (chi2 < best_chi2) best_chi2 = chi2, best_value = full[kSigmaC];
-    }
-    full[kSigmaC] = best_value;
-  }
+  const bool sigma_c_given = data.target == FitTarget::kLoad && std::isfinite(o.initial[kSigmaC]);
+  if (!o.fixed[kSigmaC] && sigma_c_given)
+    full[kSigmaC] = std::clamp(o.initial[kSigmaC], o.lower[kSigmaC], o.upper[kSigmaC]);
+  else if (!o.fixed[kSigmaC])
+    ScanBox(objective, kSigmaC, full);
   std::vector<double> x;
   for (int index : objective.free()) x.push_back(ToBox(index, full[index], o));
   return x;
@@ -670,6 +667,7 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
   s.fitted_delta_root = prediction.delta_root;
   if (load_fit) {
     s.fitted_displacement = data.displacement;
+    s.fitted_record_load = data.load;
     s.fitted_load = prediction.load;
   }
   const std::vector<double>& values = load_fit ? data.load : data.R;

@@ -72,6 +72,19 @@ ForwardPrediction AnalyticForwardModel::Predict(const laws::LawShape& shape,
 SimulationForwardModel::SimulationForwardModel(std::string name, Simulator simulate)
     : name_(std::move(name)), simulate_(std::move(simulate)) {}
 
+namespace {
+// The simulation's steady state, counted as reached only when it lies within
+// the crack lengths `axis` the prediction covers.
+void SetSteadyStateWithin(const SimulationResult& result, const std::vector<double>& axis,
+                          ForwardPrediction& out) {
+  out.steady_state_crack_length = result.steady_state_crack_length;
+  out.steady_state_reached =
+      result.steady_state_reached &&
+      (axis.empty() ||
+       result.steady_state_crack_length <= *std::max_element(axis.begin(), axis.end()));
+}
+}  // namespace
+
 ForwardPrediction ForwardModel::PredictLoad(const laws::LawShape&, const LawParameters&,
                                             const std::vector<double>&) const {
   ForwardPrediction out;
@@ -174,12 +187,7 @@ ForwardPrediction SimulationForwardModel::PredictLoad(const laws::LawShape& shap
     out.R_physical.push_back(mix(lo.R, hi.R));
     out.delta_root.push_back(mix(lo.delta_root, hi.delta_root));
   }
-  out.steady_state_reached = result.steady_state_reached;
-  out.steady_state_crack_length = result.steady_state_crack_length;
-  if (out.steady_state_reached && !out.crack_length_physical.empty())
-    out.steady_state_reached =
-        result.steady_state_crack_length <= *std::max_element(out.crack_length_physical.begin(),
-                                                              out.crack_length_physical.end());
+  SetSteadyStateWithin(result, out.crack_length_physical, out);
   return out;
 }
 
@@ -270,13 +278,8 @@ ForwardPrediction SimulationForwardModel::Predict(const laws::LawShape& shape,
       out.R_physical.push_back(r_phys[lo] + t * (r_phys[hi] - r_phys[lo]));
     }
   }
-  out.steady_state_reached = result.steady_state_reached;
-  out.steady_state_crack_length = result.steady_state_crack_length;
-  const std::vector<double>& axis =
-      out.crack_length_physical.empty() ? crack_lengths : out.crack_length_physical;
-  if (out.steady_state_reached && !axis.empty())
-    out.steady_state_reached =
-        result.steady_state_crack_length <= *std::max_element(axis.begin(), axis.end());
+  SetSteadyStateWithin(
+      result, out.crack_length_physical.empty() ? crack_lengths : out.crack_length_physical, out);
   return out;
 }
 

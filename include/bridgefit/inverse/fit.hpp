@@ -163,8 +163,10 @@ struct FitSummary {
   std::vector<double> fitted_crack_length;
   std::vector<double> fitted_R;
   std::vector<double> fitted_delta_root;
-  // Load-displacement fit: the rows used [m] and the model's load there [N].
+  // Load-displacement fit: the rows used [m], their measured load and the
+  // model's load there [N].
   std::vector<double> fitted_displacement;
+  std::vector<double> fitted_record_load;
   std::vector<double> fitted_load;
   // The full parameter vector (sigma_c, J_B, J_tip_c) at the chi^2 minimum
   // [SI], also when only bounds are reported (NaN when the fit failed).
