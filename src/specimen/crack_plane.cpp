@@ -177,7 +177,13 @@ CrackPlaneModel Build(const Domain& d, const MaterialSpec& material, PlaneCondit
   int elements = 0;
   for (int iy = 0; iy < ny; ++iy)
     for (int ix = 0; ix < nx; ++ix) {
-      if (d.hole) {
+      // Elements clear of the circle (nearest point farther than r) are solid.
+      auto meets_hole = [&] {
+        const double gap_x = std::max({xs[ix] - d.hole_xc, 0.0, d.hole_xc - xs[ix + 1]});
+        const double gap_y = std::max({ys[iy] - d.hole_yc, 0.0, d.hole_yc - ys[iy + 1]});
+        return std::hypot(gap_x, gap_y) < d.hole_r;
+      };
+      if (d.hole && meets_hole()) {
         constexpr int kSamples = 8;
         int outside = 0;
         for (int sy = 0; sy < kSamples; ++sy)
