@@ -9,6 +9,7 @@
 #include <cmath>
 #include <iostream>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <sstream>
 #include <unistd.h>
@@ -17,6 +18,7 @@
 
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/experiment/rcurve.hpp"
+#include "bridgefit/inverse/compliance.hpp"
 #include "bridgefit/inverse/fit.hpp"
 #include "bridgefit/inverse/model_check.hpp"
 #include "bridgefit/inverse/reduced_forward.hpp"
@@ -287,6 +289,98 @@ Scene ScaledModuli(const Scene& scene, double factor) {
   return scaled;
 }
 
+// --calibrate-compliance=crack: the modulus factor f and the series
+// compliance C_s that make the fitted model's compliance follow the record's
+// at its measured crack lengths, alternated with the law's fit (the record's
+// compliance at a crack is that of the bridged crack, so the law enters):
+// quick load fit at (f, C_s) -> the model's specimen compliance
+// (d - C_s P) / P against its crack length along the fitted path -> a scale
+// s and C_s from the record's rows (FitComplianceAlongCrack) -> f / s, until
+// s is within 0.1% of 1 and C_s moves by less than 0.1% of the record's
+// initial compliance (at most 8 rounds).
+struct AlongCrackCalibration {
+  double modulus_factor = NAN, series_compliance = 0.0;
+  inverse::ComplianceFit fit;
+  int iterations = 0, fits = 0, evaluations = 0;
+  double wall_s = 0.0;
+  std::string note;
+};
+
+AlongCrackCalibration CalibrateAlongCrack(
+    const ExperimentRecord& record, const Scene& scene, const laws::LawShape& shape,
+    const inverse::FitData& load_data, inverse::FitOptions options, double modulus_factor,
+    double initial_compliance,
+    const std::function<const inverse::ForwardModel*(double factor, double series)>& rebuild) {
+  // The record's rows on its loading path (up to the largest displacement)
+  // with a crack measured beyond the notch and a load above a fifth of the peak.
+  std::vector<double> d, a, C;
+  const std::size_t last =
+      std::max_element(record.displacement.begin(), record.displacement.end()) -
+      record.displacement.begin();
+  const double peak = *std::max_element(record.load.begin(), record.load.end());
+  for (std::size_t i = 0; i <= last; ++i)
+    if (std::isfinite(record.crack_length[i]) && record.crack_length[i] > scene.specimen.notch &&
+        record.load[i] >= 0.2 * peak && record.displacement[i] > 0.0) {
+      d.push_back(record.displacement[i]);
+      a.push_back(record.crack_length[i]);
+      C.push_back(record.displacement[i] / record.load[i]);
+    }
+  options.profile_likelihood = false;
+  options.starts = 1;
+  options.progress = false;
+  AlongCrackCalibration out;
+  out.modulus_factor = modulus_factor;
+  constexpr int kMaxRounds = 8;
+  for (int round = 0; round < kMaxRounds; ++round) {
+    const inverse::ForwardModel* model = rebuild(out.modulus_factor, out.series_compliance);
+    const FitSummary q = inverse::FitBridgingLaw(*model, shape, load_data, options);
+    ++out.fits;
+    out.evaluations += q.evaluations;
+    out.wall_s += q.wall_s;
+    const inverse::LawParameters at{
+        .sigma_c = q.best_parameters[inverse::kSigmaC],
+        .J_B = q.bridging_detected ? q.best_parameters[inverse::kJB] : 0.0,
+        .J_tip_c = q.bridging_detected ? q.best_parameters[inverse::kJTipC] : q.J_tip_c.value};
+    if (!q.converged || !std::isfinite(at.J_tip_c))
+      throw Error(ErrorKind::kRuntime,
+                  "calibrating the compliance along the crack: the law's fit did not converge (" +
+                      q.stop_reason + ")",
+                  {.file = record.source, .field = "--calibrate-compliance", .value = "crack"});
+    for (int i = 0; i < inverse::kParameterCount; ++i)
+      if (std::isfinite(q.best_parameters[i])) options.initial[i] = q.best_parameters[i];
+    if (!q.bridging_detected) options.initial[inverse::kJTipC] = q.J_tip_c.value;
+    // The fitted model's specimen compliance along its own crack.
+    const inverse::ForwardPrediction p = model->PredictLoad(shape, at, d);
+    if (!p.ok())
+      throw Error(ErrorKind::kRuntime,
+                  "calibrating the compliance along the crack: the fitted model failed: " +
+                      p.message, {.file = record.source, .field = "--calibrate-compliance"});
+    std::vector<std::pair<double, double>> curve;
+    for (std::size_t j = 0; j < d.size(); ++j)
+      if (p.load[j] > 0.0 && p.crack_length_physical[j] > scene.specimen.notch)
+        curve.emplace_back(p.crack_length_physical[j],
+                           (d[j] - out.series_compliance * p.load[j]) / p.load[j]);
+    std::sort(curve.begin(), curve.end());
+    inverse::ComplianceCurve model_curve;
+    for (const auto& [crack, compliance] : curve)
+      if (model_curve.crack_length.empty() || crack > model_curve.crack_length.back()) {
+        model_curve.crack_length.push_back(crack);
+        model_curve.compliance.push_back(compliance);
+      }
+    out.fit = inverse::FitComplianceAlongCrack(model_curve, a, C, {}, record.source);
+    const double old_series = out.series_compliance;
+    out.modulus_factor /= out.fit.scale;
+    out.series_compliance = out.fit.series_compliance;
+    out.iterations = round + 1;
+    if (std::abs(std::log(out.fit.scale)) < 1e-3 &&
+        std::abs(out.series_compliance - old_series) < 1e-3 * initial_compliance)
+      return out;
+  }
+  out.note = fmt::format("compliance along the crack: not settled after {} rounds (last scale {:.4f})",
+                         kMaxRounds, out.fit.scale);
+  return out;
+}
+
 class FitCommand final : public Command {
  public:
   const char* name() const override { return "fit"; }
@@ -352,10 +446,14 @@ class FitCommand final : public Command {
                    "load-displacement (a record's load at each displacement; started from the "
                    "R-curve fit; docs/FIT.md)")
         ->default_val("r-curve");
-    sub.add_flag("--calibrate-compliance", calibrate_compliance_,
-                 "--fit-to load-displacement: scale the scene's moduli to the record's compliance "
-                 "(initial slope, refined on the whole record; for real records whose E or "
-                 "machine compliance is not known; docs/FIT.md)");
+    sub.add_flag("--calibrate-compliance{initial}", calibrate_compliance_,
+                 "--fit-to load-displacement: calibrate the model's compliance to the record's, "
+                 "for real records whose E or machine compliance is not known (docs/FIT.md). "
+                 "'initial' (the flag alone): the scene's moduli scaled to the initial slope, "
+                 "refined on the whole record; '=crack': a modulus scale and a series compliance "
+                 "fitted to the record's compliance at its measured crack lengths, alternated "
+                 "with the law's fit")
+        ->check(CLI::IsMember({"initial", "crack"}));
     sub.add_option("--resolution", resolution_, "Reduced model element size, e.g. '0.5 mm'");
     sub.add_flag("--no-profile", no_profile_, "Skip the profile likelihood (faster)");
     sub.add_option("--out", out_h5_, "Write the fit to this HDF5 file");
@@ -388,7 +486,21 @@ class FitCommand final : public Command {
     // --fit-to load-displacement: the record's rows, weighted by its noise
     // (given, or estimated by the reduction).
     const inverse::FitTarget target = inverse::ParseFitTarget(fit_to_);
-    const bool calibrate = target == inverse::FitTarget::kLoad && calibrate_compliance_;
+    const bool calibrate = target == inverse::FitTarget::kLoad && !calibrate_compliance_.empty();
+    const bool calibrate_along_crack = calibrate && calibrate_compliance_ == "crack";
+    if (!calibrate_compliance_.empty() && target != inverse::FitTarget::kLoad)
+      throw Error(ErrorKind::kUsage, "compliance calibration is for a load-displacement fit",
+                  {.field = "--calibrate-compliance", .value = calibrate_compliance_,
+                   .expected = "together with --fit-to load-displacement"});
+    if (calibrate_along_crack && !(input.record && input.record->has_crack_length()))
+      throw Error(ErrorKind::kUsage, "calibrating the compliance along the crack needs measured "
+                  "crack lengths in the record",
+                  {.file = input_, .field = "--calibrate-compliance", .value = calibrate_compliance_,
+                   .expected = "a record with a crack_length column (or use the flag alone: "
+                               "the initial slope)"});
+    if (calibrate_along_crack && model_ != "reduced")
+      throw Error(ErrorKind::kUsage, "calibrating the compliance along the crack runs the reduced model",
+                  {.field = "--model", .value = model_, .expected = "reduced"});
     std::optional<inverse::FitData> load_data;
     if (target == inverse::FitTarget::kLoad) {
       if (!input.record)
@@ -467,8 +579,10 @@ class FitCommand final : public Command {
             ? 1.0 - scene.material.nu * scene.material.nu
             : 1.0;
     const double effective_modulus = scene.material.AxialModulus() / plane_factor;
+    // A compliance in series with the specimen (--calibrate-compliance=crack).
+    double series_compliance = 0.0;
     // Builds the forward models on `model_scene` (the scene, or with its
-    // moduli scaled to the record's initial compliance).
+    // moduli scaled to the record's compliance), with `series_compliance`.
     auto build_models = [&](const Scene& model_scene) {
       if (model_ == "analytic") {
         model = std::make_unique<inverse::AnalyticForwardModel>(effective_modulus,
@@ -492,6 +606,7 @@ class FitCommand final : public Command {
         if (model_ != "mpm") {
           auto simulation = inverse::MakeReducedForwardModel(model_scene, reduced);
           if (kind == inverse::RKind::kAsData) simulation->SetReducer(ModelRecordReducer(input));
+          simulation->SetSeriesCompliance(series_compliance);
           model = std::move(simulation);
         }
         if (model_ == "mpm" || model_ == "auto") {
@@ -506,6 +621,7 @@ class FitCommand final : public Command {
                 return mpm::SimulateGrowth(model_scene, law, J_tip_c, growth).result;
               });
           if (kind == inverse::RKind::kAsData) accurate->SetReducer(ModelRecordReducer(input));
+          accurate->SetSeriesCompliance(series_compliance);
           if (model_ == "mpm") model = std::move(accurate);
           else mpm_model = std::move(accurate);
           mpm_cell_m = growth.cell;
@@ -576,7 +692,27 @@ class FitCommand final : public Command {
     // initial-slope value, then the fit below runs at that factor.
     double initial_slope_factor = NAN, refinement_s = 0.0;
     int factor_fits = 0, refinement_evaluations = 0;
-    if (std::isfinite(modulus_factor) && model_ == "reduced") {
+    std::optional<inverse::ComplianceFit> crack_compliance;
+    int crack_compliance_iterations = 0;
+    if (calibrate_along_crack && std::isfinite(modulus_factor)) {
+      initial_slope_factor = modulus_factor;
+      AlongCrackCalibration c = CalibrateAlongCrack(
+          *input.record, scene, start_shape, *load_data, options, modulus_factor,
+          input.initial_compliance, [&](double factor, double series) {
+            series_compliance = series;
+            build_models(ScaledModuli(scene, factor));
+            return model.get();
+          });
+      modulus_factor = c.modulus_factor;
+      series_compliance = c.series_compliance;
+      crack_compliance = c.fit;
+      crack_compliance_iterations = c.iterations;
+      factor_fits = c.fits;
+      refinement_s = c.wall_s;
+      refinement_evaluations = c.evaluations;
+      if (!c.note.empty()) model_note = c.note;
+      build_models(ScaledModuli(scene, modulus_factor));
+    } else if (std::isfinite(modulus_factor) && model_ == "reduced") {
       initial_slope_factor = modulus_factor;
       inverse::FitOptions quick = options;
       quick.profile_likelihood = false;
@@ -695,6 +831,13 @@ class FitCommand final : public Command {
         file.WriteAttribute(g, "modulus_factor_initial_slope", initial_slope_factor);
         file.WriteAttribute(g, "model_initial_compliance_m_per_N", model_compliance);
         file.WriteAttribute(g, "record_initial_compliance_m_per_N", input.initial_compliance);
+        file.WriteAttribute(g, "compliance_calibration", calibrate_compliance_);
+        file.WriteAttribute(g, "series_compliance_m_per_N", series_compliance);
+        if (crack_compliance) {
+          file.WriteAttribute(g, "compliance_rms_relative", crack_compliance->rms_relative);
+          file.WriteAttribute(g, "compliance_rows", crack_compliance->rows);
+          file.WriteAttribute(g, "compliance_rounds", crack_compliance_iterations);
+        }
       }
       file.WriteVector(g + "/crack_length", data.crack_length, "m", "data crack length");
       file.WriteVector(g + "/R", data.R, "J/m^2", "data R");
@@ -844,7 +987,17 @@ class FitCommand final : public Command {
             input.reduction ? input.reduction->load_noise : NAN);
         out["compliance_calibration"] =
             std::isfinite(modulus_factor)
-                ? nlohmann::json{{"modulus_factor", modulus_factor},
+                ? nlohmann::json{{"mode", calibrate_compliance_},
+                                 {"modulus_factor", modulus_factor},
+                                 {"series_compliance_m_per_N", series_compliance},
+                                 {"along_crack",
+                                  crack_compliance
+                                      ? nlohmann::json{{"rms_relative", crack_compliance->rms_relative},
+                                                       {"rows", crack_compliance->rows},
+                                                       {"crack_min_m", crack_compliance->crack_min},
+                                                       {"crack_max_m", crack_compliance->crack_max},
+                                                       {"rounds", crack_compliance_iterations}}
+                                      : nlohmann::json()},
                                  {"modulus_factor_initial_slope", NumberOrNull(initial_slope_factor)},
                                  {"refinement_fits", factor_fits},
                                  {"refinement_wall_s", refinement_s},
@@ -894,7 +1047,13 @@ class FitCommand final : public Command {
                                  "from the R-curve fit, {:.2f} s); R rms {:.4g} J/m^2",
                                  load_data->size(), start_fit->wall_s, load_fit_R_rms);
       std::cout << "\n";
-      if (std::isfinite(modulus_factor))
+      if (crack_compliance)
+        std::cout << fmt::format(
+            "compliance: the scene's moduli x {:.4f} and {:.4g} mm/N in series (initial slope: x "
+            "{:.4f}); {} rounds of {} fits; {}\n",
+            modulus_factor, 1e3 * series_compliance, initial_slope_factor,
+            crack_compliance_iterations, factor_fits, crack_compliance->Summary());
+      else if (std::isfinite(modulus_factor))
         std::cout << fmt::format(
             "compliance: the scene's moduli x {:.4f} (initial slope: x {:.4f}, model {:.4g} m/N "
             "at a0, record {:.4g} m/N; refined on the record in {} fits)\n",
@@ -913,7 +1072,7 @@ class FitCommand final : public Command {
   double model_tolerance_ = 0.03;
   int starts_ = 4;
   bool no_profile_ = false;
-  bool calibrate_compliance_ = false;
+  std::string calibrate_compliance_;  // "", "initial" or "crack"
   ReductionFlags reduction_;
   std::vector<CLI::Option*> reduction_options_;
   CLI::Option* r_kind_option_ = nullptr;

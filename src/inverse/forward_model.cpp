@@ -128,16 +128,20 @@ ForwardPrediction SimulationForwardModel::PredictLoad(const laws::LawShape& shap
     return out;
   }
   // The model's loading path: the origin, then one point per crack length
-  // (the first one at initiation, reached along the linear branch).
-  std::vector<const SimulationPoint*> path;
+  // (the first one at initiation, reached along the linear branch), with
+  // the series compliance's displacement added.
+  std::vector<SimulationPoint> path;
   for (const SimulationPoint& point : result.points)
-    if (std::isfinite(point.load) && std::isfinite(point.displacement)) path.push_back(&point);
-  if (path.empty() || !(path.front()->displacement > 0.0)) {
+    if (std::isfinite(point.load) && std::isfinite(point.displacement)) {
+      path.push_back(point);
+      path.back().displacement += series_compliance_ * point.load;
+    }
+  if (path.empty() || !(path.front().displacement > 0.0)) {
     out.status = RunStatus::kFailed;
     out.message = "the simulation's load-displacement record is empty";
     return out;
   }
-  const SimulationPoint& first = *path.front();
+  const SimulationPoint& first = path.front();
   // A law that reaches steady state within a few crack-length steps of the
   // model is not resolved by it: the rise of R then sits in the model's
   // discretisation of the load peak, where a fit to the record can read the
@@ -145,7 +149,7 @@ ForwardPrediction SimulationForwardModel::PredictLoad(const laws::LawShape& shap
   // (docs/FIT.md). Such laws are infeasible for a load-displacement fit.
   constexpr int kMinStepsToSteadyState = 5;
   if (result.steady_state_reached && path.size() >= 2) {
-    const double step = path[1]->crack_length - first.crack_length;
+    const double step = path[1].crack_length - first.crack_length;
     const double growth = result.steady_state_crack_length - first.crack_length;
     if (step > 0.0 && growth < kMinStepsToSteadyState * step) {
       out.status = RunStatus::kInvalidInput;
@@ -168,18 +172,18 @@ ForwardPrediction SimulationForwardModel::PredictLoad(const laws::LawShape& shap
     // The first segment of the growth path that reaches d (a path whose
     // displacement turns back - snap-back - is followed to its first crossing).
     std::size_t k = 1;
-    while (k < path.size() && path[k]->displacement < d) ++k;
+    while (k < path.size() && path[k].displacement < d) ++k;
     if (k == path.size()) {
       out.status = RunStatus::kFailed;
       out.message = fmt::format(
           "the model's record ends at a load-point displacement of {:.4g} mm (a = {:.4g} mm), "
           "before the data's {:.4g} mm",
-          path.back()->displacement * 1e3, path.back()->crack_length * 1e3, d * 1e3);
+          path.back().displacement * 1e3, path.back().crack_length * 1e3, d * 1e3);
       out.load.clear();
       return out;
     }
-    const SimulationPoint& lo = *path[k - 1];
-    const SimulationPoint& hi = *path[k];
+    const SimulationPoint& lo = path[k - 1];
+    const SimulationPoint& hi = path[k];
     const double t = (d - lo.displacement) / (hi.displacement - lo.displacement);
     auto mix = [t](double a, double b) { return a + t * (b - a); };
     out.load.push_back(mix(lo.load, hi.load));

@@ -112,6 +112,12 @@ class SimulationForwardModel final : public ForwardModel {
   };
   using Reducer = std::function<Reduced(const SimulationResult& result)>;
   void SetReducer(Reducer reduce) { reduce_ = std::move(reduce); }
+  // A compliance C_s [m/N] in series with the specimen at the load point (a
+  // test machine's load train, hinges, the specimen's root): PredictLoad's
+  // path is the model's (displacement + C_s P, P). 0 by default; Predict
+  // (R against crack length) does not depend on it.
+  void SetSeriesCompliance(double compliance) { series_compliance_ = compliance; }
+  double series_compliance() const { return series_compliance_; }
   std::string Name() const override { return name_; }
   ForwardPrediction Predict(const laws::LawShape& shape, const LawParameters& p,
                             const std::vector<double>& crack_lengths, RKind kind) const override;
@@ -124,6 +130,7 @@ class SimulationForwardModel final : public ForwardModel {
   std::string name_;
   Simulator simulate_;
   Reducer reduce_;
+  double series_compliance_ = 0.0;
 };
 
 }  // namespace bridgefit::inverse
