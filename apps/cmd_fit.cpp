@@ -296,9 +296,9 @@ Scene ScaledModuli(const Scene& scene, double factor) {
 // compliance at a crack is that of the bridged crack, so the law enters):
 // quick load fit at (f, C_s) -> the model's specimen compliance
 // (d - C_s P) / P against its crack length along the fitted path -> a scale
-// s and C_s from the record's rows (FitComplianceAlongCrack) -> f / s, until
-// s is within 0.1% of 1 and C_s moves by less than 0.1% of the record's
-// initial compliance (at most 8 rounds).
+// s and C_s from the record's rows (FitComplianceAlongCrack) -> f / s and the
+// new C_s (accelerated, below), until ln f and C_s / C_ref move by less than
+// 1e-3 (C_ref: the median compliance of the rows used; at most 12 rounds).
 struct AlongCrackCalibration {
   double modulus_factor = NAN, series_compliance = 0.0;
   inverse::ComplianceFit fit;
@@ -310,7 +310,6 @@ struct AlongCrackCalibration {
 AlongCrackCalibration CalibrateAlongCrack(
     const ExperimentRecord& record, const Scene& scene, const laws::LawShape& shape,
     const inverse::FitData& load_data, inverse::FitOptions options, double modulus_factor,
-    double initial_compliance,
     const std::function<const inverse::ForwardModel*(double factor, double series)>& rebuild) {
   // The record's rows on its loading path (up to the largest displacement)
   // with a crack measured beyond the notch and a load above a fifth of the peak.
@@ -326,6 +325,13 @@ AlongCrackCalibration CalibrateAlongCrack(
       a.push_back(record.crack_length[i]);
       C.push_back(record.displacement[i] / record.load[i]);
     }
+  BF_CHECK_INPUT(C.size() >= 5,
+                 fmt::format("{} rows with a crack beyond the notch on the loading path; the "
+                             "compliance along the crack needs 5 or more", C.size()),
+                 {.file = record.source, .field = "crack_length"});
+  std::vector<double> sorted = C;
+  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+  const double reference = sorted[sorted.size() / 2];
   options.profile_likelihood = false;
   options.starts = 1;
   options.progress = false;
@@ -379,9 +385,9 @@ AlongCrackCalibration CalibrateAlongCrack(
     // one): x+ = g - theta (g - g_prev), theta = F.(F - F_prev) / |F - F_prev|^2
     // with F = g - x.
     const std::array<double, 2> x = {std::log(out.modulus_factor),
-                                     out.series_compliance / initial_compliance};
+                                     out.series_compliance / reference};
     const std::array<double, 2> g = {x[0] - std::log(out.fit.scale),
-                                     out.fit.series_compliance / initial_compliance};
+                                     out.fit.series_compliance / reference};
     const std::array<double, 2> F = {g[0] - x[0], g[1] - x[1]};
     std::array<double, 2> next = g;
     if (round > 0) {
@@ -394,9 +400,15 @@ AlongCrackCalibration CalibrateAlongCrack(
     }
     previous_F = F, previous_g = g;
     out.modulus_factor = std::exp(x[0] + std::clamp(next[0] - x[0], -0.2, 0.2));
-    out.series_compliance = next[1] * initial_compliance;
+    out.series_compliance = next[1] * reference;
     out.iterations = round + 1;
-    if (std::abs(F[0]) < 1e-3 && std::abs(F[1]) < 1e-3) return out;
+    if (std::abs(F[0]) < 1e-3 && std::abs(F[1]) < 1e-3) {
+      if (out.series_compliance < -0.01 * reference)
+        out.note = fmt::format("compliance along the crack: the series compliance is negative "
+                               "({:.3g} mm/N): the model is too compliant at long cracks for a "
+                               "spring to explain; check the scene's moduli", 1e3 * out.series_compliance);
+      return out;
+    }
   }
   out.note = fmt::format("compliance along the crack: not settled after {} rounds (last scale {:.4f})",
                          kMaxRounds, out.fit.scale);
@@ -716,11 +728,11 @@ class FitCommand final : public Command {
     int factor_fits = 0, refinement_evaluations = 0;
     std::optional<inverse::ComplianceFit> crack_compliance;
     int crack_compliance_iterations = 0;
-    if (calibrate_along_crack && std::isfinite(modulus_factor)) {
+    if (calibrate_along_crack) {
       initial_slope_factor = modulus_factor;
       AlongCrackCalibration c = CalibrateAlongCrack(
-          *input.record, scene, start_shape, *load_data, options, modulus_factor,
-          input.initial_compliance, [&](double factor, double series) {
+          *input.record, scene, start_shape, *load_data, options,
+          std::isfinite(modulus_factor) ? modulus_factor : 1.0, [&](double factor, double series) {
             series_compliance = series;
             build_models(ScaledModuli(scene, factor));
             return model.get();
