@@ -290,6 +290,14 @@ Scene ScaledModuli(const Scene& scene, double factor) {
   return scaled;
 }
 
+// The law a fit ended at: its best parameters, or J_tip,c alone when it
+// found no bridging.
+inverse::LawParameters FittedLaw(const FitSummary& s) {
+  return {.sigma_c = s.best_parameters[inverse::kSigmaC],
+          .J_B = s.bridging_detected ? s.best_parameters[inverse::kJB] : 0.0,
+          .J_tip_c = s.bridging_detected ? s.best_parameters[inverse::kJTipC] : s.J_tip_c.value};
+}
+
 // --calibrate-compliance=crack: the modulus factor f and the series
 // compliance C_s that make the fitted model's compliance follow the record's
 // at its measured crack lengths, alternated with the law's fit (the record's
@@ -345,10 +353,7 @@ AlongCrackCalibration CalibrateAlongCrack(
     ++out.fits;
     out.evaluations += q.evaluations;
     out.wall_s += q.wall_s;
-    const inverse::LawParameters at{
-        .sigma_c = q.best_parameters[inverse::kSigmaC],
-        .J_B = q.bridging_detected ? q.best_parameters[inverse::kJB] : 0.0,
-        .J_tip_c = q.bridging_detected ? q.best_parameters[inverse::kJTipC] : q.J_tip_c.value};
+    const inverse::LawParameters at = FittedLaw(q);
     // A round's fit need not converge to move (f, C_s) on: the final fit
     // reports its own convergence.
     if (!std::isfinite(at.J_tip_c) || !std::isfinite(at.sigma_c))
@@ -378,7 +383,7 @@ AlongCrackCalibration CalibrateAlongCrack(
         model_curve.compliance.push_back(compliance);
       }
     out.fit = inverse::FitComplianceAlongCrack(model_curve, a, C, {}, record.source);
-    // The fixed point x = (ln f, C_s / C0) -> g(x), the values this round's
+    // The fixed point x = (ln f, C_s / C_ref) -> g(x), the values this round's
     // compliance fit asks for. The law's refit moves the bridged compliance
     // against them (on the MDF record plain updates overshoot by 0.65-0.75 of
     // their step and oscillate), so the update is Anderson-accelerated (depth
@@ -520,9 +525,9 @@ class FitCommand final : public Command {
     // --fit-to load-displacement: the record's rows, weighted by its noise
     // (given, or estimated by the reduction).
     const inverse::FitTarget target = inverse::ParseFitTarget(fit_to_);
-    const bool calibrate = target == inverse::FitTarget::kLoad && !calibrate_compliance_.empty();
-    const bool calibrate_along_crack = calibrate && calibrate_compliance_ == "crack";
-    if (!calibrate_compliance_.empty() && target != inverse::FitTarget::kLoad)
+    const bool calibrate = !calibrate_compliance_.empty();
+    const bool calibrate_along_crack = calibrate_compliance_ == "crack";
+    if (calibrate && target != inverse::FitTarget::kLoad)
       throw Error(ErrorKind::kUsage, "compliance calibration is for a load-displacement fit",
                   {.field = "--calibrate-compliance", .value = calibrate_compliance_,
                    .expected = "together with --fit-to load-displacement"});
@@ -726,21 +731,18 @@ class FitCommand final : public Command {
     // initial-slope value, then the fit below runs at that factor.
     double initial_slope_factor = NAN, refinement_s = 0.0;
     int factor_fits = 0, refinement_evaluations = 0;
-    std::optional<inverse::ComplianceFit> crack_compliance;
-    int crack_compliance_iterations = 0;
+    std::optional<AlongCrackCalibration> along_crack;
     if (calibrate_along_crack) {
       initial_slope_factor = modulus_factor;
-      AlongCrackCalibration c = CalibrateAlongCrack(
+      const AlongCrackCalibration& c = along_crack.emplace(CalibrateAlongCrack(
           *input.record, scene, start_shape, *load_data, options,
           std::isfinite(modulus_factor) ? modulus_factor : 1.0, [&](double factor, double series) {
             series_compliance = series;
             build_models(ScaledModuli(scene, factor));
             return model.get();
-          });
+          }));
       modulus_factor = c.modulus_factor;
       series_compliance = c.series_compliance;
-      crack_compliance = c.fit;
-      crack_compliance_iterations = c.iterations;
       factor_fits = c.fits;
       refinement_s = c.wall_s;
       refinement_evaluations = c.evaluations;
@@ -807,10 +809,7 @@ class FitCommand final : public Command {
       s.evaluations += start_fit->evaluations + refinement_evaluations;
       s.failed_evaluations += start_fit->failed_evaluations;
       s.wall_s += start_fit->wall_s + refinement_s;
-      const inverse::LawParameters at{
-          .sigma_c = s.best_parameters[inverse::kSigmaC],
-          .J_B = s.bridging_detected ? s.best_parameters[inverse::kJB] : 0.0,
-          .J_tip_c = s.bridging_detected ? s.best_parameters[inverse::kJTipC] : s.J_tip_c.value};
+      const inverse::LawParameters at = FittedLaw(s);
       if (std::isfinite(at.sigma_c) && std::isfinite(at.J_tip_c)) {
         const inverse::ForwardPrediction p =
             model->Predict(*used_shape, at, data.crack_length, data.kind);
@@ -867,10 +866,10 @@ class FitCommand final : public Command {
         file.WriteAttribute(g, "record_initial_compliance_m_per_N", input.initial_compliance);
         file.WriteAttribute(g, "compliance_calibration", calibrate_compliance_);
         file.WriteAttribute(g, "series_compliance_m_per_N", series_compliance);
-        if (crack_compliance) {
-          file.WriteAttribute(g, "compliance_rms_relative", crack_compliance->rms_relative);
-          file.WriteAttribute(g, "compliance_rows", crack_compliance->rows);
-          file.WriteAttribute(g, "compliance_rounds", crack_compliance_iterations);
+        if (along_crack) {
+          file.WriteAttribute(g, "compliance_rms_relative", along_crack->fit.rms_relative);
+          file.WriteAttribute(g, "compliance_rows", along_crack->fit.rows);
+          file.WriteAttribute(g, "compliance_rounds", along_crack->iterations);
         }
       }
       file.WriteVector(g + "/crack_length", data.crack_length, "m", "data crack length");
@@ -1025,12 +1024,12 @@ class FitCommand final : public Command {
                                  {"modulus_factor", modulus_factor},
                                  {"series_compliance_m_per_N", series_compliance},
                                  {"along_crack",
-                                  crack_compliance
-                                      ? nlohmann::json{{"rms_relative", crack_compliance->rms_relative},
-                                                       {"rows", crack_compliance->rows},
-                                                       {"crack_min_m", crack_compliance->crack_min},
-                                                       {"crack_max_m", crack_compliance->crack_max},
-                                                       {"rounds", crack_compliance_iterations}}
+                                  along_crack
+                                      ? nlohmann::json{{"rms_relative", along_crack->fit.rms_relative},
+                                                       {"rows", along_crack->fit.rows},
+                                                       {"crack_min_m", along_crack->fit.crack_min},
+                                                       {"crack_max_m", along_crack->fit.crack_max},
+                                                       {"rounds", along_crack->iterations}}
                                       : nlohmann::json()},
                                  {"modulus_factor_initial_slope", NumberOrNull(initial_slope_factor)},
                                  {"refinement_fits", factor_fits},
@@ -1081,12 +1080,12 @@ class FitCommand final : public Command {
                                  "from the R-curve fit, {:.2f} s); R rms {:.4g} J/m^2",
                                  load_data->size(), start_fit->wall_s, load_fit_R_rms);
       std::cout << "\n";
-      if (crack_compliance)
+      if (along_crack)
         std::cout << fmt::format(
             "compliance: the scene's moduli x {:.4f} and {:.4g} mm/N in series (initial slope: x "
             "{:.4f}); {} rounds of {} fits; {}\n",
             modulus_factor, 1e3 * series_compliance, initial_slope_factor,
-            crack_compliance_iterations, factor_fits, crack_compliance->Summary());
+            along_crack->iterations, factor_fits, along_crack->fit.Summary());
       else if (std::isfinite(modulus_factor))
         std::cout << fmt::format(
             "compliance: the scene's moduli x {:.4f} (initial slope: x {:.4f}, model {:.4g} m/N "
