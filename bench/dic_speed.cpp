@@ -10,9 +10,11 @@
 // px, at most 10 iterations).
 //   bench/dic_speed [--full DIR | --crop DIR] [--step 2] [--subsets 21,33]
 //                   [--threads 1,2] [--reps 5] [--second]
+//   bench/dic_speed CROP_DIR STEP SUBSETS THREADS   (older form, both shapes)
 // Per run: wall time, CPU time of the process (all threads) and the per
-// thread rate; "best" is the run with the least CPU time (the figure least
-// disturbed by other processes on a shared machine), wall best printed too.
+// thread rate (points = grid points); the row is the run with the least CPU
+// time (the figure least disturbed by other processes on a shared machine),
+// best_wall the best wall-clock rate of the runs.
 #include <omp.h>
 
 #include <algorithm>
@@ -71,6 +73,17 @@ int main(int argc, char** argv) {
   int step = 2, reps = 5;
   bool with_second = false;
   std::vector<int> subsets{21, 33}, thread_counts{1, 2};
+  // The older positional form (bench/run_all.sh): DIR STEP SUBSETS THREADS on
+  // the crop, both shapes, best of 3.
+  if (argc > 1 && std::strncmp(argv[1], "--", 2) != 0) {
+    crop_dir = argv[1];
+    if (argc > 2) step = std::atoi(argv[2]);
+    if (argc > 3) subsets = ParseInts(argv[3]);
+    if (argc > 4) thread_counts = ParseInts(argv[4]);
+    with_second = true;
+    reps = 3;
+    argc = 1;
+  }
   for (int a = 1; a < argc; ++a) {
     auto next = [&]() -> const char* {
       if (a + 1 >= argc) {
@@ -107,14 +120,14 @@ int main(int argc, char** argv) {
   std::printf("# images %dx%d (%s), grid x 20..2026, y 250..330 (full-image rows), step %d\n",
               ref.width, ref.height, full_dir.empty() ? "crop" : "full", step);
   std::printf("%-7s %-7s %-7s %-7s %-9s %-9s %-11s %-11s %-11s %-8s %-6s %-9s\n", "subset",
-              "shape", "threads", "points", "wall_s", "cpu_s", "pts/wall_s", "pts/cpu_s",
+              "shape", "threads", "points", "wall_s", "cpu_s", "points_per_s", "per_cpu_s",
               "best_wall", "valid", "iters", "rms_u_px");
   std::vector<std::string> profiles;
   auto fmt_profile = [](int subset, int threads, double construct,
                         const CorrelationSummary::StageSeconds& st, const CorrelationSummary& s) {
     char line[512];
     std::snprintf(line, sizeof line,
-                  "%-7d %-7d %-9.3f %-9.3f %-9.3f %-9.3f %-9.3f %-9.3f %-9.3f %-9.3f %-7zu %.2f",
+                  "profile %-7d %-7d %-9.3f %-9.3f %-9.3f %-9.3f %-9.3f %-9.3f %-9.3f %-9.3f %-7zu %.2f",
                   subset, threads, construct, st.setup, st.search, st.reference, st.interpolation,
                   st.residual, st.update, st.propagation, s.solves, s.mean_iterations);
     return std::string(line);
@@ -180,7 +193,7 @@ int main(int argc, char** argv) {
   // Stage profile (seconds summed over threads, one profiled run each):
   // construct = reference interpolant and grid (Correlator), setup = frame
   // interpolant, propagation = the rest of the pass.
-  std::printf("\n# stage profile (s)\n%-7s %-7s %-9s %-9s %-9s %-9s %-9s %-9s %-9s %-9s %-7s %s\n",
+  std::printf("\n# stage profile (s)\nprofile %-7s %-7s %-9s %-9s %-9s %-9s %-9s %-9s %-9s %-9s %-7s %s\n",
               "subset", "threads", "construct", "setup", "search", "reference", "interp",
               "residual", "update", "propag", "solves", "iters");
   for (const std::string& line : profiles) std::printf("%s\n", line.c_str());
