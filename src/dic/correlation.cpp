@@ -149,7 +149,11 @@ void Correlator::Impl::SetReference(const Image& image) {
   ref_cache.clear();
   if (opt.shape == ShapeFunction::kFirstOrder) {
     ref_nodes = ref_interp.Nodes();
-    ref_cache.assign(grid.size(), detail::ReferenceSubset{});
+    // About 350 bytes per point; very large grids rebuild the reference
+    // data at every solve instead of holding it.
+    constexpr std::size_t kMaxCacheBytes = std::size_t{256} << 20;
+    if (grid.size() * sizeof(detail::ReferenceSubset) <= kMaxCacheBytes)
+      ref_cache.assign(grid.size(), detail::ReferenceSubset{});
   }
 }
 
