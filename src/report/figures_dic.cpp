@@ -74,19 +74,21 @@ void AddOverlay(const DicView& dic, size_t k, FigureSet& set, double window_px, 
   gp += fmt::format("set terminal pngcairo size {},{} enhanced font 'Sans,10'\n", canvas_w, canvas_h);
   gp += "set output '" + name + ".png'\n";
   const std::string title = k == 0 ? "reference frame" : k + 1 == dic.frames.size() ? "last frame" : "flagged frame";
-  gp += fmt::format("set title '{} {}: {}{}'\n", title, k, GnuplotText(fs::path(frame.image).filename().string()),
-                    frame.flag.empty() ? "" : " - " + GnuplotText(frame.flag));
-  gp += "set size ratio -1\nset lmargin at screen 0.07\nset rmargin at screen 0.80\n";
+  gp += fmt::format("set title '{} {}: {}{}' noenhanced\n", title, k,
+                    GnuplotText(fs::path(frame.image).filename().string()),
+                    frame.flag.empty() ? "" : " (flagged: see the caption)");
+  gp += "set style textbox opaque fc rgb 'white' noborder margins 1,1\n";
+  gp += "set size ratio -1\nset lmargin at screen 0.07\nset rmargin at screen 0.75\n";
   gp += fmt::format("set xrange [0:{}]\nset yrange [{}:0]\n", width - 1, height - 1);
   gp += "set xlabel 'x [px]'\nset ylabel 'y [px]'\nset key outside right top font ',9'\nset ytics out\n";
   // The field-fit window: this frame's (bold), or on the reference every frame's (faint).
-  int objects = 0;
+  int objects = 0;  // the circles; the legend entry is a dummy line of the same style
   for (size_t j = 1; j < dic.frames.size(); ++j) {
     const DicFrame& f = dic.frames[j];
     if (!(std::isfinite(f.tip_x) && std::isfinite(window_px)) || (k != 0 && j != k)) continue;
     gp += fmt::format("set object {} circle at {:.6g},{:.6g} size {:.6g} front fs empty border lc rgb '{}' lw {} {}\n",
-                      ++objects, f.tip_x, f.tip_y, window_px, k == 0 ? "#ffbf00" : "#ff7f0e", k == 0 ? 1 : 2,
-                      k == 0 ? "dt 3" : "");
+                      ++objects, f.tip_x, f.tip_y, window_px, k == 0 ? "#ffbf00" : "#ff7f0e", k == 0 ? 1.5 : 2.5,
+                      k == 0 ? "dt 2" : "");
   }
   std::string plot = fmt::format("plot '{}_image.png' binary filetype=png flipy dx={} dy={} with rgbimage notitle",
                                  name, factor, factor);
@@ -101,22 +103,42 @@ void AddOverlay(const DicView& dic, size_t k, FigureSet& set, double window_px, 
     WriteFile(set.dir / (name + "_path.dat"), path);
     plot += ", '" + name + "_path.dat' u 1:2 w l lw 2 lc rgb '#d62728' t 'crack path (DIC)'";
   }
-  plot += ", 'dic_tips.dat' u 1:2 w p pt 6 ps 1.2 lw 2 lc rgb '#2ca02c' t 'tips of all frames'"
-          ", '' u 1:2:(sprintf('%d', $3)) w labels offset 0,-1.1 font ',8' tc rgb '#2ca02c' notitle";
+  plot += ", 'dic_tips.dat' u 1:2 w p pt 6 ps 1.2 lw 2 lc rgb '#2ca02c' t 'tips, all frames'"
+          ", '' u 1:2:(sprintf('%d', $3)) w labels boxed offset 0,-1.3 font ',8' tc rgb '#006400' notitle";
+  // Each tip method's position on this frame's line: the evidence of a disagreement.
+  if (k != 0 && dic.has_line) {
+    const double dx = dic.line[2] - dic.line[0], dy = dic.line[3] - dic.line[1], length = std::hypot(dx, dy);
+    std::string methods = "# x[px] y[px] method (0 williams, 1 jump, 2 sqrt)\n";
+    const double along[3] = {frame.tip_williams_s, frame.tip_jump_s, frame.tip_sqrt_s};
+    bool any = false;
+    for (int m = 0; m < 3; ++m)
+      if (std::isfinite(along[m])) {
+        methods += fmt::format("{:.6g} {:.6g} {}\n", dic.line[0] + along[m] * dx / length,
+                               dic.line[1] + along[m] * dy / length, m);
+        any = true;
+      }
+    if (any) {
+      WriteFile(set.dir / (name + "_methods.dat"), methods);
+      plot += ", '" + name + "_methods.dat' u 1:($3 == 0 ? $2 : 1/0) w p pt 2 ps 1.6 lw 2 lc rgb '#e377c2' t 'Williams fit'"
+              ", '' u 1:($3 == 1 ? $2 : 1/0) w p pt 4 ps 1.6 lw 2 lc rgb '#8c564b' t 'jump'"
+              ", '' u 1:($3 == 2 ? $2 : 1/0) w p pt 8 ps 1.6 lw 2 lc rgb '#17becf' t 'sqrt opening'";
+    }
+  }
   if (k != 0 && std::isfinite(frame.tip_x)) {
     WriteFile(set.dir / (name + "_tip.dat"), fmt::format("# tip_x[px] tip_y[px]\n{:.6g} {:.6g}\n", frame.tip_x,
                                                          frame.tip_y));
-    plot += ", '" + name + "_tip.dat' u 1:2 w p pt 3 ps 2.5 lw 3 lc rgb '#ff7f0e' t 'tip of this frame'";
+    plot += ", '" + name + "_tip.dat' u 1:2 w p pt 3 ps 2.5 lw 3 lc rgb '#ff7f0e' t 'this frame''s tip'";
   }
   if (objects > 0)
-    plot += fmt::format(", 1/0 w l lw 2 {} lc rgb '{}' t 'field-fit window{}{}'", k == 0 ? "dt 3" : "",
+    plot += fmt::format(", 1/0 w l lw 2 {} lc rgb '{}' t 'field-fit window{}{}'", k == 0 ? "dt 2" : "",
                         k == 0 ? "#ffbf00" : "#ff7f0e", k == 0 ? "s" : "", window_assumed ? " (default radius)" : "");
   gp += plot + "\n";
   set.Add(name + ".png", "dic",
           fmt::format("DIC {} {} ({}): crack line{} in blue, the tips of all frames (green, numbered), "
                       "{} (radius {:.0f} px{}). Positions in reference-image pixels.",
                       title, k, Escape(frame.image), frame_path || !dic.path_x.empty() ? " and path (red)" : "",
-                      k == 0 ? "the field-fit window of every frame (dotted)" : "this frame's tip and field-fit window",
+                      k == 0 ? "the field-fit window of every frame (dashed)"
+                             : "this frame's tip (orange star), where each tip method put it (Williams fit, displacement jump, sqrt opening) and the field-fit window",
                       window_px, window_assumed ? ", the default: the DIC file does not record it" : "") +
               (frame.flag.empty() ? "" : " <b>Flagged:</b> " + Escape(frame.flag) + "."));
 }

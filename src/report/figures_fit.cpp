@@ -223,11 +223,26 @@ void AddProfileFigure(const ReportInput& in, FigureSet& set) {
     gp += "set tmargin at screen 0.80\nset bmargin at screen 0.20\nunset key\nunset label\nunset arrow\n";
     gp += fmt::format("set xlabel '{} [{}]'\nset ylabel '{{/Symbol D}}{{/Symbol c}}^2'\n",
                       GnuplotSymbol(p.name), GnuplotUnit(p.name));
-    // Up to 4 thresholds high: the interval region fills the panel.
+    // Up to 4 thresholds high: the interval region fills the panel. The x
+    // range: the points under the top, and one sample beyond on each side.
     const double top = std::clamp(1.1 * y_max, 1.5 * threshold, 4.0 * threshold);
     gp += fmt::format("set yrange [{:.6g}:{:.6g}]\n", -0.05 * top, top);
-    const bool wide = lo > 0 && hi / lo > 30;  // an unbounded J_B spans decades
+    size_t first = order.size(), last = 0;
+    for (size_t i = 0; i < order.size(); ++i)
+      if (p.chi2[order[i]] - chi2_min <= top) first = std::min(first, i), last = i;
+    if (first > last) first = 0, last = order.size() - 1;
+    first = first > 0 ? first - 1 : 0;
+    last = std::min(last + 1, order.size() - 1);
+    double x_lo = p.value[order[first]] * d.factor, x_hi = p.value[order[last]] * d.factor;
+    const bool wide = x_lo > 0 && x_hi / x_lo > 30;  // an unbounded J_B spans decades
+    if (wide) {
+      x_lo /= 1.1, x_hi *= 1.1;
+    } else {
+      const double pad = 0.04 * (x_hi - x_lo);
+      x_lo -= pad, x_hi += pad;
+    }
     gp += wide ? "set logscale x\n" : "unset logscale x\n";
+    gp += fmt::format("set xrange [{:.10g}:{:.10g}]\n", x_lo, x_hi);
     gp += "set xtics rotate by 35 right font ',9'\nset xtics autofreq\n";
     std::string panel_title;
     if (ends.low || ends.high)
@@ -244,7 +259,8 @@ void AddProfileFigure(const ReportInput& in, FigureSet& set) {
     if (open_low)
       gp += "set label '{/Symbol \\254} open: under the threshold\\nto the box edge' at graph 0.03, graph 0.55 "
             "left font ',9' tc rgb '#555555'\n";
-    if (e && std::isfinite(e->lower_bound) && !(ends.low || ends.high))
+    if (e && std::isfinite(e->lower_bound) && !(ends.low || ends.high) && e->lower_bound * d.factor > x_lo &&
+        e->lower_bound * d.factor < x_hi)  // arrows are not clipped to the panel
       gp += fmt::format("set arrow from {:.10g}, graph 0 to {:.10g}, graph 1 nohead dt 3 lc rgb '#555555'\n",
                         e->lower_bound * d.factor, e->lower_bound * d.factor);
     // The test (tests/report/figure_check.hpp) reads this line: column 2 and the threshold.

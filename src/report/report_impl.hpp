@@ -63,6 +63,7 @@ struct DicFrame {
   std::string tip_method;       // "" or "none" when no tip
   double valid_fraction = NAN;
   bool methods_disagree = false;
+  double tip_williams_s = NAN, tip_jump_s = NAN, tip_sqrt_s = NAN;  // [px] along the line, per method
   std::vector<double> cod_s, cod_opening;  // [px] along the crack line
   // A path found by DIC (optional, later versions): points in px.
   std::vector<double> path_x, path_y;

@@ -139,7 +139,8 @@ void ReadDicCsv(const fs::path& path, DicView& dic, std::vector<std::string>& no
     return t.Find(name) >= 0 ? t.columns[t.Find(name)] : std::vector<double>(a.size(), NAN);
   };
   const std::vector<double> tx = numbers("tip_x"), ty = numbers("tip_y"),
-                            valid = numbers("valid_fraction"), disagree = numbers("methods_disagree");
+                            valid = numbers("valid_fraction"), disagree = numbers("methods_disagree"),
+                            williams = numbers("tip_williams"), jump = numbers("tip_jump"), sqrt_cod = numbers("tip_sqrt");
   for (size_t k = 0; k < a.size(); ++k) {
     DicFrame& f = dic.frames[k];
     f.crack_length = a[k];
@@ -149,6 +150,9 @@ void ReadDicCsv(const fs::path& path, DicView& dic, std::vector<std::string>& no
     f.tip_y = ty[k];
     f.valid_fraction = valid[k];
     f.methods_disagree = disagree[k] == 1.0;
+    f.tip_williams_s = williams[k];
+    f.tip_jump_s = jump[k];
+    f.tip_sqrt_s = sqrt_cod[k];
   }
 }
 
@@ -207,7 +211,14 @@ std::string FrameFlag(const DicFrame& f, size_t k) {
   if (k == 0) return "";
   std::vector<std::string> why;
   if (!std::isfinite(f.crack_length) || f.tip_method == "none") why.push_back("no tip found");
-  if (f.methods_disagree) why.push_back("tip methods disagree by more than one grid step");
+  if (f.methods_disagree) {
+    std::string each;
+    for (const auto& [name, s] : {std::pair<const char*, double>{"williams", f.tip_williams_s},
+                                  {"jump", f.tip_jump_s}, {"sqrt", f.tip_sqrt_s}})
+      if (std::isfinite(s)) each += fmt::format("{}{} {:.1f}", each.empty() ? "" : ", ", name, s);
+    why.push_back("tip methods disagree by more than one grid step" +
+                  (each.empty() ? std::string() : " (" + each + " px along the line)"));
+  }
   if (std::isfinite(f.valid_fraction) && f.valid_fraction < 0.8)
     why.push_back(fmt::format("{:.0f}% of the points correlated", 100 * f.valid_fraction));
   std::string text;
