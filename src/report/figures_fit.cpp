@@ -214,8 +214,10 @@ void AddProfileFigure(const ReportInput& in, FigureSet& set) {
     const std::string ends_file = "profile_" + p.name + "_ends.dat";
     WriteFile(set.dir / ends_file, ends_dat);
     const double lo = p.value[order.front()] * d.factor, hi = p.value[order.back()] * d.factor;
-    const bool open_low = p.flat && e && !std::isfinite(e->ci_low) && ends.high;
-    const bool open_high = p.flat && e && !std::isfinite(e->ci_high);
+    // Open sides as the fitter reported them ("profile likelihood flat ...").
+    const bool flat_note = e && e->note.find("profile likelihood flat") != std::string::npos;
+    const bool open_low = p.flat && flat_note && !std::isfinite(e->ci_low);
+    const bool open_high = p.flat && flat_note && !std::isfinite(e->ci_high);
     // Panel k of n, margins in screen coordinates so panels never share space.
     const double w = 1.0 / n, x0 = k * w;
     gp += fmt::format("set lmargin at screen {:.4f}\nset rmargin at screen {:.4f}\n", x0 + 0.23 * w,
@@ -249,9 +251,11 @@ void AddProfileFigure(const ReportInput& in, FigureSet& set) {
       panel_title = fmt::format("printed 95% CI [{}, {}]", ends.low ? Num(e->ci_low, d.factor) : "-",
                                 ends.high ? Num(e->ci_high, d.factor) : "-");
     else if (e && std::isfinite(e->lower_bound))
-      panel_title = fmt::format("printed: >= {} (bound, not from this profile)", Num(e->lower_bound, d.factor));
+      panel_title = fmt::format("printed: >= {} (a bound, not this profile)", Num(e->lower_bound, d.factor));
+    else if (open_low || open_high)
+      panel_title = open_low && open_high ? "flat: no interval (open on both sides)" : "no printed interval: open";
     else
-      panel_title = "printed interval not from this profile";
+      panel_title = "printed value not from this profile";  // why: the profile table (decided by)
     gp += "set title '" + GnuplotText(panel_title) + "' font ',10'\n";
     if (open_high)
       gp += "set label 'open: under the threshold\\nto the box edge {/Symbol \\256}' at graph 0.97, graph 0.55 "
@@ -274,7 +278,8 @@ void AddProfileFigure(const ReportInput& in, FigureSet& set) {
                             ? fmt::format("[{}, {}]{}", ends.low ? Num(e->ci_low, d.factor) : "&ndash;",
                                           ends.high ? Num(e->ci_high, d.factor) : "&ndash;",
                                           open_high ? " (open above)" : open_low ? " (open below)" : "")
-                            : (open_high ? "none: open above" : "none (" + Escape(e ? e->decided_by : "") + ")"));
+                            : (open_low || open_high ? "none: flat (open)"
+                                                     : "none (" + Escape(e ? e->decided_by : "") + ")"));
   }
   gp += "unset multiplot\n";
   set.profile_html = html + "</table>\n";

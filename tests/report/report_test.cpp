@@ -10,11 +10,13 @@
 #include <filesystem>
 #include <algorithm>
 #include <fstream>
+#include <map>
 #include <iostream>
 #include <regex>
 #include <sstream>
 
 #include "bridgefit/core/error.hpp"
+#include "bridgefit/dic/image.hpp"
 #include "bridgefit/io/hdf5.hpp"
 #include "figure_check.hpp"
 
@@ -116,7 +118,7 @@ void WriteProfile(io::H5Writer& f, const std::string& name, const SampledProfile
 // like the MDF sample's load fit (chi^2 about 665, reduced chi^2 1.6):
 // sigma_c 0.45 MPa identified from its profile, delta_c >= 1.5 mm, J_B >= 340
 // J/m^2 (its profile open above), J_tip,c 2210 J/m^2 from its profile.
-fs::path WriteFitFile(const fs::path& dir, bool with_record = false) {
+fs::path WriteFitFile(const fs::path& dir, bool with_record = false, bool load_fit = false) {
   const fs::path path = dir / "fit.h5";
   io::H5Writer f(path);
   if (with_record) {
@@ -164,6 +166,12 @@ fs::path WriteFitFile(const fs::path& dir, bool with_record = false) {
   WriteProfile(f, "sigma_c", sigma, s2, false, "Pa");
   WriteProfile(f, "J_B", jb, s2, true, "J/m^2");
   WriteProfile(f, "J_tip_c", jtip, s2, false, "J/m^2");
+  if (load_fit) {
+    f.WriteAttribute(g, "rms_residual_N", 3.0);
+    f.WriteVector(g + "/load_displacement/displacement", {1e-4, 2e-4, 3e-4}, "m");
+    f.WriteVector(g + "/load_displacement/load", {100, 200, 290}, "N");
+    f.WriteVector(g + "/load_displacement/fitted_load", {101, 199, 292}, "N");
+  }
   f.Commit();
   return path;
 }
@@ -324,4 +332,126 @@ TEST(ReportReadBack, ReportNamedInTheEnvironment) {
   std::cout << check.profiles << " profiles, " << check.ends_checked << " printed ends checked\n";
   EXPECT_GT(check.profiles, 0);
   for (const std::string& failure : check.failures) ADD_FAILURE() << failure;
+}
+
+// DIC evidence from a DIC file in the layout of `bridgefit dic --out` with
+// three 80x50 frames: the reference, a flagged middle frame (half of its
+// points correlated) and the last are drawn with the tips and the window;
+// the frame table links them; a crack-path dataset (a later DIC version)
+// is drawn when present; the opening figure reads the profiles.
+TEST(Report, DicEvidenceFromTheDicFile) {
+  const fs::path dir = TempDir("dic");
+  const fs::path fit = WriteFitFile(dir, true);
+  fs::create_directories(dir / "images");
+  for (int k = 0; k < 3; ++k) {
+    dic::Image image(80, 50);
+    for (int y = 0; y < 50; ++y)
+      for (int x = 0; x < 80; ++x) image.at(x, y) = static_cast<float>((x * 7 + y * 13 + k * 5) % 256);
+    dic::WriteImage(dir / "images" / ("f" + std::to_string(k) + ".png"), image, 8);
+  }
+  {
+    io::H5Writer h5(dir / "dic.h5");
+    // Recorded as bare names: resolved through --images.
+    h5.WriteStrings("/dic/images", {"f0.png", "f1.png", "f2.png"});
+    h5.WriteStrings("/dic/tip_method", {"none", "williams", "williams"});
+    h5.WriteVector("/dic/crack_length", {NAN, 0.0220, 0.0230}, "m");
+    h5.WriteVector("/dic/tip_x", {NAN, 20.0, 30.0}, "px");
+    h5.WriteVector("/dic/tip_y", {NAN, 25.0, 25.0}, "px");
+    h5.WriteVector("/dic/valid_fraction", {1.0, 0.5, 0.95}, "1");
+    h5.WriteAttribute("/dic", "crack_line_px", "0,25,79,25");
+    h5.WriteAttribute("/dic", "scale_m_per_px", 1e-4);
+    h5.WriteAttribute("/dic", "offset_m", 0.020);
+    h5.WriteAttribute("/dic", "fit_radius_px", 12.0);
+    for (int k = 1; k < 3; ++k) {
+      const std::string g = "/dic/frame_000" + std::to_string(k);
+      h5.WriteVector(g + "/cod_s", {0, 10, 20, 30, 40}, "px");
+      h5.WriteVector(g + "/cod_opening", {0.5 * k, 0.3 * k, 0.1 * k, 0.0, 0.0}, "px");
+    }
+    h5.WriteVector("/dic/frame_0002/path_x", {0, 15, 30}, "px");
+    h5.WriteVector("/dic/frame_0002/path_y", {25, 26, 25}, "px");
+    h5.Commit();
+  }
+  report::ReportOptions options;
+  options.dic_h5 = dir / "dic.h5";
+  options.images_dir = dir / "images";
+  const report::ReportSummary s = report::WriteFitReport(fit, dir / "report", options);
+  const std::string html = ReadText(s.index_html);
+  const auto sources = ImageSources(html);
+  for (const char* fig : {"dic_frame_0000.png", "dic_frame_0001.png", "dic_frame_0002.png", "dic_opening.png"}) {
+    EXPECT_NE(std::find(sources.begin(), sources.end(), fig), sources.end()) << fig;
+    EXPECT_GT(PngSize(dir / "report" / fig).first, 100) << fig;
+  }
+  EXPECT_NE(html.find("href=\"#dic_frame_0001\""), std::string::npos);
+  EXPECT_NE(html.find("<figure id=\"dic_frame_0001\">"), std::string::npos);
+  EXPECT_NE(html.find("50% of the points correlated"), std::string::npos);  // the flag, said
+  // The tips drawn are the file's, with their frame and crack length in mm.
+  std::ifstream tips(dir / "report" / "dic_tips.dat");
+  std::string line;
+  std::getline(tips, line);
+  double x, y, a;
+  int frame;
+  std::vector<int> frames;
+  while (tips >> x >> y >> frame >> a) {
+    EXPECT_EQ(x, frame == 1 ? 20.0 : 30.0);
+    EXPECT_EQ(y, 25.0);
+    EXPECT_NEAR(a, frame == 1 ? 22.0 : 23.0, 1e-9);
+    frames.push_back(frame);
+  }
+  EXPECT_EQ(frames, (std::vector<int>{1, 2}));
+  EXPECT_TRUE(fs::exists(dir / "report" / "dic_frame_0002_path.dat"));
+  // The opening in um at a in mm: 0.5 px x 0.1 mm/px = 50 um at a = 20 mm (frame 1).
+  std::ifstream opening(dir / "report" / "dic_opening_0001.dat");
+  std::getline(opening, line);
+  double at, open;
+  opening >> at >> open;
+  EXPECT_NEAR(at, 20.0, 1e-9);
+  EXPECT_NEAR(open, 50.0, 1e-9);
+
+  // Images that cannot be found: the frames are not drawn, the page says why.
+  options.images_dir = dir / "nowhere";
+  fs::rename(dir / "images", dir / "moved");
+  const report::ReportSummary without = report::WriteFitReport(fit, dir / "report2", options);
+  const std::string html2 = ReadText(without.index_html);
+  EXPECT_EQ(html2.find("dic_frame_0000.png\""), std::string::npos);
+  EXPECT_NE(html2.find("3 of 3 DIC images not found"), std::string::npos);
+  fs::remove_all(dir);
+}
+
+// Every multiplot panel sets its four margins in screen coordinates and no two
+// panels of one figure come closer than 5% of the canvas (room for the tick
+// labels between them): the stacked R-curve and load panels, the profiles.
+TEST(Report, MultiplotPanelsHaveExplicitSeparatedMargins) {
+  const fs::path dir = TempDir("margins");
+  const fs::path fit = WriteFitFile(dir, true, true);  // a load fit: its stacked figure too
+  report::WriteFitReport(fit, dir / "report");
+  std::istringstream gp(ReadText(dir / "report" / "report.gp"));
+  struct Box { double l, r, t, b; };
+  std::vector<std::vector<Box>> figures;
+  std::map<std::string, double> margin;
+  bool inside = false;
+  std::string line;
+  const std::regex set_margin("set ([lrtb])margin at screen ([-0-9.]+)");
+  while (std::getline(gp, line)) {
+    std::smatch m;
+    if (line.rfind("set multiplot", 0) == 0) inside = true, figures.emplace_back(), margin.clear();
+    if (line.rfind("unset multiplot", 0) == 0) inside = false;
+    if (!inside) continue;
+    if (std::regex_search(line, m, set_margin)) margin[m[1]] = std::stod(m[2]);
+    if (line.rfind("plot ", 0) == 0) {
+      ASSERT_EQ(margin.size(), 4u) << "panel without four screen margins: " << line;
+      figures.back().push_back({margin["l"], margin["r"], margin["t"], margin["b"]});
+    }
+  }
+  ASSERT_EQ(figures.size(), 3u);  // R curve, profiles, load-displacement
+  for (const auto& panels : figures) {
+    ASSERT_GE(panels.size(), 2u);
+    for (size_t i = 0; i < panels.size(); ++i)
+      for (size_t j = i + 1; j < panels.size(); ++j) {
+        const Box& a = panels[i];
+        const Box& b = panels[j];
+        const double gap = std::max({b.l - a.r, a.l - b.r, a.b - b.t, b.b - a.t});
+        EXPECT_GE(gap, 0.05) << "panels " << i << " and " << j;
+      }
+  }
+  fs::remove_all(dir);
 }
