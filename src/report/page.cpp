@@ -88,7 +88,13 @@ std::string RunTable(const FitView& f, const fs::path& fit_h5) {
   if (std::isfinite(f.rms_load)) row("rms residual (load)", Num(f.rms_load) + " N");
   row(std::isfinite(f.rms_load) ? "rms residual (R at the fitted parameters)" : "rms residual",
       Num(f.rms) + " J/m<sup>2</sup>");
-  row("data points", fmt::format("{} ({} used, {} outliers removed)", f.a.size(), f.fit_a.size(), f.out_a.size()));
+  if (!f.fit_d.empty()) {
+    // A load-displacement fit: its data are the record's rows; the R curve only started it.
+    row("record rows fitted", fmt::format("{} ({} outliers removed)", f.fit_d.size(), f.out_d.size()));
+    row("R-curve points (start, figures)", fmt::format("{}", f.a.size()));
+  } else {
+    row("data points", fmt::format("{} ({} used, {} outliers removed)", f.a.size(), f.fit_a.size(), f.out_a.size()));
+  }
   if (std::isfinite(f.evaluations)) row("model evaluations", Num(f.evaluations));
   row("fit time", Num(f.wall_s) + " s");
   if (!f.scene.empty()) row("scene", Escape(f.scene));

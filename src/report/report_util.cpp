@@ -71,12 +71,15 @@ const char* const kTerminal =
 // Screen margins (fractions of the 860 x 520 canvas): the upper panel ends at
 // 0.42 and the lower begins at 0.36, 31 px apart, more than one tick label
 // (11 pt, about 15 px) half above and half below the panels' facing edges.
+// The lower panel takes the upper one's x range (same crack length or
+// displacement at the same place), so the upper panel must be plotted first.
 const char* const kUpperPanel =
     "set lmargin at screen 0.11\nset rmargin at screen 0.97\n"
     "set tmargin at screen 0.90\nset bmargin at screen 0.42\nset format x ''\nunset xlabel\n";
 const char* const kLowerPanel =
     "set lmargin at screen 0.11\nset rmargin at screen 0.97\n"
     "set tmargin at screen 0.36\nset bmargin at screen 0.11\nset format x '%g'\nunset title\n"
-    "set ytics out scale 0.5\nset ytics autofreq\nunset key\n";
+    "set ytics out scale 0.5\nset ytics autofreq\nunset key\n"
+    "set xrange [GPVAL_X_MIN:GPVAL_X_MAX]\n";  // the upper panel's x axis, whatever each panel holds
 
 }  // namespace bridgefit::report::detail

@@ -118,7 +118,8 @@ void WriteProfile(io::H5Writer& f, const std::string& name, const SampledProfile
 // like the MDF sample's load fit (chi^2 about 665, reduced chi^2 1.6):
 // sigma_c 0.45 MPa identified from its profile, delta_c >= 1.5 mm, J_B >= 340
 // J/m^2 (its profile open above), J_tip,c 2210 J/m^2 from its profile.
-fs::path WriteFitFile(const fs::path& dir, bool with_record = false, bool load_fit = false) {
+fs::path WriteFitFile(const fs::path& dir, bool with_record = false, bool load_fit = false,
+                      bool jb_open = false) {
   const fs::path path = dir / "fit.h5";
   io::H5Writer f(path);
   if (with_record) {
@@ -161,7 +162,12 @@ fs::path WriteFitFile(const fs::path& dir, bool with_record = false, bool load_f
   f.WriteVector(g + "/outlier_R", {}, "J/m^2");
   WriteEstimate(f, g + "/parameters/sigma_c", 0.45e6, sigma.low, sigma.high, NAN, true, "Pa");
   WriteEstimate(f, g + "/parameters/delta_c", 2.0e-3, NAN, NAN, 1.5e-3, false, "m");
-  WriteEstimate(f, g + "/parameters/J_B", 450, NAN, NAN, 340, false, "J/m^2");
+  if (jb_open) {  // steady state reached, J_B's profile flat above: an open interval
+    WriteEstimate(f, g + "/parameters/J_B", 450, jb.low, NAN, NAN, false, "J/m^2");
+    f.WriteAttribute(g + "/parameters/J_B", "note", "profile likelihood flat above the optimum (0.5 .. 5000)");
+  } else {
+    WriteEstimate(f, g + "/parameters/J_B", 450, NAN, NAN, 340, false, "J/m^2");
+  }
   WriteEstimate(f, g + "/parameters/J_tip_c", 2210, jtip.low, jtip.high, NAN, true, "J/m^2");
   WriteProfile(f, "sigma_c", sigma, s2, false, "Pa");
   WriteProfile(f, "J_B", jb, s2, true, "J/m^2");
@@ -453,5 +459,30 @@ TEST(Report, MultiplotPanelsHaveExplicitSeparatedMargins) {
         EXPECT_GE(gap, 0.05) << "panels " << i << " and " << j;
       }
   }
+  fs::remove_all(dir);
+}
+
+// An open-ended profile: J_B flat above its optimum. Its printed lower end is
+// on the profile at the threshold, the upper side is labelled open and no
+// upper end is marked.
+TEST(Report, OpenEndedProfileDrawnOpen) {
+  const fs::path dir = TempDir("open");
+  const fs::path fit = WriteFitFile(dir, false, false, true);
+  report::WriteFitReport(fit, dir / "report");
+  const report_check::ProfileReadBack check = report_check::CheckProfileFigures(dir / "report", fit);
+  EXPECT_EQ(check.ends_checked, 5);  // sigma_c and J_tip,c both ends, J_B the lower
+  for (const std::string& failure : check.failures) ADD_FAILURE() << failure;
+  std::ifstream ends(dir / "report" / "profile_J_B_ends.dat");
+  std::string header;
+  std::getline(ends, header);
+  double value, delta;
+  std::vector<double> marked;
+  while (ends >> value >> delta)
+    if (std::isfinite(value)) marked.push_back(value);
+  ASSERT_EQ(marked.size(), 1u);
+  EXPECT_LT(marked[0], 450.0);
+  const std::string gp = ReadText(dir / "report" / "report.gp");
+  EXPECT_NE(gp.find("open: under the threshold"), std::string::npos);
+  EXPECT_NE(ReadText(dir / "report" / "index.html").find("(open above)"), std::string::npos);
   fs::remove_all(dir);
 }
