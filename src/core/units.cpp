@@ -251,7 +251,11 @@ double ParseQuantity(std::string_view text, const Dimension& expected) {
   try {
     unit = ParseUnit(unit_text);
   } catch (const Error& e) {
-    throw e.WithContext({.value = whole, .expected = DescribeDimension(expected)});
+    // The whole quantity as written, e.g. "2 m^99", is what the user can find.
+    ErrorContext context = e.context();
+    context.value = whole;
+    if (context.expected.empty()) context.expected = DescribeDimension(expected);
+    throw Error(e.kind(), e.message(), context);
   }
   if (!(unit.dimension == expected))
     throw Error(ErrorKind::kInput,
