@@ -40,19 +40,27 @@ namespace {
 
 // Child exit codes.
 constexpr int kChildOk = 0;
-constexpr int kChildRefused = 3;  // a bridgefit Error: the parent reports it itself
+constexpr int kChildRefused = 3;  // refused; the reason goes through the pipe
 constexpr std::uint64_t kMaxObjects = 100'000;
 constexpr std::uint64_t kMaxAttributesPerObject = 10'000;
-// Address space for the child: generous for any honest file, far below
-// what a corrupt size field asks for.
-constexpr rlim_t kChildAddressSpace = rlim_t{8} << 30;
+// Least extra address space the child gets beyond what it has at the fork.
+constexpr std::uint64_t kChildRoom = std::uint64_t{512} << 20;
 
 struct Walk {
   const H5::H5File* file;
   const H5Checked* checked;
   std::uint64_t objects = 0;
   int failure = kChildOk;  // set by the callback, which must not throw through C
+  std::string message;     // the refusal, for the parent
 };
+
+// The parent names the file itself.
+std::string WithoutFile(const Error& e) {
+  ErrorContext context = e.context();
+  context.file.clear();
+  context.expected.clear();
+  return FormatErrorMessage(e.message(), context);
+}
 
 void ReadAttributes(H5::H5Object& object, const std::string& path, const H5Checked& checked) {
   const int count = object.getNumAttrs();
@@ -92,43 +100,61 @@ herr_t VisitOne(hid_t, const char* name, const H5O_info_t* info, void* data) {
   try {
     VisitOneOrThrow(walk, name, info);
     return 0;
-  } catch (const Error&) {
+  } catch (const Error& e) {
     walk.failure = kChildRefused;
-  } catch (const H5::Exception&) {
+    walk.message = WithoutFile(e);
+  } catch (const H5::Exception& e) {
     walk.failure = kChildRefused;
+    walk.message = std::string("cannot read object /") + name + ": " + e.getDetailMsg();
   } catch (const std::bad_alloc&) {
-    walk.failure = 4;
+    walk.failure = kChildRefused;
+    walk.message = std::string("object /") + name + " asks for more memory than any intact file";
   }
   return -1;
 }
 
-// Runs in the child: reads everything; returns the exit code.
-int ReadEverything(const std::filesystem::path& path) {
+// Runs in the child: reads everything; returns the exit code and, for a
+// refusal, its message in *message.
+int ReadEverything(const std::filesystem::path& path, std::string* message) {
   try {
     H5::Exception::dontPrint();
     std::error_code ec;
     const std::uint64_t bytes = std::filesystem::file_size(path, ec);
-    if (ec) return kChildRefused;
+    if (ec) return kChildOk;  // the parent's reader reports it
     const H5Checked checked(path.string(), bytes, InputLimits::FromEnvironment());
-    if (!H5::H5File::isHdf5(path.string())) return kChildRefused;
+    if (!H5::H5File::isHdf5(path.string())) return kChildOk;
     const H5::H5File file(path.string(), H5F_ACC_RDONLY);
     Walk walk{&file, &checked};
     if (H5Ovisit2(file.getId(), H5_INDEX_NAME, H5_ITER_NATIVE, VisitOne, &walk,
-                  H5O_INFO_BASIC) < 0 && walk.failure == kChildOk)
-      return kChildRefused;  // libhdf5 refused the file cleanly
+                  H5O_INFO_BASIC) < 0 && walk.failure == kChildOk) {
+      walk.failure = kChildRefused;
+      walk.message = "libhdf5 cannot walk the file's groups";
+    }
+    *message = walk.message;
     return walk.failure;
-  } catch (const Error&) {
+  } catch (const Error& e) {
+    *message = WithoutFile(e);
     return kChildRefused;
-  } catch (const H5::Exception&) {
+  } catch (const H5::Exception& e) {
+    *message = "cannot open: " + e.getDetailMsg();
     return kChildRefused;
   } catch (const std::bad_alloc&) {
-    return 4;  // a size field asked for more memory than any honest file needs
+    *message = "a size in the file asks for more memory than any intact file";
+    return kChildRefused;
   } catch (...) {
     return 5;
   }
 }
 
-[[noreturn]] void RunChild(const std::filesystem::path& path, double timeout_s) {
+// Current address-space size of this process, bytes (0 when unknown).
+std::uint64_t AddressSpaceBytes() {
+  std::ifstream statm("/proc/self/statm");
+  std::uint64_t pages = 0;
+  statm >> pages;
+  return pages * static_cast<std::uint64_t>(::sysconf(_SC_PAGESIZE));
+}
+
+[[noreturn]] void RunChild(const std::filesystem::path& path, double timeout_s, int report_fd) {
   // Default dispositions: a crash must end the child by its signal, not run
   // handlers inherited from the parent (sanitizers, fuzzers, the CLI).
   for (int s : {SIGSEGV, SIGBUS, SIGABRT, SIGFPE, SIGILL, SIGINT, SIGTERM})
@@ -139,7 +165,17 @@ int ReadEverything(const std::filesystem::path& path) {
 #ifdef BRIDGEFIT_SANITIZED
   __sanitizer_set_death_callback(nullptr);
 #else
-  const rlimit memory{kChildAddressSpace, kChildAddressSpace};
+  // What the process has now, plus room for what reading this file can
+  // honestly need: unfiltered data cannot exceed the file's size, and 512 MiB
+  // covers well-compressed data too. A size field asking for more (a vlen
+  // string claiming gigabytes) fails here, as a refusal, in milliseconds
+  // instead of a multi-GB memset.
+  std::error_code ec;
+  const std::uint64_t file_bytes = std::filesystem::file_size(path, ec);
+  const std::uint64_t largest = InputLimits::FromEnvironment().max_dataset_elements * 12;
+  const std::uint64_t need = std::min(largest, std::max(kChildRoom, 64 * file_bytes));
+  const rlim_t room = static_cast<rlim_t>(AddressSpaceBytes() + need);
+  const rlimit memory{room, room};
   setrlimit(RLIMIT_AS, &memory);
 #endif
   const rlim_t cpu = static_cast<rlim_t>(timeout_s) + 1;
@@ -150,7 +186,13 @@ int ReadEverything(const std::filesystem::path& path) {
     ::dup2(null, STDOUT_FILENO);
     ::dup2(null, STDERR_FILENO);
   }
-  ::_exit(ReadEverything(path));
+  std::string message;
+  const int code = ReadEverything(path, &message);
+  if (!message.empty()) {
+    const ssize_t ignored = ::write(report_fd, message.data(), std::min<std::size_t>(message.size(), 4000));
+    (void)ignored;
+  }
+  ::_exit(code);
 }
 
 }  // namespace
@@ -171,12 +213,27 @@ bool HasHdf5Signature(const std::filesystem::path& path) {
 }
 
 void CheckH5FileInChildProcess(const std::filesystem::path& path, double timeout_s) {
+  int report[2];
+  if (::pipe(report) != 0)
+    throw Error(ErrorKind::kRuntime, "cannot start the HDF5 checking process (pipe)",
+                {.file = path.string()});
   const pid_t child = ::fork();
-  if (child < 0)
+  if (child < 0) {
+    ::close(report[0]);
+    ::close(report[1]);
     throw Error(ErrorKind::kRuntime, std::string("cannot start the HDF5 checking process: ") +
                                          std::strerror(errno),
                 {.file = path.string()});
-  if (child == 0) RunChild(path, timeout_s);
+  }
+  if (child == 0) {
+    ::close(report[0]);
+    RunChild(path, timeout_s, report[1]);
+  }
+  ::close(report[1]);
+  struct CloseOnExit {
+    int fd;
+    ~CloseOnExit() { ::close(fd); }
+  } close_report{report[0]};
 
   const auto start = std::chrono::steady_clock::now();
   auto pause = std::chrono::microseconds(200);
@@ -200,9 +257,18 @@ void CheckH5FileInChildProcess(const std::filesystem::path& path, double timeout
     std::this_thread::sleep_for(pause);
     pause = std::min(pause * 2, std::chrono::microseconds(20'000));
   }
-  if (WIFEXITED(status) &&
-      (WEXITSTATUS(status) == kChildOk || WEXITSTATUS(status) == kChildRefused))
-    return;
+  if (WIFEXITED(status) && WEXITSTATUS(status) == kChildOk) return;
+  if (WIFEXITED(status) && WEXITSTATUS(status) == kChildRefused) {
+    // The child's refusal stands: reading the file again here could repeat
+    // a huge allocation the child was stopped from making.
+    std::string message(4000, '\0');
+    const ssize_t n = ::read(report[0], message.data(), message.size());
+    message.resize(n > 0 ? static_cast<std::size_t>(n) : 0);
+    if (message.empty()) message = "cannot read the file";
+    if (message.back() == '.') message.pop_back();
+    throw Error(ErrorKind::kInput, "corrupt HDF5 file: " + path.string() + ": " + message,
+                {.expected = "an intact HDF5 file"});
+  }
   const std::string how = WIFSIGNALED(status)
                               ? fmt::format("libhdf5 crashed reading it, signal {}",
                                             WTERMSIG(status))

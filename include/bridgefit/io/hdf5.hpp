@@ -66,10 +66,10 @@ class H5Reader {
 
 // Defence against crashes inside libhdf5 itself (fuzzing found several in
 // 1.10.8): opens `path` in a child process and reads every dataset and
-// attribute there through the same checks H5Reader uses. A child that dies
-// by a signal, runs out of memory or takes longer than `timeout_s` makes this
-// throw Error(kInput) "corrupt HDF5 file: <path>". A clean refusal in the
-// child (a bridgefit Error) is left for the in-process reader to report.
+// attribute there through the same checks H5Reader uses, with the address
+// space bounded. A child that dies by a signal, takes longer than
+// `timeout_s`, or refuses the file makes this throw Error(kInput)
+// "corrupt HDF5 file: <path> ..." (with the child's reason when it has one).
 // Cost: one fork plus one extra read of the file (docs/HOSTILE_INPUT.md).
 void CheckH5FileInChildProcess(const std::filesystem::path& path, double timeout_s = 60.0);
 
