@@ -214,6 +214,14 @@ constexpr std::uint64_t kVlenReferenceBytes = 16;
 constexpr std::uint64_t kMaxFilterRatio = 1100;
 constexpr std::uint64_t kMaxStringAttributeBytes = 1 << 20;
 
+// A memory string type of `size` with the file type's character set:
+// libhdf5 does not convert between ASCII and UTF-8.
+H5::StrType MemoryString(const H5::DataType& file_type, std::size_t size) {
+  H5::StrType memory(H5::PredType::C_S1, size);
+  memory.setCset(H5Tget_cset(file_type.getId()));
+  return memory;
+}
+
 }  // namespace
 
 H5Checked::H5Checked(std::string file_name, std::uint64_t file_bytes, InputLimits limits)
@@ -277,7 +285,7 @@ std::vector<std::string> H5Checked::ReadTexts(const H5::DataSet& dataset,
   if (type.isVariableStr()) {
     const std::uint64_t n = CheckedExtent(dataset, field, kVlenReferenceBytes);
     std::vector<char*> pointers(n, nullptr);
-    const H5::StrType memory(H5::PredType::C_S1, H5T_VARIABLE);
+    const H5::StrType memory = MemoryString(type, H5T_VARIABLE);
     if (n > 0) dataset.read(pointers.data(), memory);
     out.reserve(n);
     for (char* p : pointers) {
@@ -289,7 +297,7 @@ std::vector<std::string> H5Checked::ReadTexts(const H5::DataSet& dataset,
   const std::size_t width = type.getSize();
   const std::uint64_t n = CheckedExtent(dataset, field, width);
   std::vector<char> buffer(n * width + 1, '\0');
-  const H5::StrType memory(H5::PredType::C_S1, width);
+  const H5::StrType memory = MemoryString(type, width);
   if (n > 0) dataset.read(buffer.data(), memory);
   for (std::uint64_t i = 0; i < n; ++i) {
     const char* begin = buffer.data() + i * width;
@@ -316,7 +324,7 @@ std::string H5Checked::ReadTextAttribute(const H5::Attribute& attribute,
   CheckScalarAttribute(attribute, field);
   if (type.isVariableStr()) {
     char* pointer = nullptr;
-    const H5::StrType memory(H5::PredType::C_S1, H5T_VARIABLE);
+    const H5::StrType memory = MemoryString(type, H5T_VARIABLE);
     attribute.read(memory, &pointer);
     std::string value = pointer ? pointer : "";
     H5free_memory(pointer);
@@ -329,7 +337,7 @@ std::string H5Checked::ReadTextAttribute(const H5::Attribute& attribute,
   // A buffer of exactly one element of the file's width: the read cannot
   // write past it (the H5::Attribute std::string read could, on corrupt sizes).
   std::vector<char> buffer(width + 1, '\0');
-  const H5::StrType memory(H5::PredType::C_S1, width);
+  const H5::StrType memory = MemoryString(type, width);
   attribute.read(memory, buffer.data());
   return std::string(buffer.data(), strnlen(buffer.data(), width));
 }

@@ -111,7 +111,7 @@ Stopped RunAndSignal(const std::vector<std::string>& args, int signal_number,
 std::vector<std::string> LongFit(const fs::path& out) {
   const std::string sample = std::string(BRIDGEFIT_SOURCE_DIR) + "/data_samples/mdf_ct/";
   return {"fit", sample + "record.csv", "--scene", sample + "scene.toml", "--law", "cubic",
-          "--starts", "16", "--out", out.string()};
+          "--starts", "32", "--out", out.string()};
 }
 
 void ExpectStoppedCleanly(int signal_number, int expected_exit, const char* name) {
@@ -119,7 +119,7 @@ void ExpectStoppedCleanly(int signal_number, int expected_exit, const char* name
   fs::remove_all(dir);
   fs::create_directories(dir);
   const Stopped s = RunAndSignal(LongFit(dir / "fit.h5"), signal_number,
-                                 std::chrono::milliseconds(1500), dir.parent_path() / "bf_sigint_err.txt");
+                                 std::chrono::milliseconds(800), dir.parent_path() / "bf_sigint_err.txt");
   EXPECT_EQ(s.exit_code, expected_exit) << s.err;
   EXPECT_LT(s.stop_s, 1.0) << "stopped " << s.stop_s << " s after the signal";
   EXPECT_NE(s.err.find(std::string("interrupted by ") + name), std::string::npos) << s.err;
