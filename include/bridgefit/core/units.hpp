@@ -63,7 +63,7 @@ double ParseQuantity(std::string_view text, const Dimension& expected);
 // Converts a number given in `unit_text` to SI, checking the dimension.
 double ToSi(double value, std::string_view unit_text, const Dimension& expected);
 // Converts an SI value to `unit_text` (e.g. metres to "mm").
-double FromSi(double si_value, std::string_view unit_text,
+double FromSi(double value_in_si, std::string_view unit_text,
               const Dimension& expected);
 
 }  // namespace bridgefit
