@@ -12,16 +12,17 @@ root=$(pwd)
 build=build-fuzz
 CC=${CC:-clang-14}
 CXX=${CXX:-clang++-14}
+mkdir -p "$build"
 launcher=()
 command -v ccache > /dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER="$CC" \
   -DCMAKE_CXX_COMPILER="$CXX" -DBRIDGEFIT_FUZZ=ON -DBRIDGEFIT_BUILD_TESTS=OFF "${launcher[@]}" \
-  > "$build.log" 2>&1 || { tail -n 40 "$build.log"; exit 1; }
+  > "$build/build.log" 2>&1 || { tail -n 40 "$build/build.log"; exit 1; }
 harnesses=(units csv scene h5 image)
 targets=()
 for h in "${harnesses[@]}"; do targets+=("fuzz_$h"); done
-cmake --build "$build" -j"$(nproc)" --target "${targets[@]}" >> "$build.log" 2>&1 \
-  || { tail -n 60 "$build.log"; exit 1; }
+cmake --build "$build" -j"$(nproc)" --target "${targets[@]}" >> "$build/build.log" 2>&1 \
+  || { tail -n 60 "$build/build.log"; exit 1; }
 
 # Seed corpora: the repository's own inputs of each kind.
 seeds=$build/seeds

@@ -9,11 +9,12 @@ cd "$(dirname "$0")/.."
 start=$(date +%s)
 build=build-sanitize
 jobs=$(nproc 2>/dev/null || echo 2)
+mkdir -p "$build"
 launcher=()
 command -v ccache > /dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DBRIDGEFIT_SANITIZE=ON "${launcher[@]}" \
-  > "$build.log" 2>&1 || { tail -n 40 "$build.log"; exit 1; }
-cmake --build "$build" -j"$jobs" >> "$build.log" 2>&1 || { tail -n 80 "$build.log"; exit 1; }
+  > "$build/build.log" 2>&1 || { tail -n 40 "$build/build.log"; exit 1; }
+cmake --build "$build" -j"$jobs" >> "$build/build.log" 2>&1 || { tail -n 80 "$build/build.log"; exit 1; }
 built=$(date +%s)
 echo "test_sanitize: built in $(( built - start )) s"
 # halt_on_error: the first report ends the process with a non-zero exit.
