@@ -31,7 +31,7 @@ const char* RuleReason(int fate) {
   switch (fate) {
     case kNoCrack: return "no crack length (NaN) in the row";
     case kNegative: return "negative load";
-    case kGlitch: return "single-row glitch (load or displacement spike)";
+    case kGlitch: return "glitch (a one- or two-row spike in load or displacement)";
     case kPreload: return "before the preload (load below the preload fraction of the maximum)";
     case kFailure: return "after final failure (load below the failure fraction of the maximum)";
     case kCycle: return "unload-reload cycle (no R point; its compliance is used)";
@@ -59,7 +59,7 @@ std::vector<int> KeptRows(const std::vector<int>& fate) {
   return rows;
 }
 
-// A single-row spike in v over the kept rows: its second difference s_k is
+// A one-row spike in v over the kept rows: its second difference s_k is
 // beyond `tol` and the neighbours' second differences have the opposite sign
 // and at least a quarter of its size (an outlier e gives e, -2e, e; a step or a
 // reversal gives e, -e, 0).
@@ -82,6 +82,24 @@ void MarkGlitches(const std::vector<double>& v, double tol, std::vector<int>& fa
     fate[rows[q]] = kGlitch;
     listed.push_back(rows[q]);
     ++q;  // the next row's test used this one
+  }
+  // Two-row spikes (offset e on rows q, q + 1): second differences e, -e, -e, e
+  // (a step gives e, -e, 0).
+  const std::vector<int> left = KeptRows(fate);
+  const int ml = static_cast<int>(left.size());
+  auto s2 = [&](int q) { return v[left[q - 1]] - 2.0 * v[left[q]] + v[left[q + 1]]; };
+  for (int q = 2; q + 3 < ml; ++q) {
+    const double a = s2(q), b = s2(q + 1);
+    if (!(std::abs(a) > tol && std::abs(b) > tol && a * b > 0.0)) continue;
+    const double before = s2(q - 1), after = s2(q + 2);
+    const double size = std::min(std::abs(a), std::abs(b));
+    if (!(before * a < 0.0 && after * a < 0.0 && std::abs(before) > 0.5 * size &&
+          std::abs(after) > 0.5 * size))
+      continue;
+    fate[left[q]] = fate[left[q + 1]] = kGlitch;
+    listed.push_back(left[q]);
+    listed.push_back(left[q + 1]);
+    q += 2;
   }
 }
 
@@ -207,7 +225,7 @@ CleanedRecord CleanRecord(const ExperimentRecord& record, const CleaningOptions&
       list += (k ? ", " : "") + std::to_string(out.glitch_rows[k] + 1);
     if (out.glitch_rows.size() > 12) list += fmt::format(" and {} more", out.glitch_rows.size() - 12);
     out.notes.push_back(fmt::format(
-        "single-row glitches dropped at record rows {} (1-based; tolerance {:g} noise sigmas)", list,
+        "glitches (one- or two-row spikes) dropped at record rows {} (1-based; tolerance {:g} noise sigmas)", list,
         options.glitch_tolerance));
   }
   if (!out.cycles.empty()) {

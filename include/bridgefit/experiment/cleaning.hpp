@@ -9,9 +9,9 @@
 // Rules, in the order they apply:
 //   no crack length   NaN crack length in a row (only for methods that need it)
 //   negative load     a few negative loads (mostly negative is an error upstream)
-//   single-row glitch one row whose load or displacement leaves the line through
-//                     its neighbours by > glitch_tolerance x sqrt(6) sigma, with the
-//                     neighbours' second differences of the opposite sign (a spike,
+//   glitch            one row (or two) whose load or displacement leaves the line
+//                     through its neighbours: second difference > glitch_tolerance x
+//                     sqrt(6) sigma, the neighbours' of the opposite sign (a spike,
 //                     not a step or a reversal); dropped and listed
 //   before the preload leading rows with load < preload_fraction x max load
 //   after final failure trailing rows after the last with load >= failure_fraction x max
