@@ -2,9 +2,13 @@
 // expansion of command-line image arguments (folder, glob, files).
 #include "bridgefit/dic/image.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cctype>
+#include <cstdio>
 #include <fnmatch.h>
+#include <string>
 #include <system_error>
 
 #include <opencv2/imgcodecs.hpp>
@@ -14,21 +18,72 @@
 
 namespace bridgefit::dic {
 namespace fs = std::filesystem;
+namespace {
+
+// The codecs under OpenCV (libpng, libtiff) print their own "libpng error:"
+// lines on stderr before imread returns an empty image; while decoding, the
+// process's stderr goes to a temporary file so that the text can join our
+// error message instead (images are read one at a time).
+class StderrCapture {
+ public:
+  StderrCapture() : file_(std::tmpfile()) {
+    if (!file_) return;
+    std::fflush(stderr);
+    saved_ = dup(STDERR_FILENO);
+    if (saved_ < 0 || dup2(fileno(file_), STDERR_FILENO) < 0) Restore();
+  }
+  ~StderrCapture() {
+    Restore();
+    if (file_) std::fclose(file_);
+  }
+  // Restores stderr and returns what was written meanwhile.
+  std::string Release() {
+    Restore();
+    std::string text;
+    if (!file_) return text;
+    std::rewind(file_);
+    char buffer[512];
+    while (std::fgets(buffer, sizeof buffer, file_)) text += buffer;
+    while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.pop_back();
+    return text;
+  }
+
+ private:
+  void Restore() {
+    if (saved_ < 0) return;
+    std::fflush(stderr);
+    dup2(saved_, STDERR_FILENO);
+    close(saved_);
+    saved_ = -1;
+  }
+  std::FILE* file_ = nullptr;
+  int saved_ = -1;
+};
+
+}  // namespace
 
 Image ReadImage(const fs::path& path) {
   std::error_code ec;
   if (!fs::is_regular_file(path, ec))
     throw Error(ErrorKind::kInput, "image file not found", {.file = path.string()});
   cv::Mat mat;
-  try {
-    mat = cv::imread(path.string(), cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
-  } catch (const cv::Exception& e) {
-    throw Error(ErrorKind::kInput, std::string("cannot decode image: ") + e.what(),
-                {.file = path.string()});
+  std::string codec_text;
+  {
+    StderrCapture capture;
+    try {
+      mat = cv::imread(path.string(), cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
+    } catch (const cv::Exception& e) {
+      codec_text = capture.Release();
+      throw Error(ErrorKind::kInput, std::string("cannot decode image: ") + e.what(),
+                  {.file = path.string(), .value = codec_text});
+    }
+    codec_text = capture.Release();
   }
   if (mat.empty())
-    throw Error(ErrorKind::kInput, "cannot read image (not an image or unsupported format)",
-                {.file = path.string(), .expected = "an 8- or 16-bit grayscale image"});
+    throw Error(ErrorKind::kInput, "cannot read image (corrupt, not an image or unsupported format)",
+                {.file = path.string(), .value = codec_text,
+                 .expected = "an 8- or 16-bit grayscale image (png, tif, bmp, jpg, pgm)"});
+  if (!codec_text.empty()) std::fprintf(stderr, "%s: %s\n", path.string().c_str(), codec_text.c_str());
   if (mat.channels() == 3) cv::cvtColor(mat, mat, cv::COLOR_BGR2GRAY);
   else if (mat.channels() == 4) cv::cvtColor(mat, mat, cv::COLOR_BGRA2GRAY);
   const int depth = mat.depth();
