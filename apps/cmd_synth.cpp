@@ -51,9 +51,12 @@ class SynthCommand final : public Command {
     sub.add_option("--frames", frames_, "Speckle frames (0: none)")->default_val(10);
     sub.add_option("--image-width", image_width_, "px")->default_val(400);
     sub.add_option("--image-height", image_height_, "px")->default_val(300);
-    sub.add_option("--scale", scale_, "Image scale per px")->default_val("0.15 mm");
-    sub.add_option("--image-x0", image_x0_, "Distance of the image's left edge from the load line")
-        ->default_val("20 mm");
+    scale_option_ = sub.add_option("--scale", scale_, "Image scale per px (default 0.15 mm, or "
+                                   "what fits the specimen)")->default_val("0.15 mm");
+    x0_option_ = sub.add_option("--image-x0", image_x0_,
+                                "Distance of the image's left edge from the load line (default "
+                                "20 mm, or what fits the specimen)")
+                     ->default_val("20 mm");
   }
 
   int Run(const CommonOptions& common) override {
@@ -124,8 +127,35 @@ class SynthCommand final : public Command {
     // Speckle sequence: frame 0 unloaded, then frames spread over the growth.
     int frames_written = 0;
     if (frames_ > 0) {
-      const double scale = ParseOptionQuantity(scale_, Dimension::Length(), "--scale");
-      const double x0 = ParseOptionQuantity(image_x0_, Dimension::Length(), "--image-x0");
+      double scale = ParseOptionQuantity(scale_, Dimension::Length(), "--scale");
+      double x0 = ParseOptionQuantity(image_x0_, Dimension::Length(), "--image-x0");
+      // Issue 15: the window must hold the notch tip and stay on the
+      // specimen (W for a CT, L for a DCB). The defaults (20 mm + 400 x
+      // 0.15 mm) are kept where they do; otherwise, unless given, the
+      // window runs from a tenth of the ligament before a0 to the end.
+      const SpecimenSpec& spec = scene.specimen;
+      const double end = spec.type == SpecimenType::kCT ? spec.width : spec.length;
+      const double a0 = spec.notch;
+      auto fits = [&](double origin, double per_px) {
+        const double tip_px = (a0 - origin) / per_px;
+        return tip_px >= 0.05 * image_width_ && origin + image_width_ * per_px <= end + 1e-12;
+      };
+      if (end > a0 && a0 > 0 && !fits(x0, scale)) {
+        const bool given = scale_option_->count() > 0 || x0_option_->count() > 0;
+        if (!given) {
+          x0 = std::max(0.0, a0 - 0.1 * (end - a0));
+          scale = (end - x0) / image_width_;
+          std::cerr << fmt::format(
+              "synth: image window {:.4g}..{:.4g} mm ({:.4g} mm/px) to fit the specimen (a0 = "
+              "{:.4g} mm, end {:.4g} mm); --image-x0 and --scale set it\n",
+              x0 * 1e3, (x0 + image_width_ * scale) * 1e3, scale * 1e3, a0 * 1e3, end * 1e3);
+        } else {
+          std::cerr << fmt::format(
+              "warning: synth: the image window {:.4g}..{:.4g} mm does not hold the notch tip "
+              "(a0 = {:.4g} mm) inside it or runs past the specimen end ({:.4g} mm)\n",
+              x0 * 1e3, (x0 + image_width_ * scale) * 1e3, a0 * 1e3, end * 1e3);
+        }
+      }
       const MaterialSpec& m = scene.material;
       const double E = m.AxialModulus();
       const double nu = m.orthotropic ? m.nu12 : m.nu;
@@ -190,6 +220,8 @@ class SynthCommand final : public Command {
 
  private:
   std::string scene_, out_, record_name_ = "record.csv", resolution_, disp_noise_, crack_noise_, rate_, scale_, image_x0_;
+  CLI::Option* scale_option_ = nullptr;
+  CLI::Option* x0_option_ = nullptr;
   std::uint64_t seed_ = 1;
   int loading_points_ = 20, growth_points_ = 400, frames_ = 10, image_width_ = 400,
       image_height_ = 300;
