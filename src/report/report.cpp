@@ -496,6 +496,21 @@ ReportSummary WriteFitReport(const fs::path& fit_h5, const fs::path& out_dir,
   } else {
     summary.notes.push_back("no record given: no load-displacement or crack-length figure");
   }
+  // Issue 15: every row the R-curve reduction did not use, by reason, and
+  // its warnings (written by `rcurve --out` and the fit of a record).
+  {
+    const io::H5Reader fit_file(fit_h5);
+    if (fit_file.Exists("/rcurve/dropped_reasons") && fit_file.Exists("/rcurve/dropped_counts")) {
+      const std::vector<std::string> reasons = fit_file.ReadStrings("/rcurve/dropped_reasons");
+      const std::vector<double> counts = fit_file.ReadVector("/rcurve/dropped_counts");
+      for (std::size_t i = 0; i < std::min(reasons.size(), counts.size()); ++i)
+        summary.notes.push_back(fmt::format("R curve: {:.0f} record rows not used: {}", counts[i],
+                                            reasons[i]));
+    }
+    if (fit_file.Exists("/rcurve/warnings"))
+      for (const std::string& w : fit_file.ReadStrings("/rcurve/warnings"))
+        if (w != "none") summary.notes.push_back("R curve warning: " + w);
+  }
 
   WriteFile(tmp / "report.gp", gp);
   const std::string command = "cd " + ShellQuote(tmp.string()) + " && " + ShellQuote(options.gnuplot) +
