@@ -219,8 +219,14 @@ void CrackLengthStage(Prepared& p, RCurveResult& result) {
     std::size_t k = 0;
     while (k < w.size() && w.a[k] <= a_limit) ++k;
     if (k < w.size()) {
+      const int past = static_cast<int>(w.size() - k);
       AddDropped(result, fmt::format("past the validity limit a > {} (edge effect)", Mm(a_limit)),
-                 static_cast<int>(w.size() - k));
+                 past);
+      if (past > options.cleaning.warn_fraction * p.record->size())
+        result.warnings.push_back(fmt::format(
+            "{}: rule 'past the validity limit' took {} of {} rows ({:.1f}%) out of the R curve; "
+            "its limit is set by --max-crack-length (now {})",
+            p.src, past, p.record->size(), 100.0 * past / p.record->size(), Mm(a_limit)));
       w.Truncate(k);
     }
   }
