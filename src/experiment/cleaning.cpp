@@ -42,7 +42,7 @@ const char* RuleReason(int fate) {
 const char* RuleOption(int fate) {
   switch (fate) {
     case kNoCrack: return "--method equivalent (needs no crack length)";
-    case kNegative: return "the load's sign convention";
+    case kNegative: return "check the load's sign convention";
     case kGlitch: return "--glitch-tolerance";
     case kPreload: return "--preload-fraction";
     case kFailure: return "--failure-fraction";
@@ -215,9 +215,9 @@ CleanedRecord CleanRecord(const ExperimentRecord& record, const CleaningOptions&
     out.rules.push_back({RuleReason(f), RuleOption(f), counts[f]});
     if (counts[f] > options.warn_fraction * n)
       out.warnings.push_back(fmt::format(
-          "{}: cleaning rule '{}' took {} of {} rows ({:.1f}%) out of the R curve; its tolerance "
-          "is set by {}",
-          record.source, RuleReason(f), counts[f], n, 100.0 * counts[f] / n, RuleOption(f)));
+          "{}: cleaning rule '{}' took {} of {} rows ({:.1f}%) out of the R curve; {} {}",
+          record.source, RuleReason(f), counts[f], n, 100.0 * counts[f] / n,
+          f == kNoCrack || f == kNegative ? "way out:" : "its tolerance is set by", RuleOption(f)));
   }
   if (!out.glitch_rows.empty()) {
     std::string list;
