@@ -140,7 +140,15 @@ void CleanStage(Prepared& p, RCurveResult& result) {
     p.w.d.push_back(record.displacement[i]);
     if (all_read) p.w.a_raw.push_back(record.crack_length[i]);
   }
-  result.clean_rows = p.cleaned.rows;
+  // The load-fit rows: a missing crack reading does not take a row's load
+  // and displacement out of a load-displacement fit.
+  bool nan_crack = false;
+  if (p.has_a)
+    for (double a : record.crack_length) nan_crack |= std::isnan(a);
+  result.clean_rows = nan_crack ? CleanRecord(record, options.cleaning, false, options.load_noise,
+                                              options.displacement_noise)
+                                      .rows
+                                : p.cleaned.rows;
   for (const CleaningRule& rule : p.cleaned.rules) AddDropped(result, rule.reason, rule.count);
   result.notes.insert(result.notes.end(), p.cleaned.notes.begin(), p.cleaned.notes.end());
   result.warnings.insert(result.warnings.end(), p.cleaned.warnings.begin(), p.cleaned.warnings.end());

@@ -333,6 +333,8 @@ TEST(FaultCounts, EachRuleCountsItsRows) {
   EXPECT_EQ(count(glitch, "glitch"), 2);
   const RCurveResult nan_tail = ComputeRCurve(faults["55-row NaN tail in crack length"](sample.record), o);
   EXPECT_EQ(count(nan_tail, "no crack length"), 55);
+  // ...but their load and displacement stay in a load-displacement fit's rows.
+  EXPECT_EQ(nan_tail.clean_rows.size(), clean.clean_rows.size());
   const RCurveResult cycle = ComputeRCurve(faults["full unload-reload cycle at mid-test"](sample.record), o);
   EXPECT_GE(count(cycle, "cycle"), 29);  // 30 rows inserted; the last may be back on the envelope
   EXPECT_LE(count(cycle, "cycle"), 30);

@@ -128,7 +128,8 @@ struct RCurveResult {
   std::vector<std::string> notes;    // cleaning and assumptions, in words
   std::vector<std::string> warnings; // what may make the numbers wrong (CLI: stderr)
   // Record rows (0-based) the cleaning kept on the envelope, before the
-  // validity window: the rows a load-displacement fit should use.
+  // validity window, with rows whose only fault is a missing crack reading:
+  // the rows a load-displacement fit should use.
   std::vector<int> clean_rows;
   Initiation initiation;
   double load_noise = NAN;           // noise levels used [N], [m], [m]
