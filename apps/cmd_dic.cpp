@@ -74,7 +74,30 @@ class DicCommand final : public Command {
 
   int Run(const CommonOptions& common) override {
     dic::CrackSequenceOptions opt;
-    const double m_per_px = ParseQuantity(scale_, Dimension::LengthPerPixel());
+    // A scale given the other way round (px/mm) is the usual slip: say which
+    // option and the inverse value that was probably meant.
+    double m_per_px = NAN;
+    try {
+      m_per_px = ParseQuantity(scale_, Dimension::LengthPerPixel());
+    } catch (const Error& e) {
+      std::string hint = "a length per pixel, e.g. '0.05mm/px'";
+      const std::size_t slash = scale_.find('/');
+      if (slash != std::string::npos) {
+        const std::string left = scale_.substr(0, slash), right = scale_.substr(slash + 1);
+        try {
+          // "6.667px/mm": px over a length; 1 / (6.667 px/mm) = 0.15 mm/px.
+          const double px = ParseQuantity(left, Dimension::Pixel());
+          const double per = ParseQuantity("1" + right, Dimension::Length());
+          if (px > 0 && per > 0)
+            hint = fmt::format("a length per pixel; '{}' reads as pixels per length: did you mean "
+                               "'--scale {:.6g}mm/px'?",
+                               scale_, per / px * 1e3);
+        } catch (const Error&) {
+        }
+      }
+      throw Error(ErrorKind::kUsage, "the image scale is not a length per pixel (" + e.message() + ")",
+                  {.field = "--scale", .value = scale_, .expected = hint});
+    }
     BF_CHECK_INPUT(m_per_px > 0, "scale must be positive",
                    {.field = "--scale", .value = scale_, .expected = "e.g. '0.05mm/px'"});
     opt.scale_m_per_px = m_per_px;

@@ -66,8 +66,12 @@ class StaticGrowth {
                      "the full explicit-crack model needs an even number of particles per cell "
                      "(the crack plane lies between particle rows)",
                      {.field = "ppc", .value = std::to_string(opt_.ppc), .expected = "2, 4, 6 or 8"});
-    model_ = half_ ? BuildHalfSpecimenModel(scene, opt_.cell, opt_.ppc)
-                   : BuildSpecimenModel(scene, opt_.cell, opt_.ppc);
+    // The quasi-static solve has no inertia: the density (optional in the
+    // scene, docs/FORMATS.md) only has to satisfy the model's check.
+    Scene static_scene = scene;
+    if (!(static_scene.material.density > 0.0)) static_scene.material.density = 1.0;
+    model_ = half_ ? BuildHalfSpecimenModel(static_scene, opt_.cell, opt_.ppc)
+                   : BuildSpecimenModel(static_scene, opt_.cell, opt_.ppc);
     const auto* elastic = dynamic_cast<const LinearElastic*>(model_.law.get());
     BF_CHECK_INPUT(elastic != nullptr, "MPM crack growth needs a linear elastic material");
     Q_ = elastic->Stiffness();
