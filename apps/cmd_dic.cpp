@@ -35,6 +35,24 @@ double ParsePixelsOrLength(const std::string& text, double m_per_px, const char*
   }
 }
 
+nlohmann::json PathJson(const dic::FrameResult& f) {
+  const dic::CrackLine& L = f.line_used;
+  nlohmann::json j = {{"found", f.path.found},
+                      {"line_px", {L.x0, L.y0, L.x1, L.y1}}};
+  if (f.path.found) {
+    j["angle_deg"] = f.path.angle_deg;
+    j["points"] = f.path.inliers;
+    j["rms_residual_px"] = f.path.rms_residual_px;
+    j["cracked_length_px"] = f.path.cracked_length_px;
+    j["line_max_offset_px"] = f.path.hint_max_offset_px;
+    j["line_angle_deg"] = f.path.hint_angle_deg;
+    j["disagrees_with_line"] = f.path.disagrees_with_hint;
+  } else if (!f.path.why_not_found.empty()) {
+    j["why_not_found"] = f.path.why_not_found;
+  }
+  return j;
+}
+
 class DicCommand final : public Command {
  public:
   const char* name() const override { return "dic"; }
@@ -46,8 +64,15 @@ class DicCommand final : public Command {
                    "Images: a folder, a glob or files (natural order; the first is the reference)")
         ->required();
     sub.add_option("--crack-line", crack_line_,
-                   "Crack line x0,y0,x1,y1 in reference pixels, from the notch into the material")
-        ->required();
+                   "Expected crack x0,y0,x1,y1 in reference pixels, from the notch into the "
+                   "material: a hint (start point and direction) for the path found from the data; "
+                   "without it the path is searched along x and y and lengths run from the field "
+                   "edge on the notch side");
+    sub.add_flag("--fixed-line", fixed_line_,
+                 "Take --crack-line as the crack itself (no path search; crack band on the line)");
+    sub.add_option("--path-search", path_search_,
+                   "Path search half width across the given line, px")
+        ->default_val(40);
     sub.add_option("--scale", scale_, "Image scale, e.g. '0.05mm/px'")->required();
     sub.add_option("--subset", subset_, "Subset size in px (odd)")->default_val(31);
     sub.add_option("--step", step_, "Grid step in px")->default_val(5);
@@ -79,14 +104,19 @@ class DicCommand final : public Command {
                    {.field = "--scale", .value = scale_, .expected = "e.g. '0.05mm/px'"});
     opt.scale_m_per_px = m_per_px;
     opt.offset_m = ParseQuantity(offset_, Dimension::Length());
-    const auto line = ParseOptionNumbers(crack_line_, "--crack-line", 4);
-    opt.tip.line = {line[0], line[1], line[2], line[3]};
-    if (!(opt.tip.line.Length() > 1))
-      throw Error(ErrorKind::kUsage, "crack line end points coincide",
-                  {.field = "--crack-line", .value = crack_line_});
+    opt.has_line = !crack_line_.empty();
+    opt.find_path = !fixed_line_;
+    if (fixed_line_ && !opt.has_line)
+      throw Error(ErrorKind::kUsage, "--fixed-line needs --crack-line",
+                  {.field = "--fixed-line", .expected = "--crack-line x0,y0,x1,y1"});
+    if (opt.has_line) {
+      const auto line = ParseOptionNumbers(crack_line_, "--crack-line", 4);
+      opt.tip.line = {line[0], line[1], line[2], line[3]};
+      if (!(opt.tip.line.Length() > 1))
+        throw Error(ErrorKind::kUsage, "crack line end points coincide",
+                    {.field = "--crack-line", .value = crack_line_});
+    }
     auto& c = opt.correlation;
-    c.subset_size = subset_;
-    c.step = step_;
     c.min_zncc = min_zncc_;
     c.seed_search_radius = search_;
     c.threads = threads_;
@@ -107,12 +137,11 @@ class DicCommand final : public Command {
       c.roi_y1 = static_cast<int>(r[3]);
     }
     opt.method = dic::ParseTipMethod(tip_method_);
-    opt.tip.station_spacing_px = step_;
-    opt.tip.band_half_width_px = subset_ / 2 + 1;
-    opt.tip.side_depth_px = 2.5 * step_;
+    dic::SetGridDefaults(subset_, step_, &opt);
     opt.tip.threshold_floor_px = ParsePixelsOrLength(threshold_, m_per_px, "--threshold");
-    opt.tip.fit_radius_px = fit_radius_ > 0 ? fit_radius_ : std::max(60.0, 5.0 * subset_);
-    opt.tip.sqrt_window_px = opt.tip.fit_radius_px;
+    if (fit_radius_ > 0) opt.tip.fit_radius_px = opt.tip.sqrt_window_px = fit_radius_;
+    opt.path.min_jump_px = opt.tip.threshold_floor_px;
+    opt.path.search_half_width_px = path_search_;
     opt.keep_fields = fields_ && !out_.empty();
     opt.show_progress = !common.quiet;
     std::string why;
@@ -144,6 +173,10 @@ class DicCommand final : public Command {
             {"tip_jump_px", f.tip.jump.found ? NumberOrNull(f.tip.jump.s_px) : nlohmann::json()},
             {"tip_sqrt_px", f.tip.sqrt_cod.found ? NumberOrNull(f.tip.sqrt_cod.s_px) : nlohmann::json()},
             {"methods_disagree", f.tip.methods_disagree},
+            {"tip_at_edge", f.tip.tip_at_edge},
+            {"flagged", f.flagged},
+            {"flags", f.Flags()},
+            {"path", PathJson(f)},
             {"k_over_2mu_sqrt_m", f.tip.williams.found
                                       ? NumberOrNull(f.tip.k_over_2mu_sqrt_px * std::sqrt(m_per_px))
                                       : nlohmann::json()},
@@ -173,12 +206,13 @@ class DicCommand final : public Command {
           std::cout << fmt::format("{:5} {:14.4f} {:10.4f} {:10.2f} {:9.2f} {:9.2f} {:>9} {:6.3f}{} {}\n",
                                    k, f.crack_length_m * 1e3, f.uncertainty_m * 1e3, f.tip.tip.s_px,
                                    f.tip.tip.x_px, f.tip.tip.y_px, dic::TipMethodName(f.tip.method),
-                                   f.valid_fraction, f.tip.methods_disagree ? "*" : " ", f.image);
+                                   f.valid_fraction, f.flagged ? "*" : " ",
+                                   f.image + (f.flagged ? "  [" + f.Flags() + "]" : ""));
         else
           std::cout << fmt::format("{:5} {:>14} {:>10} {:>10} {:>9} {:>9} {:>9} {:6.3f}  {}\n", k,
                                    "none", "", "", "", "", "", f.valid_fraction, f.image);
       }
-      std::cout << "(* = tip methods disagree by more than one grid step)\n";
+      std::cout << "(* = flagged: the length may be wrong by more than its uncertainty)\n";
     }
     return 0;
   }
@@ -188,7 +222,7 @@ class DicCommand final : public Command {
     std::string text =
         "frame, image, crack_length [mm], crack_length_raw [mm], uncertainty [mm], crack_length "
         "[px], tip_x [px], tip_y [px], tip_method, tip_williams [px], tip_jump [px], tip_sqrt [px], "
-        "methods_disagree, valid_fraction, mean_zncc, reference_frame\n";
+        "methods_disagree, valid_fraction, mean_zncc, reference_frame, flags\n";
     auto num = [](bool ok, double v) { return ok && std::isfinite(v) ? fmt::format("{:.6g}", v) : std::string(); };
     for (size_t k = 0; k < r.frames.size(); ++k) {
       const auto& f = r.frames[k];
@@ -199,7 +233,7 @@ class DicCommand final : public Command {
         for (char ch : image) q += ch == '"' ? std::string("\"\"") : std::string(1, ch);
         image = q + "\"";
       }
-      text += fmt::format("{}, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}, {:.4f}, {:.4f}, {}\n", k,
+      text += fmt::format("{}, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}, {:.4f}, {:.4f}, {}, {}\n", k,
                           image, num(t, f.crack_length_m * 1e3), num(t, f.crack_length_raw_m * 1e3),
                           num(t, f.uncertainty_m * 1e3), num(t, f.tip.tip.s_px),
                           num(t, f.tip.tip.x_px), num(t, f.tip.tip.y_px),
@@ -208,7 +242,7 @@ class DicCommand final : public Command {
                           num(f.tip.jump.found, f.tip.jump.s_px),
                           num(f.tip.sqrt_cod.found, f.tip.sqrt_cod.s_px),
                           f.tip.methods_disagree ? 1 : 0, f.valid_fraction,
-                          f.correlation.mean_zncc, f.correlation.reference_frame);
+                          f.correlation.mean_zncc, f.correlation.reference_frame, f.Flags());
     }
     (void)m_per_px;
     WriteTextFileAtomic(csv_, text);
@@ -247,6 +281,18 @@ class DicCommand final : public Command {
     h5.WriteVector("/dic/valid_fraction", vf, "1", "valid points / correlated points");
     h5.WriteVector("/dic/k_over_2mu", kk, "m^0.5", "Williams K_I / (2 mu)");
     h5.WriteVector("/dic/williams_residual", res, "px", "RMS residual of the field fit");
+    std::vector<std::string> flags;
+    std::vector<double> path(4 * n, NAN);
+    for (size_t k = 0; k < n; ++k) {
+      flags.push_back(r.frames[k].Flags());
+      const auto& L = r.frames[k].line_used;
+      if (k > 0 && (r.frames[k].path.found || opt.has_line)) {
+        path[4 * k] = L.x0; path[4 * k + 1] = L.y0; path[4 * k + 2] = L.x1; path[4 * k + 3] = L.y1;
+      }
+    }
+    h5.WriteStrings("/dic/flags", flags);
+    h5.WriteMatrix("/dic/crack_path", n, 4, path, "px",
+                   "line the length is measured along: x0, y0 (notch side), x1, y1");
     const auto& L = opt.tip.line;
     h5.WriteAttribute("/dic", "crack_line_px", fmt::format("{},{},{},{}", L.x0, L.y0, L.x1, L.y1));
     h5.WriteAttribute("/dic", "scale_m_per_px", opt.scale_m_per_px);
@@ -287,7 +333,8 @@ class DicCommand final : public Command {
       out_, csv_;
   int subset_ = 31, step_ = 5, search_ = 40, threads_ = 0;
   double min_zncc_ = 0.8, fit_radius_ = 0;
-  bool no_incremental_ = false, fields_ = false;
+  double path_search_ = 40;
+  bool no_incremental_ = false, fields_ = false, fixed_line_ = false;
 };
 
 }  // namespace
