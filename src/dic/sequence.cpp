@@ -6,6 +6,7 @@
 
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/core/progress.hpp"
+#include "bridgefit/dic/fields.hpp"
 
 namespace bridgefit::dic {
 
@@ -67,6 +68,68 @@ void SetGridDefaults(int subset_px, int step_px, CrackSequenceOptions* o) {
   o->path.side_depth_px = std::max(o->tip.side_depth_px, 3.0 * step_px);
   // Where straddling subsets fail, the path is resolved to half a grid step.
   o->path.hint_tolerance_px = std::max(2.0, 0.5 * step_px + 1.0);
+}
+
+void SetFieldDefaults(double spacing, double band, CrackSequenceOptions* o) {
+  o->tip.station_spacing_px = spacing;
+  o->tip.band_half_width_px = band;
+  o->tip.side_depth_px = 2.5 * spacing;
+  o->tip.fit_radius_px = std::max(10.0 * band, 12.0 * spacing);
+  o->tip.sqrt_window_px = o->tip.fit_radius_px;
+  o->path.station_spacing_px = spacing;
+  o->path.gap_px = band;
+  o->path.side_depth_px = 3.0 * spacing;
+  o->path.hint_tolerance_px = 1.5 * spacing;
+  o->path.search_half_width_px = std::max(o->path.search_half_width_px, 8.0 * spacing);
+}
+
+CrackSequenceResult AnalyzeCrackFields(const std::vector<std::filesystem::path>& files,
+                                       CrackSequenceOptions options, bool auto_defaults,
+                                       double band) {
+  if (files.empty()) throw Error(ErrorKind::kInput, "no field files given");
+  Stopwatch watch;
+  CrackSequenceResult out;
+  Progress progress("crack", files.size(), options.show_progress);
+  CrackPathOptions path_opt;
+  std::string unit;
+  for (size_t k = 0; k < files.size(); ++k) {
+    FieldFile file = ReadFieldFile(files[k]);
+    if (k == 0) {
+      unit = file.unit;
+      if (!file.IsPixels()) options.scale_m_per_px = file.m_per_unit;
+      if (!(options.scale_m_per_px > 0))
+        throw Error(ErrorKind::kUsage, "the fields are in px: a scale is needed",
+                    {.file = files[k].string(), .field = "--scale", .expected = "e.g. '0.05mm/px'"});
+      if (auto_defaults) {
+        const double spacing = PointSpacing(file.field);
+        BF_CHECK_INPUT(spacing > 0, "cannot tell the point spacing (fewer than two valid points)",
+                       {.file = files[k].string()});
+        SetFieldDefaults(spacing, band > 0 ? band : 1.5 * spacing, &options);
+      }
+      std::string why;
+      if (!options.IsValid(&why)) throw Error(ErrorKind::kUsage, "invalid crack options: " + why);
+      path_opt = PathOptionsFor(options, 0, 0);
+      out.points = file.field.size();
+    } else if (file.unit != unit) {
+      throw Error(ErrorKind::kInput, "field unit differs from the first file's",
+                  {.file = files[k].string(), .field = "unit", .value = file.unit,
+                   .expected = unit + " (as in " + files[0].string() + ")"});
+    }
+    FrameResult r;
+    r.image = files[k].string();
+    try {
+      LocateCrackInField(file.field, options, path_opt, &r);
+    } catch (const Error& e) {
+      throw e.WithContext({.file = files[k].string()});
+    }
+    if (options.keep_fields) r.field = std::move(file.field);
+    out.frames.push_back(std::move(r));
+    progress.Update(k + 1);
+  }
+  progress.Finish();
+  MakeMonotone(&out.frames);
+  out.wall_s = watch.Seconds();
+  return out;
 }
 
 CrackPathOptions PathOptionsFor(const CrackSequenceOptions& options, int width, int height) {

@@ -81,6 +81,23 @@ void LocateCrackInField(const DisplacementField& field, const CrackSequenceOptio
 // (weighted isotonic regression of the raw lengths).
 void MakeMonotone(std::vector<FrameResult>* frames);
 
+// Tip and path settings for exported fields, in the field's unit: stations
+// every point spacing, band half width `band` (points this close to the crack
+// are ignored: smeared subsets), side depth 2.5 spacings, Williams radius
+// max(10 band, 12 spacings), path resolution 1.5 spacings.
+void SetFieldDefaults(double spacing, double band, CrackSequenceOptions* options);
+
+// Crack length from exported displacement fields, one file per frame, read
+// one at a time (fields are relative to the reference already, so every file
+// is a frame). Lengths use options.scale_m_per_px as metres per field unit:
+// for fields in a length unit it is overwritten from the file (all files must
+// share it); for fields in px it must be given. When `auto_defaults`, the
+// tip and path settings follow SetFieldDefaults(spacing of the first file,
+// band or 1.5 spacings when band <= 0). Throws Error(kInput) naming the file.
+CrackSequenceResult AnalyzeCrackFields(const std::vector<std::filesystem::path>& files,
+                                       CrackSequenceOptions options, bool auto_defaults = true,
+                                       double band = 0);
+
 // Throws Error(kInput) naming the file for unreadable images or a size
 // mismatch, Error(kUsage) for invalid options, Error(kInput) for a crack
 // line outside the image.
