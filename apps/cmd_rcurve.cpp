@@ -21,7 +21,7 @@
 #include "bridgefit/io/hdf5.hpp"
 #include "bridgefit/io/scene_file.hpp"
 #include "command.hpp"
-#include "record_input.hpp"
+#include "bridgefit/pipeline/rcurve_file.hpp"
 
 namespace bridgefit::cli {
 namespace {
@@ -137,7 +137,7 @@ class RcurveCommand final : public Command {
 
     if (!out_.empty()) {
       io::H5Writer file(out_);
-      WriteReductionH5(file, record, result, options, scene_);
+      pipeline::WriteReductionH5(file, record, result, options, scene_);
       file.Commit();
     }
     if (!csv_.empty()) {
@@ -225,10 +225,10 @@ class RcurveCommand final : public Command {
   // Import cleaning (io) followed by the reduction's own reasons.
   static std::vector<std::pair<std::string, int>> DroppedList(
       const ExperimentRecord& record, const experiment::RCurveResult& result) {
-    return DroppedRowList(record, result);
+    return pipeline::DroppedRowList(record, result);
   }
 
-  ExperimentRecord ReadRecord() const { return ReadRecordFile(record_, columns_, units_); }
+  ExperimentRecord ReadRecord() const { return pipeline::ReadRecordFile(record_, columns_, units_); }
 
   void ApplySpecimenOptions(experiment::RCurveOptions& o) const {
     if (!type_.empty()) {

@@ -4,7 +4,10 @@
 // (20 loading rows, 400 growth rows, load noise 0.5% of the reading, seed =
 // draw; draw 0 without noise: the fit's bias from the element size alone)
 // from the reduced model at 0.0625 mm elements (the nearest to its continuum
-// limit), fitted with the reduced model at several element sizes.
+// limit), fitted with the reduced model at several element sizes by the
+// workflow `bridgefit fit RECORD --fit-to load-displacement` runs
+// (pipeline::RunFit: the record's energy R curve, its fit as the start, then
+// the load-displacement fit; the time per fit covers all of it).
 //   bf_fit_load_bench OUT_PREFIX [draws=10] [sizes_mm=2,1,0.5]
 // writes OUT_PREFIX.csv (one row per fit), OUT_PREFIX_summary.csv (one row
 // per element size), OUT_PREFIX.gp and OUT_PREFIX.png (gnuplot, when found).
@@ -21,8 +24,8 @@
 #include <vector>
 
 #include "bridgefit/inverse/fit.hpp"
-#include "bridgefit/inverse/reduced_forward.hpp"
 #include "bridgefit/models/reduced.hpp"
+#include "bridgefit/pipeline/fit.hpp"
 #include "bridgefit/scene/reference.hpp"
 
 using namespace bridgefit;
@@ -72,12 +75,14 @@ int main(int argc, char** argv) {
       "elements [mm], draws, max abs error [%], mean error [%], sd [%], within 3%, within 5%, "
       "ci covers, mean wall [s], mean cpu [s], noise-free error [%]\n";
   for (double h : sizes) {
-    models::ReducedOptions options;
-    options.mesh.resolution = h;
-    options.mesh.max_crack_length = 0.075;
-    Scene fit_scene = truth;
-    fit_scene.bridging.reset();
-    const auto model = MakeReducedForwardModel(fit_scene, options);
+    pipeline::FitRequest request;
+    request.scene = truth;
+    request.scene.bridging.reset();
+    request.target = FitTarget::kLoad;
+    request.resolution = h;
+    request.fit.starts = 2;
+    request.reduction.load_noise = kLoadNoise * 0.6 * peak;  // [N], as declared to `fit`
+    request.reduction.displacement_noise = 0.0;
     std::vector<double> errors;
     int covers = 0;
     double wall_sum = 0.0, cpu_sum = 0.0, noise_free = NAN;
@@ -87,13 +92,10 @@ int main(int argc, char** argv) {
       std::normal_distribution<double> gauss(0.0, 1.0);
       if (seed > 0)
         for (double& load : record.load) load *= 1.0 + kLoadNoise * gauss(rng);
-      FitOptions fo;
-      fo.starts = 2;
-      fo.initial = {NAN, 300.0, 2000.0};  // an R-curve fit's kind of start
+      request.record = record;
       const auto wall0 = std::chrono::steady_clock::now();
       const std::clock_t cpu0 = std::clock();
-      const FitSummary s = FitBridgingLaw(*model, laws::MakeLinearShape(),
-                                          FitData::FromRecord(record, kLoadNoise * 0.6 * peak, 0.0), fo);
+      const FitSummary s = pipeline::RunFit(request).summary;
       const double cpu = double(std::clock() - cpu0) / CLOCKS_PER_SEC;
       const double wall =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();

@@ -12,4 +12,4 @@ target_compile_definitions(bf_fit_noise_bench PRIVATE
 # The load-displacement fit's sigma_c error against element size and time.
 # Run: bf_fit_load_bench docs/bench/fit_load_bench [draws=10] [sizes_mm=2,1,0.5]
 add_executable(bf_fit_load_bench ${CMAKE_CURRENT_LIST_DIR}/fit_load_bench.cpp)
-target_link_libraries(bf_fit_load_bench PRIVATE bf_inverse bf_models bf_scene)
+target_link_libraries(bf_fit_load_bench PRIVATE bf_pipeline bf_inverse bf_models bf_scene)

@@ -1,7 +1,9 @@
 #pragma once
-// Test records on the command line, shared by `bridgefit rcurve` and
-// `bridgefit fit RECORD` (which reduces a record to an R curve in-process):
-// reading a record file and writing a reduction's HDF5 groups.
+// Test records and R curves on disk, the one owner of the layout that
+// `bridgefit rcurve --out` writes and `bridgefit fit` / `report` read:
+//   /experiment  the record (io::WriteRecordH5)
+//   /rcurve      the reduction: R curve, its rows, dropped rows, noise
+//                levels, /rcurve/figures and the specimen
 
 #include <string>
 #include <utility>
@@ -11,12 +13,18 @@
 #include "bridgefit/experiment/rcurve.hpp"
 #include "bridgefit/io/hdf5.hpp"
 
-namespace bridgefit::cli {
+namespace bridgefit::pipeline {
+
+bool IsHdf5Path(const std::string& path);  // .h5 or .hdf5
 
 // A record from CSV (units in the header or `units`, columns renamed by
 // `columns`, e.g. "load=Force") or from the HDF5 group /experiment.
 ExperimentRecord ReadRecordFile(const std::string& path, const std::string& columns,
                                 const std::string& units);
+
+// An R curve from CSV ('crack_length [mm], R [J/m^2][, R_uncertainty [J/m^2]]')
+// or from the /rcurve group of an rcurve.h5.
+RCurve ReadRCurveFile(const std::string& path);
 
 // Rows that gave no R point: import cleaning (io), then the reduction's reasons.
 std::vector<std::pair<std::string, int>> DroppedRowList(const ExperimentRecord& record,
@@ -28,4 +36,4 @@ void WriteReductionH5(io::H5Writer& file, const ExperimentRecord& record,
                       const experiment::RCurveResult& result,
                       const experiment::RCurveOptions& options, const std::string& scene_path);
 
-}  // namespace bridgefit::cli
+}  // namespace bridgefit::pipeline

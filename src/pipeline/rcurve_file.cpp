@@ -1,9 +1,15 @@
-#include "record_input.hpp"
+#include "bridgefit/pipeline/rcurve_file.hpp"
+
+#include <cmath>
 
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/io/csv.hpp"
 
-namespace bridgefit::cli {
+namespace bridgefit::pipeline {
+
+bool IsHdf5Path(const std::string& path) {
+  return path.size() > 3 && (path.ends_with(".h5") || path.ends_with(".hdf5"));
+}
 
 ExperimentRecord ReadRecordFile(const std::string& path, const std::string& columns,
                                 const std::string& units) {
@@ -20,6 +26,27 @@ ExperimentRecord ReadRecordFile(const std::string& path, const std::string& colu
   if (!columns.empty()) io::ApplyColumnMapping(columns, mapping);
   if (!units.empty()) io::ApplyUnitMapping(units, mapping);
   return io::ReadRecordCsv(path, mapping);
+}
+
+RCurve ReadRCurveFile(const std::string& path) {
+  if (IsHdf5Path(path)) {
+    const io::H5Reader reader(path);
+    return io::ReadRCurveH5(reader);
+  }
+  const io::CsvTable table = io::ReadCsvTable(path);
+  RCurve curve;
+  curve.source = path;
+  curve.method = "csv";
+  curve.crack_length = table.ColumnSi("crack_length", Dimension::Length());
+  curve.R = table.ColumnSi("R", Dimension::EnergyPerArea());
+  if (table.Find("R_uncertainty") >= 0)
+    curve.R_uncertainty = table.ColumnSi("R_uncertainty", Dimension::EnergyPerArea());
+  for (size_t i = 0; i < curve.R.size(); ++i)
+    if (!std::isfinite(curve.R[i]) || !std::isfinite(curve.crack_length[i]))
+      throw Error(ErrorKind::kInput, "missing value in row " + std::to_string(i + 1),
+                  {.file = path, .expected = "a crack length and an R in every row"});
+  curve.Validate();
+  return curve;
 }
 
 std::vector<std::pair<std::string, int>> DroppedRowList(const ExperimentRecord& record,
@@ -69,4 +96,4 @@ void WriteReductionH5(io::H5Writer& file, const ExperimentRecord& record,
   if (!scene_path.empty()) file.WriteAttribute("/rcurve", "scene", scene_path);
 }
 
-}  // namespace bridgefit::cli
+}  // namespace bridgefit::pipeline

@@ -1,0 +1,123 @@
+#pragma once
+// The fit workflow as one call (issue 16): a request value with IsValid and
+// one run function returning everything the CLI prints or writes.
+//
+//   input (file or values) -> R curve (a record is reduced here, as
+//   `bridgefit rcurve` would) -> forward models -> [compliance calibration
+//   -> start fit] -> fit (one law, or every family by AICc; --model auto:
+//   checked by MPM) -> the model's R at the data for a load-displacement fit
+//
+// The CLI (`bridgefit fit`), the benches and a batch runner call RunFit.
+// Never throws for a failed forward run or a fit that did not converge (that
+// is data, in the summary); throws bridgefit::Error for bad input (usage
+// errors name the CLI option that sets the field).
+
+#include <cmath>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bridgefit/core/records.hpp"
+#include "bridgefit/experiment/rcurve.hpp"
+#include "bridgefit/inverse/compliance_calibration.hpp"
+#include "bridgefit/inverse/fit.hpp"
+#include "bridgefit/inverse/model_check.hpp"
+#include "bridgefit/laws/law.hpp"
+#include "bridgefit/scene/scene.hpp"
+
+namespace bridgefit::pipeline {
+
+// The forward model: the cheapest that is accurate enough (README).
+enum class ModelChoice {
+  kReduced,   // the reduced model (docs/REDUCED.md)
+  kAnalytic,  // small-scale bridging closed form
+  kMpm,       // the MPM growth simulation
+  kAuto,      // reduced fit, checked by MPM, corrected by space mapping
+};
+const char* ModelChoiceName(ModelChoice model);  // reduced | analytic | mpm | auto
+ModelChoice ParseModelChoice(const std::string& name);
+
+struct FitRequest {
+  // The input: a file, told apart by its content (a CSV with crack_length
+  // and R columns or an HDF5 with /rcurve is an R curve; a CSV with load and
+  // displacement columns or an HDF5 with only /experiment is a record)...
+  std::string input_path;
+  std::string columns, units;  // CSV record: column and unit mapping (io::ApplyColumnMapping)
+  // ...or values in memory (input_path empty): an R curve, or a record that
+  // is reduced here; with both, the record is the one behind the R curve.
+  std::optional<RCurve> rcurve;
+  std::optional<ExperimentRecord> record;
+  double record_initial_compliance = NAN;  // in-memory R curve: its record's C0 [m/N]
+
+  Scene scene;
+  std::string scene_path;  // provenance in the fit file and errors
+
+  ModelChoice model = ModelChoice::kReduced;
+  double mpm_cell = 2.5e-3;       // [m], kMpm / kAuto
+  double model_tolerance = 0.03;  // kAuto: relative R difference accepted
+  double resolution = NAN;        // reduced model element size [m]; NaN: its default
+
+  bool compare_laws = false;  // every family, ranked by AICc
+  laws::LawFamily law = laws::LawFamily::kLinear;
+  // What the data's R is; nullopt: energy for an R curve, what its
+  // reduction gives for a record. kAsData needs a record.
+  std::optional<inverse::RKind> r_kind;
+  inverse::FitTarget target = inverse::FitTarget::kRCurve;
+  inverse::ComplianceCalibrationMode calibration = inverse::ComplianceCalibrationMode::kNone;
+  inverse::FitOptions fit;
+  // A record input's reduction (specimen and material come from the scene).
+  experiment::RCurveOptions reduction;
+  bool reduction_given = false;  // the caller set reduction options (an error for an R curve)
+
+  // Every check that needs no input file; Check throws the Error RunFit
+  // would, IsValid returns its text.
+  void Check() const;
+  bool IsValid(std::string* why) const;
+};
+
+// What the fit was given.
+struct FitInput {
+  std::string label;         // the path, or "(in memory)"
+  bool from_record = false;  // reduced here
+  RCurve curve;
+  std::optional<ExperimentRecord> record;             // written as /experiment when known
+  std::optional<experiment::RCurveResult> reduction;  // when from_record
+  experiment::RCurveOptions reduction_options;
+  // The record's initial compliance C0 [m/N] (the reduction's, or
+  // /rcurve/figures of an rcurve.h5); NaN when unknown.
+  double initial_compliance = NAN;
+  std::string ReductionText() const;  // "energy method, reduced in-process from the record"
+};
+
+struct FitRun {
+  FitInput input;
+  inverse::RKind r_kind = inverse::RKind::kEnergy;
+  inverse::FitData data;                      // the R curve as fit data
+  std::optional<inverse::FitData> load_data;  // a load-displacement fit's rows
+  inverse::FitSummary summary;                // the fit (start fit and calibration counted in)
+  laws::LawShape shape;                       // the law fitted (AICc's choice when comparing)
+  std::vector<inverse::LawComparison> comparison;  // when comparing
+  std::optional<inverse::FitSummary> start_fit;    // load-displacement fit: the R-curve fit
+  inverse::ComplianceCalibrationResult calibration;
+  bool model_checked = false;  // --model auto
+  inverse::ModelCheckOptions check;
+  inverse::ModelCheckResult model_check;
+  double mpm_cell = NAN;  // [m], when an MPM model ran
+  // Load-displacement fit: the model's R at the R curve's crack lengths.
+  std::vector<double> load_fit_R;  // [J/m^2]
+  double load_fit_R_rms = NAN;     // [J/m^2]
+  std::string model_note;          // a sentence for the reader, or empty
+
+  // The rms R residual of the fit [J/m^2] (of the load fit's R curve for a
+  // load-displacement fit).
+  double RResidualRms() const;
+  // The text `bridgefit fit` prints: law ranking, data, calibration, summary.
+  std::string BriefReport() const;
+};
+
+// The input as the request names it (read, and reduced for a record).
+FitInput ResolveFitInput(const FitRequest& request);
+
+FitRun RunFit(const FitRequest& request);
+
+}  // namespace bridgefit::pipeline

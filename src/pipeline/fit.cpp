@@ -1,0 +1,276 @@
+// RunFit: the fit workflow's stages, each a function (include/bridgefit/pipeline/fit.hpp).
+
+#include "bridgefit/pipeline/fit.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "bridgefit/core/error.hpp"
+#include "fit_models.hpp"
+
+namespace bridgefit::pipeline {
+
+const char* ModelChoiceName(ModelChoice model) {
+  switch (model) {
+    case ModelChoice::kAnalytic: return "analytic";
+    case ModelChoice::kMpm: return "mpm";
+    case ModelChoice::kAuto: return "auto";
+    default: return "reduced";
+  }
+}
+
+ModelChoice ParseModelChoice(const std::string& name) {
+  for (ModelChoice m : {ModelChoice::kReduced, ModelChoice::kAnalytic, ModelChoice::kMpm,
+                        ModelChoice::kAuto})
+    if (name == ModelChoiceName(m)) return m;
+  throw Error(ErrorKind::kUsage, "unknown model",
+              {.field = "--model", .value = name, .expected = "reduced, analytic, mpm or auto"});
+}
+
+void FitRequest::Check() const {
+  using inverse::ComplianceCalibrationMode;
+  if (calibration != ComplianceCalibrationMode::kNone && target != inverse::FitTarget::kLoad)
+    throw Error(ErrorKind::kUsage, "compliance calibration is for a load-displacement fit",
+                {.field = "--calibrate-compliance",
+                 .value = inverse::ComplianceCalibrationModeName(calibration),
+                 .expected = "together with --fit-to load-displacement"});
+  if (calibration == ComplianceCalibrationMode::kAlongCrack && model != ModelChoice::kReduced)
+    throw Error(ErrorKind::kUsage,
+                "calibrating the compliance along the crack runs the reduced model",
+                {.field = "--model", .value = ModelChoiceName(model), .expected = "reduced"});
+  if (std::string why; !fit.IsValid(&why))
+    throw Error(ErrorKind::kUsage, "invalid fit options: " + why);
+  if (!std::isnan(resolution) && !(resolution > 0.0))
+    throw Error(ErrorKind::kUsage, "the reduced model's element size must be positive",
+                {.field = "--resolution", .value = fmt::format("{:g} m", resolution)});
+  inverse::ModelCheckOptions check;
+  check.tolerance = model_tolerance;
+  if (std::string why; !check.IsValid(&why))
+    throw Error(ErrorKind::kUsage, why,
+                {.field = "--model-tolerance", .value = fmt::format("{:g}", model_tolerance),
+                 .expected = "a fraction in (0, 1), e.g. 0.03"});
+}
+
+bool FitRequest::IsValid(std::string* why) const {
+  try {
+    Check();
+    return true;
+  } catch (const Error& e) {
+    if (why) *why = e.what();
+    return false;
+  }
+}
+
+namespace {
+
+// Like with like: a record's reduction says what its R is; as-data (the
+// model's own record reduced by the data's method) needs a record.
+inverse::RKind ResolveRKind(const FitRequest& request, const FitInput& input) {
+  if (!request.r_kind)
+    return input.from_record ? inverse::ParseRKind(input.curve.r_kind) : inverse::RKind::kEnergy;
+  if (*request.r_kind == inverse::RKind::kAsData && !input.from_record)
+    throw Error(ErrorKind::kUsage, "--r-kind as-data needs a record input (reduced here)",
+                {.field = "--r-kind", .value = "as-data",
+                 .expected = "energy or elastic-zone for an R-curve input"});
+  return *request.r_kind;
+}
+
+// --fit-to load-displacement: the record's rows, weighted by its noise
+// (given, or estimated by the reduction).
+inverse::FitData LoadFitData(const FitRequest& request, const FitInput& input) {
+  if (request.calibration == inverse::ComplianceCalibrationMode::kAlongCrack &&
+      !(input.record && input.record->has_crack_length()))
+    throw Error(ErrorKind::kUsage,
+                "calibrating the compliance along the crack needs measured crack lengths in the "
+                "record",
+                {.file = input.label, .field = "--calibrate-compliance", .value = "crack",
+                 .expected = "a record with a crack_length column (or use the flag alone: the "
+                             "initial slope)"});
+  if (!input.record)
+    throw Error(ErrorKind::kUsage, "a load-displacement fit needs the test record",
+                {.file = input.label, .field = "--fit-to", .value = "load-displacement",
+                 .expected = "a record as input (CSV with load and displacement columns, or an "
+                             "HDF5 with /experiment)"});
+  const double load_noise = input.reduction ? input.reduction->load_noise
+                                            : experiment::RobustNoiseSigma(input.record->load);
+  const double displacement_noise =
+      input.reduction ? input.reduction->displacement_noise
+                      : experiment::RobustNoiseSigma(input.record->displacement);
+  return inverse::FitData::FromRecord(*input.record, load_noise, displacement_noise);
+}
+
+// The law family's shape with its defaults, or the scene's for a family
+// whose shape is data (trilinear, table).
+laws::LawShape ShapeForRequest(const FitRequest& request) {
+  switch (request.law) {
+    case laws::LawFamily::kLinear: return laws::MakeLinearShape();
+    case laws::LawFamily::kCubic: return laws::MakeCubicShape();
+    case laws::LawFamily::kTriangular: return laws::MakeTriangularShape(0.1);
+    case laws::LawFamily::kExponential: return laws::MakeExponentialShape(3.0);
+    default:
+      if (request.scene.bridging && request.scene.bridging->shape.family == request.law)
+        return request.scene.bridging->shape;
+      throw Error(ErrorKind::kUsage, "this law family needs its shape from the scene",
+                  {.field = "--law", .value = std::string(laws::LawFamilyName(request.law)),
+                   .expected = "a scene whose [bridging] has this law"});
+  }
+}
+
+std::vector<laws::LawShape> ComparedFamilies() {
+  return {laws::MakeLinearShape(), laws::MakeCubicShape(), laws::MakeTriangularShape(0.1),
+          laws::MakeExponentialShape(3.0)};
+}
+
+// A load-displacement fit starts where the R-curve fit (quick, without
+// profiles) ends; the start goes into `options.initial`.
+inverse::FitSummary StartFromRCurveFit(const inverse::ForwardModel& model,
+                                       const laws::LawShape& shape, const inverse::FitData& data,
+                                       inverse::FitOptions& options) {
+  inverse::FitOptions first = options;
+  first.profile_likelihood = false;
+  first.progress = false;
+  inverse::FitSummary start = inverse::FitBridgingLaw(model, shape, data, first);
+  if (start.bridging_detected) {
+    for (int i = 0; i < inverse::kParameterCount; ++i)
+      if (std::isfinite(start.best_parameters[i])) options.initial[i] = start.best_parameters[i];
+  } else if (std::isfinite(start.J_tip_c.value)) {
+    // A flat R curve: its J_tip,c, a little bridging, sigma_c scanned.
+    options.initial[inverse::kJTipC] = start.J_tip_c.value;
+    options.initial[inverse::kJB] = 0.05 * start.J_tip_c.value;
+  }
+  return start;
+}
+
+// The fit itself: one law, or every family ranked by AICc (the best one
+// kept); --model auto: the reduced fit checked (and corrected) by MPM.
+void FitLaw(const FitRequest& request, const FitModels& models, const inverse::FitData& fit_data,
+            const inverse::FitOptions& options, FitRun& run) {
+  if (request.compare_laws) {
+    const std::vector<laws::LawShape> families = ComparedFamilies();
+    run.comparison = inverse::CompareLawFamilies(models.model(), families, fit_data, options);
+    const auto best = std::min_element(
+        run.comparison.begin(), run.comparison.end(), [](const auto& a, const auto& b) {
+          return !std::isnan(a.aicc) && (std::isnan(b.aicc) || a.aicc < b.aicc);
+        });
+    run.summary = best->summary;
+    run.shape = families[best - run.comparison.begin()];
+  }
+  if (models.accurate()) {
+    run.model_checked = true;
+    run.summary = inverse::FitWithModelCheck(models.model(), *models.accurate(), run.shape,
+                                             fit_data, options, run.check, &run.model_check);
+    run.model_note = "auto: " + run.model_check.outcome;
+  } else if (!request.compare_laws) {
+    run.summary = inverse::FitBridgingLaw(models.model(), run.shape, fit_data, options);
+  }
+}
+
+// A load-displacement fit's R curve: the model's R (of the data's kind) at
+// the R curve's crack lengths, for the report and the R residual; the start
+// fit and the calibration's fits counted into the summary.
+void FinishLoadFit(const inverse::ForwardModel& model, FitRun& run) {
+  inverse::FitSummary& s = run.summary;
+  s.evaluations += run.start_fit->evaluations + run.calibration.evaluations;
+  s.failed_evaluations += run.start_fit->failed_evaluations;
+  s.wall_s += run.start_fit->wall_s + run.calibration.wall_s;
+  const inverse::LawParameters at = inverse::FittedLaw(s);
+  if (!std::isfinite(at.sigma_c) || !std::isfinite(at.J_tip_c)) return;
+  const inverse::ForwardPrediction p =
+      model.Predict(run.shape, at, run.data.crack_length, run.data.kind);
+  if (!p.ok() || p.R.size() != run.data.R.size()) return;
+  run.load_fit_R = p.R;
+  double sum = 0.0;
+  for (std::size_t i = 0; i < p.R.size(); ++i) sum += std::pow(p.R[i] - run.data.R[i], 2);
+  run.load_fit_R_rms = std::sqrt(sum / p.R.size());
+}
+
+}  // namespace
+
+FitRun RunFit(const FitRequest& request) {
+  request.Check();
+  FitRun run;
+  run.input = ResolveFitInput(request);
+  run.r_kind = ResolveRKind(request, run.input);
+  run.data = inverse::FitData::FromRCurve(run.input.curve, run.r_kind);
+  if (request.target == inverse::FitTarget::kLoad)
+    run.load_data = LoadFitData(request, run.input);
+  const inverse::FitData& fit_data = run.load_data ? *run.load_data : run.data;
+  // Comparing: the start fit and the calibration use the linear law.
+  run.shape = request.compare_laws ? laws::MakeLinearShape() : ShapeForRequest(request);
+  const laws::LawShape start_shape = run.shape;
+  run.check.tolerance = request.model_tolerance;
+
+  FitModels models(request, run.input, run.data, run.load_data.has_value(), run.r_kind);
+  models.Build(1.0, 0.0);
+  const inverse::ScaledModelFactory factory = [&models](double factor, double series) {
+    models.Build(factor, series);
+    return &models.model();
+  };
+  inverse::ComplianceCalibrationOptions calibration;
+  calibration.mode = request.calibration;
+  calibration.record_initial_compliance = run.input.initial_compliance;
+  calibration.refine = request.model == ModelChoice::kReduced;
+  if (request.calibration != inverse::ComplianceCalibrationMode::kNone &&
+      request.model != ModelChoice::kAnalytic) {
+    run.calibration = inverse::CalibrateInitialSlope(calibration, factory, request.scene_path);
+    if (run.calibration.calibrated()) models.Build(run.calibration.modulus_factor, 0.0);
+  }
+  inverse::FitOptions options = request.fit;
+  if (run.load_data) {
+    run.start_fit = StartFromRCurveFit(models.model(), start_shape, run.data, options);
+    // Refined on the whole record (reduced model) or along the crack.
+    if (request.calibration == inverse::ComplianceCalibrationMode::kAlongCrack ||
+        (run.calibration.calibrated() && request.model == ModelChoice::kReduced)) {
+      inverse::RefineCalibration(calibration, factory, start_shape, *run.load_data, options,
+                                 *run.input.record, request.scene.specimen.notch,
+                                 run.calibration);
+      if (!run.calibration.note.empty()) run.model_note = run.calibration.note;
+      models.Build(run.calibration.modulus_factor, run.calibration.series_compliance);
+    }
+  }
+  FitLaw(request, models, fit_data, options, run);
+  if (run.start_fit) FinishLoadFit(models.model(), run);
+  run.mpm_cell = models.mpm_cell();
+  return run;
+}
+
+double FitRun::RResidualRms() const { return load_data ? load_fit_R_rms : summary.rms_residual; }
+
+std::string FitRun::BriefReport() const {
+  std::ostringstream out;
+  if (!comparison.empty()) {
+    out << "law families by AICc (smaller is better):\n";
+    for (const auto& c : comparison)
+      out << fmt::format("  {:<12} AICc {:10.2f}  delta {:7.2f}  chi2 {:10.2f}{}\n", c.law, c.aicc,
+                         c.delta_aicc, c.summary.chi2,
+                         c.summary.converged ? "" : "  (not converged)");
+  }
+  out << "data: " << input.label << ": " << input.ReductionText() << ", " << input.curve.size()
+      << " R points";
+  if (load_data)
+    out << fmt::format("; fitted to the record's {} load-displacement rows (started from the "
+                       "R-curve fit, {:.2f} s); R rms {:.4g} J/m^2",
+                       load_data->size(), start_fit->wall_s, load_fit_R_rms);
+  out << "\n";
+  const inverse::ComplianceCalibrationResult& c = calibration;
+  if (c.along_crack)
+    out << fmt::format(
+        "compliance: the scene's moduli x {:.4f} and {:.4g} mm/N in series (initial slope: x "
+        "{:.4f}); {} rounds of {} fits; {}\n",
+        c.modulus_factor, 1e3 * c.series_compliance, c.initial_slope_factor,
+        c.along_crack->rounds, c.fits, c.along_crack->fit.Summary());
+  else if (c.calibrated())
+    out << fmt::format(
+        "compliance: the scene's moduli x {:.4f} (initial slope: x {:.4f}, model {:.4g} m/N at "
+        "a0, record {:.4g} m/N; refined on the record in {} fits)\n",
+        c.modulus_factor, c.initial_slope_factor, c.model_initial_compliance,
+        input.initial_compliance, c.fits);
+  out << summary.BriefReport();
+  if (!model_note.empty()) out << "  " << model_note << "\n";
+  return out.str();
+}
+
+}  // namespace bridgefit::pipeline

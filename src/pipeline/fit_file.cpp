@@ -1,0 +1,164 @@
+#include "bridgefit/pipeline/fit_file.hpp"
+
+#include <cmath>
+
+#include "bridgefit/io/hdf5.hpp"
+#include "bridgefit/pipeline/rcurve_file.hpp"
+
+namespace bridgefit::pipeline {
+namespace {
+
+void WriteEstimate(io::H5Writer& file, const std::string& group,
+                   const inverse::ParameterEstimate& e, const std::string& units) {
+  file.WriteAttribute(group, "units", units);
+  file.WriteAttribute(group, "value", e.value);
+  file.WriteAttribute(group, "ci95_low", e.ci95_low);
+  file.WriteAttribute(group, "ci95_high", e.ci95_high);
+  file.WriteAttribute(group, "lower_bound", e.lower_bound);
+  file.WriteAttribute(group, "identified", e.identified ? 1.0 : 0.0);
+  file.WriteAttribute(group, "fixed", e.fixed ? 1.0 : 0.0);
+  file.WriteAttribute(group, "decided_by", e.decided_by);
+  file.WriteAttribute(group, "note", e.note);
+}
+
+void WriteSummaryAttributes(io::H5Writer& file, const std::string& g, const FitRequest& request,
+                            const FitRun& run) {
+  const inverse::FitSummary& s = run.summary;
+  file.WriteAttribute(g, "kind", "fit");
+  file.WriteAttribute(g, "scene", request.scene_path);
+  file.WriteAttribute(g, "input", run.input.label);
+  file.WriteAttribute(g, "input_kind", run.input.from_record ? "record" : "rcurve");
+  file.WriteAttribute(g, "rcurve_method", run.input.curve.method);
+  file.WriteAttribute(g, "data_reduction", run.input.ReductionText());
+  file.WriteAttribute(g, "model", s.model);
+  file.WriteAttribute(g, "optimizer", s.optimizer);
+  file.WriteAttribute(g, "law", s.law);
+  file.WriteAttribute(g, "r_kind", inverse::RKindName(run.r_kind));
+  file.WriteAttribute(g, "verdict", s.verdict);
+  file.WriteAttribute(g, "stop_reason", s.stop_reason);
+  file.WriteAttribute(g, "evaluations", s.evaluations);
+  file.WriteAttribute(g, "failed_evaluations", s.failed_evaluations);
+  file.WriteAttribute(g, "wall_s", s.wall_s);
+  file.WriteAttribute(g, "converged", s.converged ? 1.0 : 0.0);
+  file.WriteAttribute(g, "steady_state_reached", s.steady_state_reached ? 1.0 : 0.0);
+  file.WriteAttribute(g, "bridging_detected", s.bridging_detected ? 1.0 : 0.0);
+  file.WriteAttribute(g, "reduced_chi2", s.reduced_chi2);
+  file.WriteAttribute(g, "fit_to", inverse::FitTargetName(s.target));
+}
+
+void WriteCalibration(io::H5Writer& file, const std::string& g, const FitRun& run) {
+  const inverse::ComplianceCalibrationResult& c = run.calibration;
+  if (!c.calibrated()) return;
+  file.WriteAttribute(g, "modulus_factor", c.modulus_factor);
+  file.WriteAttribute(g, "modulus_factor_initial_slope", c.initial_slope_factor);
+  file.WriteAttribute(g, "model_initial_compliance_m_per_N", c.model_initial_compliance);
+  file.WriteAttribute(g, "record_initial_compliance_m_per_N", run.input.initial_compliance);
+  file.WriteAttribute(g, "compliance_calibration", inverse::ComplianceCalibrationModeName(c.mode));
+  file.WriteAttribute(g, "series_compliance_m_per_N", c.series_compliance);
+  if (c.along_crack) {
+    file.WriteAttribute(g, "compliance_rms_relative", c.along_crack->fit.rms_relative);
+    file.WriteAttribute(g, "compliance_rows", c.along_crack->fit.rows);
+    file.WriteAttribute(g, "compliance_rounds", c.along_crack->rounds);
+  }
+}
+
+// The data and the model's fit to it: a load-displacement fit's rows, or the
+// R curve's points.
+void WriteFittedData(io::H5Writer& file, const std::string& g, const FitRun& run) {
+  const inverse::FitSummary& s = run.summary;
+  file.WriteVector(g + "/crack_length", run.data.crack_length, "m", "data crack length");
+  file.WriteVector(g + "/R", run.data.R, "J/m^2", "data R");
+  if (run.load_data) {
+    // The R curve shown with a load-displacement fit: the model's R at the
+    // data's crack lengths; the fit itself under /fit/load_displacement.
+    file.WriteAttribute(g, "rms_residual_J_per_m2", run.load_fit_R_rms);
+    file.WriteAttribute(g, "rms_residual_N", s.rms_residual);
+    if (!run.load_fit_R.empty()) {
+      file.WriteVector(g + "/fitted_crack_length", run.data.crack_length, "m", "data crack length");
+      file.WriteVector(g + "/fitted_R", run.load_fit_R, "J/m^2", "model R at the fitted parameters");
+    }
+    const std::string ld = g + "/load_displacement";
+    file.WriteVector(ld + "/displacement", s.fitted_displacement, "m", "record rows used");
+    file.WriteVector(ld + "/load", s.fitted_record_load, "N", "record load");
+    file.WriteVector(ld + "/fitted_load", s.fitted_load, "N", "model load");
+    file.WriteVector(ld + "/fitted_crack_length", s.fitted_crack_length, "m",
+                     "model crack length at each row");
+    file.WriteVector(ld + "/outlier_displacement", s.outlier_crack_lengths, "m", "removed rows");
+    file.WriteVector(ld + "/outlier_load", s.outlier_R, "N", "removed rows");
+  } else {
+    file.WriteAttribute(g, "rms_residual_J_per_m2", s.rms_residual);
+    file.WriteVector(g + "/outlier_crack_length", s.outlier_crack_lengths, "m", "removed points");
+    file.WriteVector(g + "/outlier_R", s.outlier_R, "J/m^2", "removed points");
+    file.WriteVector(g + "/fitted_crack_length", s.fitted_crack_length, "m", "points used");
+    if (!s.fitted_R.empty()) file.WriteVector(g + "/fitted_R", s.fitted_R, "J/m^2", "model R");
+  }
+  if (!s.fitted_delta_root.empty())
+    file.WriteVector(g + "/fitted_delta_root", s.fitted_delta_root, "m", "model notch-root COD");
+}
+
+void WriteModelCheck(io::H5Writer& file, const std::string& g, const FitRun& run) {
+  if (!run.model_checked) return;
+  const inverse::ModelCheckResult& m = run.model_check;
+  const std::string mc = g + "/model_check";
+  file.WriteAttribute(mc, "outcome", m.outcome);
+  file.WriteAttribute(mc, "cheap_model", m.cheap_model);
+  file.WriteAttribute(mc, "accurate_model", m.accurate_model);
+  file.WriteAttribute(mc, "mpm_cell_m", run.mpm_cell);
+  file.WriteAttribute(mc, "tolerance", run.check.tolerance);
+  file.WriteAttribute(mc, "corrected", m.corrected ? 1.0 : 0.0);
+  file.WriteAttribute(mc, "corrections", static_cast<double>(m.corrections));
+  file.WriteAttribute(mc, "accurate_runs", static_cast<double>(m.accurate_runs));
+  file.WriteAttribute(mc, "cheap_fit_s", m.cheap_fit_s);
+  file.WriteAttribute(mc, "accurate_s", m.accurate_s);
+  file.WriteAttribute(mc, "correction_fit_s", m.correction_fit_s);
+  file.WriteAttribute(mc, "discrepancy_at_cheap_optimum", m.discrepancy_at_cheap_optimum);
+  file.WriteAttribute(mc, "discrepancy_final", m.discrepancy_final);
+  if (!m.crack_length.empty()) {
+    file.WriteVector(mc + "/crack_length", m.crack_length, "m", "data crack length");
+    file.WriteVector(mc + "/R_cheap", m.R_cheap, "J/m^2", "reduced model R");
+    file.WriteVector(mc + "/R_accurate", m.R_accurate, "J/m^2", "MPM R");
+  }
+}
+
+void WriteProfiles(io::H5Writer& file, const std::string& g, const inverse::FitSummary& s) {
+  for (const inverse::Profile& p : s.profiles) {
+    std::vector<double> values, chi2;
+    for (const auto& point : p.points) {
+      if (!point.ok) continue;
+      values.push_back(point.value);
+      chi2.push_back(point.chi2);
+    }
+    const std::string pg = g + "/profiles/" + inverse::ParameterName(p.parameter);
+    file.WriteVector(pg + "/value", values, p.parameter == inverse::kSigmaC ? "Pa" : "J/m^2");
+    file.WriteVector(pg + "/chi2", chi2, "1", "best chi^2 with the others re-optimized");
+    file.WriteAttribute(pg, "chi2_threshold", p.chi2_threshold);
+    file.WriteAttribute(pg, "flat", p.flat ? 1.0 : 0.0);
+  }
+}
+
+}  // namespace
+
+void WriteFitFile(const std::string& path, const FitRequest& request, const FitRun& run) {
+  io::H5Writer file(path);
+  const FitInput& input = run.input;
+  if (input.reduction) {
+    WriteReductionH5(file, *input.record, *input.reduction, input.reduction_options,
+                     request.scene_path);
+  } else {
+    io::WriteRecordH5(file, input.curve, "/rcurve");
+    if (input.record) io::WriteRecordH5(file, *input.record, "/experiment");
+  }
+  const std::string g = "/fit";
+  WriteSummaryAttributes(file, g, request, run);
+  WriteCalibration(file, g, run);
+  WriteFittedData(file, g, run);
+  WriteEstimate(file, g + "/parameters/sigma_c", run.summary.sigma_c, "Pa");
+  WriteEstimate(file, g + "/parameters/J_B", run.summary.J_B, "J/m^2");
+  WriteEstimate(file, g + "/parameters/delta_c", run.summary.delta_c, "m");
+  WriteEstimate(file, g + "/parameters/J_tip_c", run.summary.J_tip_c, "J/m^2");
+  WriteModelCheck(file, g, run);
+  WriteProfiles(file, g, run.summary);
+  file.Commit();
+}
+
+}  // namespace bridgefit::pipeline

@@ -1,0 +1,131 @@
+// The fit's input: told apart by content, read, and a record reduced to an R
+// curve with the same library call and defaults as `bridgefit rcurve RECORD
+// --scene SCENE --method M` (docs/FIT.md).
+
+#include <fmt/format.h>
+
+#include "bridgefit/core/error.hpp"
+#include "bridgefit/io/csv.hpp"
+#include "bridgefit/io/hdf5.hpp"
+#include "bridgefit/pipeline/fit.hpp"
+#include "bridgefit/pipeline/rcurve_file.hpp"
+
+namespace bridgefit::pipeline {
+namespace {
+
+// Which an input holds, by its content: a CSV with `crack_length` and `R`
+// columns, or an HDF5 with /rcurve, is an R curve; a CSV with load and
+// displacement columns, or an HDF5 with only /experiment, is a record.
+bool InputIsRecord(const std::string& path, const std::string& column_mapping) {
+  if (IsHdf5Path(path)) {
+    const io::H5Reader reader(path);
+    if (reader.Exists("/rcurve")) return false;
+    if (reader.Exists("/experiment")) return true;
+    throw Error(
+        ErrorKind::kInput, "the HDF5 file holds neither an R curve nor a test record",
+        {.file = path,
+         .field = "/rcurve, /experiment",
+         .expected = "the output of `bridgefit rcurve --out` (or a file with /experiment)"});
+  }
+  const io::CsvTable table = io::ReadCsvTable(path);
+  if (table.Find("crack_length") >= 0 && table.Find("R") >= 0) return false;
+  io::RecordColumns columns;
+  if (!column_mapping.empty()) io::ApplyColumnMapping(column_mapping, columns);
+  if (table.Find(columns.load) >= 0 && table.Find(columns.displacement) >= 0) return true;
+  std::string header;
+  for (const std::string& name : table.names) header += (header.empty() ? "" : ", ") + name;
+  throw Error(
+      ErrorKind::kInput, "the CSV is neither an R curve nor a load-displacement record",
+      {.file = path,
+       .line = 1,
+       .field = "header",
+       .value = header,
+       .expected = "'crack_length [mm], R [J/m^2]' (R curve) or 'load [N], displacement [mm], "
+                   "crack_length [mm]' (record; --columns renames)"});
+}
+
+// An R-curve input: the curve, and from an rcurve.h5 the record behind it
+// and its initial compliance.
+void ReadRCurveInput(const FitRequest& request, FitInput& input) {
+  if (request.reduction_given)
+    throw Error(ErrorKind::kUsage, "the R-curve reduction options apply to a record only",
+                {.file = request.input_path,
+                 .field = "--rcurve-method, --rcurve-min-increment, --rcurve-max-crack-length, "
+                          "--rcurve-smooth, --rcurve-*-noise, --columns, --units",
+                 .expected = "a load-displacement record as input, or none of these options"});
+  if (request.input_path.empty()) {
+    input.curve = *request.rcurve;
+    input.record = request.record;
+    input.initial_compliance = request.record_initial_compliance;
+    return;
+  }
+  const std::string& path = request.input_path;
+  input.curve = ReadRCurveFile(path);
+  if (!IsHdf5Path(path)) return;
+  const io::H5Reader reader(path);
+  if (reader.Exists("/experiment/load")) input.record = io::ReadExperimentH5(reader, "/experiment");
+  if (reader.Exists("/rcurve/figures") &&
+      reader.HasAttribute("/rcurve/figures", "initial_compliance_m_per_N"))
+    input.initial_compliance =
+        reader.ReadNumberAttribute("/rcurve/figures", "initial_compliance_m_per_N");
+}
+
+// Only the compliance-based reductions infer the crack length (CT lefm and
+// equivalent: docs/RCURVE_METHODS.md); the others need it measured.
+bool MethodNeedsCrackLength(experiment::RMethod method, SpecimenType specimen) {
+  return method != experiment::RMethod::kEquivalentCrack &&
+         !(method == experiment::RMethod::kLefm && specimen == SpecimenType::kCT);
+}
+
+// A record input, reduced here.
+void ReduceRecordInput(const FitRequest& request, FitInput& input) {
+  experiment::RCurveOptions& options = input.reduction_options;
+  options = request.reduction;
+  options.specimen = request.scene.specimen;
+  options.material = request.scene.material;
+  std::string why;
+  if (!options.IsValid(&why)) throw Error(ErrorKind::kUsage, "invalid R-curve options: " + why);
+  input.record = request.input_path.empty()
+                     ? *request.record
+                     : ReadRecordFile(request.input_path, request.columns, request.units);
+  if (MethodNeedsCrackLength(options.method, request.scene.specimen.type) &&
+      !input.record->has_crack_length()) {
+    io::RecordColumns columns;
+    if (!request.columns.empty()) io::ApplyColumnMapping(request.columns, columns);
+    throw Error(ErrorKind::kInput,
+                fmt::format("the record has no crack-length column, which the {} method needs",
+                            experiment::RMethodName(options.method)),
+                {.file = input.label,
+                 .field = columns.crack_length,
+                 .expected = "a column 'crack_length [mm]' (another header: --columns "
+                             "crack_length=HEADER), an R curve as input, or --rcurve-method "
+                             "equivalent (crack length from the compliance)"});
+  }
+  input.reduction = experiment::ComputeRCurve(*input.record, options);
+  input.curve = input.reduction->curve;
+  input.initial_compliance = input.reduction->initiation.initial_compliance;
+}
+
+}  // namespace
+
+std::string FitInput::ReductionText() const {
+  return from_record ? fmt::format("{} method, reduced in-process from the record", curve.method)
+                     : fmt::format("R curve read from the input ({})", curve.method);
+}
+
+FitInput ResolveFitInput(const FitRequest& request) {
+  FitInput input;
+  input.label = request.input_path.empty() ? std::string("(in memory)") : request.input_path;
+  if (request.input_path.empty()) {
+    BF_CHECK_INPUT(request.rcurve || request.record, "the fit request names no input",
+                   {.field = "input", .expected = "a path, an R curve or a record"});
+    input.from_record = !request.rcurve;
+  } else {
+    input.from_record = InputIsRecord(request.input_path, request.columns);
+  }
+  if (input.from_record) ReduceRecordInput(request, input);
+  else ReadRCurveInput(request, input);
+  return input;
+}
+
+}  // namespace bridgefit::pipeline

@@ -1,0 +1,119 @@
+#include "fit_models.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "bridgefit/core/error.hpp"
+#include "bridgefit/inverse/reduced_forward.hpp"
+#include "bridgefit/models/reduced.hpp"
+#include "bridgefit/mpm/growth.hpp"
+
+namespace bridgefit::pipeline {
+
+Scene ScaledModuli(const Scene& scene, double factor) {
+  Scene scaled = scene;
+  for (double* modulus : {&scaled.material.E, &scaled.material.E1, &scaled.material.E2,
+                          &scaled.material.G12, &scaled.material.G13})
+    *modulus *= factor;
+  return scaled;
+}
+
+inverse::SimulationForwardModel::Reducer ModelRecordReducer(
+    const experiment::RCurveOptions& data_options) {
+  experiment::RCurveOptions options = data_options;
+  options.load_noise = 1e-3;            // [N]: the model has none; small, not zero
+  options.displacement_noise = 1e-9;    // [m]
+  options.crack_length_noise = 1e-6;    // [m]
+  options.smoothing_half_window = 0;
+  return [options](const SimulationResult& sim) {
+    constexpr int kLoading = 20;
+    inverse::SimulationForwardModel::Reduced out;
+    if (sim.points.empty()) return out;
+    ExperimentRecord record;
+    record.source = "model record (" + sim.model + ")";
+    const SimulationPoint& first = sim.points.front();
+    for (int i = 0; i < kLoading; ++i) {
+      const double f = static_cast<double>(i) / kLoading;
+      record.time.push_back(i);
+      record.load.push_back(f * first.load);
+      record.displacement.push_back(f * first.displacement);
+      record.crack_length.push_back(first.crack_length);
+    }
+    // The initiation point with its crack grown by 1 um, so the reduction
+    // has a point at initiation (the data's first growth rows).
+    for (std::size_t k = 0; k < sim.points.size(); ++k) {
+      record.time.push_back(kLoading + static_cast<double>(k));
+      record.load.push_back(sim.points[k].load);
+      record.displacement.push_back(sim.points[k].displacement);
+      record.crack_length.push_back(sim.points[k].crack_length + (k == 0 ? 1e-6 : 0.0));
+    }
+    const experiment::RCurveResult r = experiment::ComputeRCurve(record, options);
+    for (std::size_t i = 0; i < r.curve.size(); ++i) {
+      out.crack_length.push_back(r.curve.crack_length[i]);
+      out.R.push_back(r.curve.R[i]);
+      out.point.push_back(std::max(0, r.rows[i] - kLoading));
+    }
+    return out;
+  };
+}
+
+FitModels::FitModels(const FitRequest& request, const FitInput& input,
+                     const inverse::FitData& data, bool load_fit, inverse::RKind kind)
+    : request_(request), input_(input), kind_(kind) {
+  // The models must grow past the data: its crack lengths, and for a record
+  // the measured ones (an equivalent crack length trails them).
+  data_end_ = *std::max_element(data.crack_length.begin(), data.crack_length.end());
+  if (input.record && input.record->has_crack_length())
+    for (double a : input.record->crack_length)
+      if (std::isfinite(a)) data_end_ = std::max(data_end_, a);
+  // A load-displacement fit follows the model to the record's last
+  // displacement, which a tougher trial law reaches with a shorter crack and
+  // a weaker one with a longer crack: a tenth of the growth beyond.
+  if (load_fit) data_end_ += 0.1 * std::max(data_end_ - request.scene.specimen.notch, 0.0);
+}
+
+void FitModels::Build(double modulus_factor, double series_compliance) {
+  const Scene model_scene = ScaledModuli(request_.scene, modulus_factor);
+  const ModelChoice choice = request_.model;
+  if (choice == ModelChoice::kAnalytic) {
+    const MaterialSpec& material = request_.scene.material;
+    const double plane_factor =
+        request_.scene.specimen.plane == PlaneCondition::kPlaneStrain && !material.orthotropic
+            ? 1.0 - material.nu * material.nu
+            : 1.0;
+    model_ = std::make_unique<inverse::AnalyticForwardModel>(
+        material.AxialModulus() / plane_factor, model_scene.specimen.notch);
+    return;
+  }
+  models::ReducedOptions reduced;
+  if (std::isfinite(request_.resolution)) reduced.mesh.resolution = request_.resolution;
+  reduced.mesh.max_crack_length =
+      std::max(data_end_ + 2e-3, model_scene.run.max_crack_length.value_or(0.0));
+  if (choice != ModelChoice::kMpm) {
+    auto simulation = inverse::MakeReducedForwardModel(model_scene, reduced);
+    if (kind_ == inverse::RKind::kAsData)
+      simulation->SetReducer(ModelRecordReducer(input_.reduction_options));
+    simulation->SetSeriesCompliance(series_compliance);
+    model_ = std::move(simulation);
+  }
+  if (choice == ModelChoice::kMpm || choice == ModelChoice::kAuto) {
+    mpm::GrowthOptions growth;
+    growth.cell = request_.mpm_cell;
+    growth.max_crack_length = data_end_ + 2.0 * growth.cell;
+    std::string why;
+    if (!growth.IsValid(&why))
+      throw Error(ErrorKind::kUsage, "invalid MPM options: " + why, {.field = "--mpm-cell"});
+    auto accurate = std::make_unique<inverse::SimulationForwardModel>(
+        "mpm", [model_scene, growth](const laws::BridgingLaw* law, double J_tip_c) {
+          return mpm::SimulateGrowth(model_scene, law, J_tip_c, growth).result;
+        });
+    if (kind_ == inverse::RKind::kAsData)
+      accurate->SetReducer(ModelRecordReducer(input_.reduction_options));
+    accurate->SetSeriesCompliance(series_compliance);
+    if (choice == ModelChoice::kMpm) model_ = std::move(accurate);
+    else accurate_ = std::move(accurate);
+    mpm_cell_ = growth.cell;
+  }
+}
+
+}  // namespace bridgefit::pipeline

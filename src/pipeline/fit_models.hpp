@@ -1,0 +1,43 @@
+#pragma once
+// The forward models of a fit request (private to the pipeline).
+
+#include <memory>
+
+#include "bridgefit/inverse/forward_model.hpp"
+#include "bridgefit/pipeline/fit.hpp"
+
+namespace bridgefit::pipeline {
+
+// The scene with every modulus scaled by `factor` (the compliance of an
+// elastic model scales by 1 / factor).
+Scene ScaledModuli(const Scene& scene, double factor);
+
+// R kind as-data: the model's points become a record (a linear loading
+// branch to initiation, then one row per crack length) that is reduced with
+// the data's own method and options, without noise.
+inverse::SimulationForwardModel::Reducer ModelRecordReducer(
+    const experiment::RCurveOptions& data_options);
+
+// The request's forward model (and, for --model auto, the MPM check), built
+// on the scene with its moduli x a factor and a compliance in series.
+class FitModels {
+ public:
+  FitModels(const FitRequest& request, const FitInput& input, const inverse::FitData& data,
+            bool load_fit, inverse::RKind kind);
+  // Rebuilds the models; earlier references to them become invalid.
+  void Build(double modulus_factor, double series_compliance);
+  const inverse::ForwardModel& model() const { return *model_; }
+  const inverse::ForwardModel* accurate() const { return accurate_.get(); }
+  double mpm_cell() const { return mpm_cell_; }  // [m], NaN without MPM
+
+ private:
+  const FitRequest& request_;
+  const FitInput& input_;
+  inverse::RKind kind_;
+  double data_end_ = 0.0;  // [m], the crack length the models must grow past
+  std::unique_ptr<inverse::ForwardModel> model_;
+  std::unique_ptr<inverse::ForwardModel> accurate_;
+  double mpm_cell_ = NAN;
+};
+
+}  // namespace bridgefit::pipeline

@@ -1,0 +1,218 @@
+// pipeline::RunFit, the fit workflow without the binary (issue 16).
+// Oracles: the record reduced inside the run gives the fit the two-step route
+// (ComputeRCurve, then a fit of that R curve) gives, number for number; the
+// fit file read back holds what the run returned; as-data with the energy
+// method lands where the energy kind does; bad input is refused with an
+// Error naming the field before any fit runs.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "bridgefit/core/error.hpp"
+#include "bridgefit/io/hdf5.hpp"
+#include "bridgefit/io/scene_file.hpp"
+#include "bridgefit/pipeline/fit.hpp"
+#include "bridgefit/pipeline/fit_file.hpp"
+#include "bridgefit/pipeline/rcurve_file.hpp"
+
+namespace bridgefit::pipeline {
+namespace {
+
+namespace fs = std::filesystem;
+const fs::path kSample = fs::path(BRIDGEFIT_SOURCE_DIR) / "data_samples" / "mdf_ct";
+
+struct WorkDir {
+  fs::path path = fs::temp_directory_path() / ("bf_pipeline_" + std::to_string(::getpid()));
+  WorkDir() {
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~WorkDir() { fs::remove_all(path); }
+};
+
+// The noise-free MDF record with the small declared noise of the sample's
+// README, a linear law on the 1 mm reduced model, no profiles (quick).
+FitRequest RecordRequest() {
+  FitRequest request;
+  request.input_path = (kSample / "record_exact.csv").string();
+  request.scene_path = (kSample / "scene.toml").string();
+  request.scene = io::ReadSceneFile(request.scene_path);
+  request.reduction.load_noise = 0.01;
+  request.reduction.displacement_noise = 0.01e-6;
+  request.reduction.crack_length_noise = 0.001e-3;
+  request.reduction_given = true;
+  request.resolution = 1e-3;
+  request.fit.profile_likelihood = false;
+  return request;
+}
+
+void ExpectSameEstimate(const inverse::ParameterEstimate& a, const inverse::ParameterEstimate& b,
+                        const char* name) {
+  for (auto field : {&inverse::ParameterEstimate::value, &inverse::ParameterEstimate::lower_bound,
+                     &inverse::ParameterEstimate::ci95_low, &inverse::ParameterEstimate::ci95_high}) {
+    ASSERT_EQ(std::isnan(a.*field), std::isnan(b.*field)) << name;
+    if (!std::isnan(a.*field)) EXPECT_DOUBLE_EQ(a.*field, b.*field) << name;
+  }
+}
+
+TEST(PipelineFit, RecordReducedInTheRunEqualsTheTwoStepRouteAndTheFileHoldsIt) {
+  const FitRequest request = RecordRequest();
+  const FitRun direct = RunFit(request);
+  ASSERT_TRUE(direct.input.from_record);
+  ASSERT_TRUE(direct.summary.bridging_detected);  // MDF: a real bridging fit
+  EXPECT_TRUE(direct.summary.converged) << direct.summary.stop_reason;
+  EXPECT_EQ(direct.r_kind, inverse::RKind::kEnergy);
+
+  // Two steps: the record reduced by the library, then its R curve in memory.
+  experiment::RCurveOptions reduction = request.reduction;
+  reduction.specimen = request.scene.specimen;
+  reduction.material = request.scene.material;
+  const ExperimentRecord record = ReadRecordFile(request.input_path, "", "");
+  const experiment::RCurveResult reduced = experiment::ComputeRCurve(record, reduction);
+  FitRequest two_step = request;
+  two_step.input_path.clear();
+  two_step.reduction_given = false;
+  two_step.rcurve = reduced.curve;
+  two_step.record = record;
+  const FitRun from_curve = RunFit(two_step);
+  EXPECT_FALSE(from_curve.input.from_record);
+  EXPECT_EQ(from_curve.summary.evaluations, direct.summary.evaluations);
+  EXPECT_EQ(from_curve.summary.data_points, direct.summary.data_points);
+  EXPECT_DOUBLE_EQ(from_curve.summary.rms_residual, direct.summary.rms_residual);
+  ExpectSameEstimate(direct.summary.sigma_c, from_curve.summary.sigma_c, "sigma_c");
+  ExpectSameEstimate(direct.summary.J_B, from_curve.summary.J_B, "J_B");
+  ExpectSameEstimate(direct.summary.J_tip_c, from_curve.summary.J_tip_c, "J_tip_c");
+  // The MDF truth (scene [bridging]): sigma_c 0.45 MPa, J_tip,c 2210 J/m^2.
+  EXPECT_NEAR(direct.summary.sigma_c.value, 0.45e6, 0.05 * 0.45e6);
+  EXPECT_NEAR(direct.summary.J_tip_c.value, 2210.0, 0.02 * 2210.0);
+
+  // The fit file holds the run: the record, the R curve and the estimates.
+  const WorkDir work;
+  const fs::path fit_h5 = work.path / "fit.h5";
+  WriteFitFile(fit_h5.string(), request, direct);
+  const io::H5Reader file(fit_h5.string());
+  EXPECT_EQ(file.ReadStringAttribute("/fit", "input_kind"), "record");
+  EXPECT_EQ(file.ReadVector("/rcurve/R"), direct.input.curve.R);
+  EXPECT_EQ(io::ReadExperimentH5(file).load, record.load);
+  EXPECT_DOUBLE_EQ(file.ReadNumberAttribute("/fit/parameters/sigma_c", "value"),
+                   direct.summary.sigma_c.value);
+  EXPECT_EQ(file.ReadStringAttribute("/fit/parameters/sigma_c", "units"), "Pa");
+}
+
+// R kind as-data: the model's own record reduced by the energy method is the
+// model's R_energy, so the fit lands where the energy kind does.
+TEST(PipelineFit, AsDataWithTheEnergyMethodMatchesTheEnergyKind) {
+  FitRequest request = RecordRequest();
+  request.r_kind = inverse::RKind::kEnergy;
+  const FitRun energy = RunFit(request);
+  request.r_kind = inverse::RKind::kAsData;
+  const FitRun as_data = RunFit(request);
+  EXPECT_EQ(as_data.r_kind, inverse::RKind::kAsData);
+  EXPECT_NEAR(as_data.summary.sigma_c.value / energy.summary.sigma_c.value, 1.0, 0.01);
+  EXPECT_NEAR(as_data.summary.J_tip_c.value / energy.summary.J_tip_c.value, 1.0, 0.005);
+  EXPECT_FALSE(as_data.summary.J_B.identified);
+  EXPECT_LT(as_data.summary.J_B.lower_bound, 500.0);
+}
+
+// Bad input: an Error of the right kind naming the field, before any fit.
+template <class F>
+Error Thrown(F&& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e;
+  }
+  ADD_FAILURE() << "no Error thrown";
+  return Error(ErrorKind::kRuntime, "none");
+}
+
+TEST(PipelineFit, RequestChecksNameTheField) {
+  FitRequest request = RecordRequest();
+  std::string why;
+  EXPECT_TRUE(request.IsValid(&why)) << why;
+
+  FitRequest bad = request;
+  bad.calibration = inverse::ComplianceCalibrationMode::kInitialSlope;  // with an R-curve target
+  EXPECT_FALSE(bad.IsValid(&why));
+  EXPECT_NE(why.find("--calibrate-compliance"), std::string::npos) << why;
+  EXPECT_EQ(Thrown([&] { RunFit(bad); }).kind(), ErrorKind::kUsage);
+
+  bad = request;
+  bad.target = inverse::FitTarget::kLoad;
+  bad.calibration = inverse::ComplianceCalibrationMode::kAlongCrack;
+  bad.model = ModelChoice::kMpm;
+  EXPECT_FALSE(bad.IsValid(&why));
+  EXPECT_NE(why.find("--model"), std::string::npos) << why;
+
+  bad = request;
+  bad.model_tolerance = 1.5;
+  EXPECT_FALSE(bad.IsValid(&why));
+  EXPECT_NE(why.find("--model-tolerance"), std::string::npos) << why;
+
+  bad = request;
+  bad.fit.starts = 0;
+  EXPECT_FALSE(bad.IsValid(&why));
+
+  bad = request;
+  bad.resolution = -1e-3;
+  EXPECT_FALSE(bad.IsValid(&why));
+  EXPECT_NE(why.find("--resolution"), std::string::npos) << why;
+
+  EXPECT_EQ(Thrown([] { ParseModelChoice("fem"); }).context().field, "--model");
+  EXPECT_EQ(Thrown([] { inverse::ParseComplianceCalibrationMode("slope"); }).kind(),
+            ErrorKind::kUsage);
+}
+
+TEST(PipelineFit, InputsThatCannotServeTheRequestAreRefused) {
+  const WorkDir work;
+  const FitRequest base = RecordRequest();
+  // An R curve (CSV) cannot be fitted as a record, nor reduced, nor as-data.
+  const fs::path rcurve_csv = work.path / "rc.csv";
+  { std::ofstream(rcurve_csv) << "crack_length [mm], R [J/m^2]\n30,2200\n40,2300\n50,2350\n60,2400\n"; }
+  FitRequest request = base;
+  request.input_path = rcurve_csv.string();
+  Error e = Thrown([&] { RunFit(request); });  // reduction options with an R curve
+  EXPECT_EQ(e.kind(), ErrorKind::kUsage);
+  EXPECT_NE(e.context().field.find("--rcurve-method"), std::string::npos);
+  request.reduction_given = false;
+  request.target = inverse::FitTarget::kLoad;
+  e = Thrown([&] { RunFit(request); });
+  EXPECT_EQ(e.context().field, "--fit-to");
+  EXPECT_EQ(e.context().file, rcurve_csv.string());
+  request.target = inverse::FitTarget::kRCurve;
+  request.r_kind = inverse::RKind::kAsData;
+  EXPECT_EQ(Thrown([&] { RunFit(request); }).context().field, "--r-kind");
+
+  // A record without crack lengths: the energy method needs them (the way
+  // out named); along the crack too.
+  const ExperimentRecord full = ReadRecordFile(base.input_path, "", "");
+  ExperimentRecord no_crack = full;
+  no_crack.crack_length.clear();
+  request = base;
+  request.input_path.clear();
+  request.record = no_crack;
+  e = Thrown([&] { RunFit(request); });
+  EXPECT_EQ(e.kind(), ErrorKind::kInput);
+  EXPECT_NE(e.context().expected.find("--rcurve-method equivalent"), std::string::npos);
+  request.reduction.method = experiment::RMethod::kEquivalentCrack;
+  request.target = inverse::FitTarget::kLoad;
+  request.calibration = inverse::ComplianceCalibrationMode::kAlongCrack;
+  e = Thrown([&] { RunFit(request); });
+  EXPECT_EQ(e.context().field, "--calibrate-compliance");
+
+  // Neither a path nor values; a CSV that is neither an R curve nor a record.
+  request = base;
+  request.input_path.clear();
+  EXPECT_EQ(Thrown([&] { RunFit(request); }).kind(), ErrorKind::kInput);
+  const fs::path other = work.path / "other.csv";
+  { std::ofstream(other) << "x, y\n1, 2\n"; }
+  request.input_path = other.string();
+  e = Thrown([&] { RunFit(request); });
+  EXPECT_EQ(e.context().value, "x, y");
+}
+
+}  // namespace
+}  // namespace bridgefit::pipeline
