@@ -259,6 +259,37 @@ LineFit FitPath(const std::vector<StationHit>& hits) {
   return fit;
 }
 
+// With a hint, the path's angle is taken from the data only where the data
+// resolve it: a slope within two standard errors of the hint's (a short or
+// scattered run of crack points) keeps the hint's direction, through the
+// weighted mean offset of the inliers.
+void KeepHintDirectionUnlessResolved(const std::vector<StationHit>& hits, LineFit* fit) {
+  double ms = 0, sxx = 0, sw = 0, sn = 0;
+  int n = 0;
+  for (size_t k = 0; k < hits.size(); ++k)
+    if (fit->inlier[k]) {
+      ms += hits[k].s;
+      ++n;
+    }
+  if (n < 3) return;
+  ms /= n;
+  for (size_t k = 0; k < hits.size(); ++k)
+    if (fit->inlier[k]) {
+      sxx += (hits[k].s - ms) * (hits[k].s - ms);
+      const double w = hits[k].jump * hits[k].jump;
+      sw += w;
+      sn += w * hits[k].n;
+    }
+  const double se_slope = fit->rms * std::sqrt(static_cast<double>(n) / (n - 2)) / std::sqrt(std::max(sxx, 1e-12));
+  if (std::abs(fit->b) >= 2 * se_slope || !(sw > 0)) return;
+  fit->b = 0;
+  fit->a = sn / sw;
+  double ssr = 0;
+  for (size_t k = 0; k < hits.size(); ++k)
+    if (fit->inlier[k]) ssr += (hits[k].n - fit->a) * (hits[k].n - fit->a);
+  fit->rms = std::sqrt(ssr / n);
+}
+
 struct Scan {
   Frame frame;
   std::vector<StationHit> hits;
@@ -334,6 +365,7 @@ Scan ScanFrame(const DisplacementField& f, const Frame& frame, bool limit_to_hin
   }
   if (static_cast<int>(scan.hits.size()) < o.min_stations) return scan;
   scan.fit = FitPath(scan.hits);
+  if (limit_to_hint) KeepHintDirectionUnlessResolved(scan.hits, &scan.fit);
   for (size_t k = 0; k < scan.hits.size(); ++k)
     if (scan.fit.inlier[k]) scan.score += scan.hits[k].jump;
   return scan;

@@ -103,8 +103,9 @@ TEST(CrackLine, MdfSampleFramesAnyLineSameLength) {
       }
       // A line 10 px or more off the crack is reported as such.
       if (std::string(l.name).find("10 px") != std::string::npos ||
-          std::string(l.name).find("20 px") != std::string::npos)
+          std::string(l.name).find("20 px") != std::string::npos) {
         EXPECT_TRUE(r.path_disagrees_with_hint) << "frame " << frames[k + 1];
+      }
     }
   }
 }

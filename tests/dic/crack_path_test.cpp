@@ -142,7 +142,9 @@ TEST_P(CrackPathHints, PathAndTipIndependentOfTheHint) {
     EXPECT_LT(std::abs(c.Offset(p.line.x0, p.line.y0)), 0.5) << p.BriefReport();
     EXPECT_LT(std::abs(c.Offset(p.line.x1, p.line.y1)), 1.0) << p.BriefReport();
     EXPECT_NEAR(p.line.x0, 10, 1.0);  // the hint's start, or the bounds, is the origin
-    if (h.given) EXPECT_EQ(p.disagrees_with_hint, h.expect_disagree) << p.BriefReport();
+    if (h.given) {
+      EXPECT_EQ(p.disagrees_with_hint, h.expect_disagree) << p.BriefReport();
+    }
     EXPECT_GE(p.inliers, 20);
     // The tip along the found path.
     CrackTipOptions t;

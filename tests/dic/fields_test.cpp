@@ -152,7 +152,9 @@ void ExpectError(const std::string& text, const std::string& name, const std::st
   } catch (const Error& e) {
     const std::string what = e.what();
     EXPECT_NE(what.find(name), std::string::npos) << what;
-    if (!column.empty()) EXPECT_NE(what.find(column), std::string::npos) << what;
+    if (!column.empty()) {
+      EXPECT_NE(what.find(column), std::string::npos) << what;
+    }
   }
 }
 

@@ -16,7 +16,9 @@
 // points (those below `min_relative_jump` of the largest are dropped: their
 // position fades with the jump, and only the connected run of stations -
 // gaps of up to two - with the largest summed jump is kept); a straight line n = a + b s is fitted to them (weights J^2,
-// outliers beyond 3 robust sigma or 1 px dropped, three rounds).
+// outliers beyond 3 robust sigma or 1 px dropped, three rounds). With a hint,
+// a fitted slope within two standard errors of the hint's keeps the hint's
+// direction (a short or scattered run cannot resolve the angle).
 //
 // The path starts at the hint's start point projected on the fitted line, or,
 // without a hint, where the line enters the field on the notch side (the end
