@@ -198,6 +198,18 @@ CrackSequenceResult AnalyzeCrackSequence(const std::vector<std::filesystem::path
   copt.has_crack = options.has_line && !options.find_path;
   copt.crack = options.tip.line;
   const Image reference = ReadImage(images[0]);
+  if (options.has_line) {
+    const CrackLine& l = options.tip.line;
+    auto inside = [&](double x, double y) {
+      return x >= 0 && y >= 0 && x <= reference.width - 1 && y <= reference.height - 1;
+    };
+    if (!inside(l.x0, l.y0) || !inside(l.x1, l.y1))
+      throw Error(ErrorKind::kInput, "crack line leaves the image",
+                  {.file = images[0].string(), .field = "--crack-line",
+                   .value = fmt::format("{},{},{},{}", l.x0, l.y0, l.x1, l.y1),
+                   .expected = fmt::format("end points within 0..{} x 0..{} px", reference.width - 1,
+                                           reference.height - 1)});
+  }
   const CrackPathOptions path_opt = PathOptionsFor(options, reference.width, reference.height);
   std::unique_ptr<Correlator> correlator;
   try {
