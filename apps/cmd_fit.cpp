@@ -7,7 +7,6 @@
 //   bridgefit fit data_samples/mdf_ct/record_exact.csv --scene data_samples/mdf_ct/scene.toml
 //       --rcurve-method energy --out fit.h5 --report report
 
-#include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <sstream>
@@ -27,7 +26,6 @@ namespace bridgefit::cli {
 namespace {
 
 using inverse::FitSummary;
-using inverse::ParameterEstimate;
 
 int ParameterIndex(const std::string& name, const char* option) {
   for (int i = 0; i < inverse::kParameterCount; ++i)
@@ -62,7 +60,7 @@ struct ReductionFlags {
   int smooth_rows = 0;
 };
 
-nlohmann::json EstimateJson(const ParameterEstimate& e) {
+nlohmann::json EstimateJson(const inverse::ParameterEstimate& e) {
   return {{"value", NumberOrNull(e.value)},
           {"ci95_low", NumberOrNull(e.ci95_low)},
           {"ci95_high", NumberOrNull(e.ci95_high)},

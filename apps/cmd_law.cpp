@@ -40,9 +40,9 @@ class LawCommand final : public Command {
         ->check(CLI::ExistingFile);
     sub.add_option("--peak-ratio", peak_ratio_,
                    "triangular: opening at the peak as a fraction of delta_c (u_e/delta_c)")
-        ->default_val(0.1);
+        ->default_val(laws::kDefaultPeakRatio);
     sub.add_option("--alpha", alpha_, "exponential: decay constant, s = exp(-alpha d)")
-        ->default_val(3.0);
+        ->default_val(laws::kDefaultExponentialAlpha);
     sub.add_option("--trilinear", trilinear_,
                    "trilinear: 's0,d1,s1,d2,s2' (fractions of sigma_c and delta_c)");
     sub.add_option("--table", table_,
@@ -191,8 +191,8 @@ class LawCommand final : public Command {
 
   std::string scene_;
   std::string law_, sigma_c_, J_B_, delta_c_, J_tip_c_, trilinear_, table_, csv_;
-  double peak_ratio_ = 0.1;
-  double alpha_ = 3.0;
+  double peak_ratio_ = laws::kDefaultPeakRatio;
+  double alpha_ = laws::kDefaultExponentialAlpha;
   int points_ = 101;
 };
 

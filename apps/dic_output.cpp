@@ -183,6 +183,9 @@ void WriteDicH5(const std::string& file, const dic::CrackSequenceResult& r,
   h5.WriteAttribute("/dic", "offset_m", opt.offset_m);
   h5.WriteAttribute("/dic", "subset_px", static_cast<double>(opt.correlation.subset_size));
   h5.WriteAttribute("/dic", "step_px", static_cast<double>(opt.correlation.step));
+  // The field-fit window (Williams fit radius around the tip, crack band excluded): the report draws it.
+  h5.WriteAttribute("/dic", "fit_radius_px", opt.tip.fit_radius_px);
+  h5.WriteAttribute("/dic", "band_half_width_px", opt.tip.band_half_width_px);
   for (size_t k = 1; k < n; ++k) {
     const auto& f = r.frames[k];
     const std::string g = fmt::format("/dic/frame_{:04d}", k);

@@ -22,8 +22,9 @@ printf 'sample\tparameter\tvalue or bound\t95%% CI\tmodel\ttime [s]\n' > "$summa
 # record (0.5% load, 1 um). An R curve from that cannot give sigma_c to 5%, so the
 # fit starts from the R-curve fit and is decided by the record's load-displacement
 # rows (--fit-to load-displacement; docs/FIT.md, data_samples/mdf_ct/README.md).
+# An optional 5th argument: report options (e.g. a reference column of the record).
 run_sample() {
-  local sample=$1 record=$2 rcurve_args=$3 fit_args=$4
+  local sample=$1 record=$2 rcurve_args=$3 fit_args=$4 report_args=${5:-}
   local dir=data_samples/$sample scene=data_samples/$sample/scene.toml o=out/$sample
   mkdir -p "$o.work"
   echo
@@ -34,8 +35,9 @@ run_sample() {
   if [[ -d $dir/images ]]; then
     echo "-- DIC on $dir/images (crack length per frame; true tips in images/truth.csv)"
     "$BF" dic "$dir/images" --crack-line 0,150,399,150 --scale 0.15mm/px --offset 20mm \
-      --csv "$o.work/dic.csv" > "$o.work/dic.txt"
-    report_extra+=(--dic "$o.work/dic.csv")
+      --csv "$o.work/dic.csv" --out "$o.work/dic.h5" > "$o.work/dic.txt"
+    # The CSV for the crack lengths, the HDF5 for the evidence figures (tips, line, openings).
+    report_extra+=(--dic "$o.work/dic.csv" --dic "$o.work/dic.h5")
     # The record's image column links its rows to the frames: the R curve
     # uses the crack lengths DIC measured, not the record's own column.
     rcurve_args="$rcurve_args --crack-length-from $o.work/dic.csv"
@@ -64,8 +66,9 @@ EOF
   # shellcheck disable=SC2086
   "$BF" fit "$o.work/rcurve.h5" --scene "$scene" $fit_args --out "$o.work/fit.h5" --json \
     > "$o.work/fit.json" || echo "   (fit did not converge: see $o.work/fit.json)"
+  # shellcheck disable=SC2086
   "$BF" report "$o.work/fit.h5" --out "$o" --record "$o.work/rcurve.h5" --title "$sample" \
-    "${report_extra[@]}"
+    "${report_extra[@]}" $report_args
   local elapsed_ms=$(( ($(date +%s%N) - t0) / 1000000 ))
   python3 - "$sample" "$o.work/fit.json" "$elapsed_ms" >> "$summary" <<'EOF'
 import json, math, sys
@@ -96,7 +99,8 @@ run_sample pb_ct data_samples/pb_ct/record.csv "--smooth 30" \
   "--fit-to load-displacement --law linear --resolution 1mm"
 run_sample dcb_composite data_samples/dcb_composite/DCB-01_Toughness.csv \
   "--columns time=Time,displacement=Disp,load=Force,crack_length=CrackExt --units time=s,displacement=mm,load=N,crack_length=mm" \
-  "--law linear --resolution 0.6mm"
+  "--law linear --resolution 0.6mm" \
+  "--reference-csv data_samples/dcb_composite/DCB-01_Toughness.csv --reference G_I --columns crack_length=CrackExt --units crack_length=mm,G_I=N/mm"
 
 echo
 echo "=== summary (also in $summary) ==="

@@ -1,5 +1,7 @@
 #include "bridgefit/inverse/reduced_forward.hpp"
 
+#include "bridgefit/specimen/calibrations.hpp"
+
 namespace bridgefit::inverse {
 
 std::unique_ptr<SimulationForwardModel> MakeReducedForwardModel(
@@ -9,6 +11,11 @@ std::unique_ptr<SimulationForwardModel> MakeReducedForwardModel(
       "reduced", [model, options](const laws::BridgingLaw* law, double J_tip_c) {
         return model->Run(law, J_tip_c, options);
       });
+}
+
+std::unique_ptr<AnalyticForwardModel> MakeAnalyticForwardModel(const Scene& scene) {
+  return std::make_unique<AnalyticForwardModel>(
+      specimen::EffectiveModulus(scene.material, scene.specimen.plane), scene.specimen.notch);
 }
 
 }  // namespace bridgefit::inverse

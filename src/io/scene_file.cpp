@@ -272,10 +272,10 @@ Scene ParseScene(std::string_view text, const std::string& source_name) {
         case laws::LawFamily::kLinear: b.shape = laws::MakeLinearShape(); break;
         case laws::LawFamily::kCubic: b.shape = laws::MakeCubicShape(); break;
         case laws::LawFamily::kTriangular:
-          b.shape = laws::MakeTriangularShape(bridging.Number("peak_ratio", 0.1));
+          b.shape = laws::MakeTriangularShape(bridging.Number("peak_ratio", laws::kDefaultPeakRatio));
           break;
         case laws::LawFamily::kExponential:
-          b.shape = laws::MakeExponentialShape(bridging.Number("alpha", 3.0));
+          b.shape = laws::MakeExponentialShape(bridging.Number("alpha", laws::kDefaultExponentialAlpha));
           break;
         case laws::LawFamily::kTrilinear: {
           const auto v = bridging.Numbers("trilinear", 5);

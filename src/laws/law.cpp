@@ -101,6 +101,21 @@ LawShape MakeExponentialShape(double alpha) {
   return shape;
 }
 
+std::optional<LawShape> DefaultShape(LawFamily family) {
+  switch (family) {
+    case LawFamily::kLinear: return MakeLinearShape();
+    case LawFamily::kCubic: return MakeCubicShape();
+    case LawFamily::kTriangular: return MakeTriangularShape(kDefaultPeakRatio);
+    case LawFamily::kExponential: return MakeExponentialShape(kDefaultExponentialAlpha);
+    default: return std::nullopt;
+  }
+}
+
+std::vector<LawShape> ComparedShapes() {
+  return {MakeLinearShape(), MakeCubicShape(), MakeTriangularShape(kDefaultPeakRatio),
+          MakeExponentialShape(kDefaultExponentialAlpha)};
+}
+
 LawShape MakeTrilinearShape(double s0, double d1, double s1, double d2, double s2) {
   BF_CHECK_INPUT(0.0 < d1 && d1 < d2 && d2 < 1.0,
                  "trilinear break points must satisfy 0 < d1 < d2 < 1 (fractions of delta_c)",

@@ -102,26 +102,15 @@ inverse::FitData LoadFitData(const FitRequest& request, const FitInput& input) {
   return inverse::FitData::FromRecord(*input.record, load_noise, displacement_noise);
 }
 
-// The law family's shape with its defaults, or the scene's for a family
-// whose shape is data (trilinear, table).
+// The law family's shape with its defaults (laws::DefaultShape), or the
+// scene's for a family whose shape is data (trilinear, table).
 laws::LawShape ShapeForRequest(const FitRequest& request) {
-  switch (request.law) {
-    case laws::LawFamily::kLinear: return laws::MakeLinearShape();
-    case laws::LawFamily::kCubic: return laws::MakeCubicShape();
-    case laws::LawFamily::kTriangular: return laws::MakeTriangularShape(0.1);
-    case laws::LawFamily::kExponential: return laws::MakeExponentialShape(3.0);
-    default:
-      if (request.scene.bridging && request.scene.bridging->shape.family == request.law)
-        return request.scene.bridging->shape;
-      throw Error(ErrorKind::kUsage, "this law family needs its shape from the scene",
-                  {.field = "--law", .value = std::string(laws::LawFamilyName(request.law)),
-                   .expected = "a scene whose [bridging] has this law"});
-  }
-}
-
-std::vector<laws::LawShape> ComparedFamilies() {
-  return {laws::MakeLinearShape(), laws::MakeCubicShape(), laws::MakeTriangularShape(0.1),
-          laws::MakeExponentialShape(3.0)};
+  if (std::optional<laws::LawShape> shape = laws::DefaultShape(request.law)) return *shape;
+  if (request.scene.bridging && request.scene.bridging->shape.family == request.law)
+    return request.scene.bridging->shape;
+  throw Error(ErrorKind::kUsage, "this law family needs its shape from the scene",
+              {.field = "--law", .value = std::string(laws::LawFamilyName(request.law)),
+               .expected = "a scene whose [bridging] has this law"});
 }
 
 // A load-displacement fit starts where the R-curve fit (quick, without
@@ -149,7 +138,7 @@ inverse::FitSummary StartFromRCurveFit(const inverse::ForwardModel& model,
 void FitLaw(const FitRequest& request, const FitModels& models, const inverse::FitData& fit_data,
             const inverse::FitOptions& options, FitRun& run) {
   if (request.compare_laws) {
-    const std::vector<laws::LawShape> families = ComparedFamilies();
+    const std::vector<laws::LawShape> families = laws::ComparedShapes();
     run.comparison = inverse::CompareLawFamilies(models.model(), families, fit_data, options);
     const auto best = std::min_element(
         run.comparison.begin(), run.comparison.end(), [](const auto& a, const auto& b) {

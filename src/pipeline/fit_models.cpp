@@ -76,13 +76,7 @@ void FitModels::Build(double modulus_factor, double series_compliance) {
   const Scene model_scene = ScaledModuli(request_.scene, modulus_factor);
   const ModelChoice choice = request_.model;
   if (choice == ModelChoice::kAnalytic) {
-    const MaterialSpec& material = request_.scene.material;
-    const double plane_factor =
-        request_.scene.specimen.plane == PlaneCondition::kPlaneStrain && !material.orthotropic
-            ? 1.0 - material.nu * material.nu
-            : 1.0;
-    model_ = std::make_unique<inverse::AnalyticForwardModel>(
-        material.AxialModulus() / plane_factor, model_scene.specimen.notch);
+    model_ = inverse::MakeAnalyticForwardModel(model_scene);
     return;
   }
   models::ReducedOptions reduced;

@@ -54,7 +54,9 @@ void ExpectSameEstimate(const inverse::ParameterEstimate& a, const inverse::Para
   for (auto field : {&inverse::ParameterEstimate::value, &inverse::ParameterEstimate::lower_bound,
                      &inverse::ParameterEstimate::ci95_low, &inverse::ParameterEstimate::ci95_high}) {
     ASSERT_EQ(std::isnan(a.*field), std::isnan(b.*field)) << name;
-    if (!std::isnan(a.*field)) EXPECT_DOUBLE_EQ(a.*field, b.*field) << name;
+    if (!std::isnan(a.*field)) {
+      EXPECT_DOUBLE_EQ(a.*field, b.*field) << name;
+    }
   }
 }
 

@@ -10,14 +10,23 @@
 #include <filesystem>
 #include <algorithm>
 #include <fstream>
+#include <map>
+#include <iostream>
 #include <regex>
 #include <sstream>
 
 #include "bridgefit/core/error.hpp"
+#include "bridgefit/dic/image.hpp"
 #include "bridgefit/io/hdf5.hpp"
+#include "figure_check.hpp"
 
 namespace fs = std::filesystem;
 using namespace bridgefit;
+using report_check::CheckStatus;
+using report_check::DumpDom;
+using report_check::FindChromium;
+using report_check::ImageSources;
+using report_check::PngSize;
 
 namespace {
 
@@ -45,13 +54,72 @@ void WriteEstimate(io::H5Writer& f, const std::string& g, double value, double l
   f.WriteAttribute(g, "lower_bound", lower_bound);
   f.WriteAttribute(g, "identified", identified ? 1.0 : 0.0);
   f.WriteAttribute(g, "fixed", 0.0);
-  f.WriteAttribute(g, "decided_by", "profile");
-  f.WriteAttribute(g, "note", identified ? "" : "steady state not reached");
+  f.WriteAttribute(g, "decided_by", identified ? "bobyqa + reduced" : "PHYSICS 7 bound");
+  f.WriteAttribute(g, "note", identified ? "CI from the profile likelihood" : "steady state not reached");
 }
 
-// A fit file in the layout of `bridgefit fit --out` (docs/FORMATS.md):
-// sigma_c identified in [0.43, 0.47] MPa, delta_c >= 1.5 mm, J_B >= 340 J/m^2.
-fs::path WriteFitFile(const fs::path& dir, bool with_record = false) {
+// A profile sampled the way the fitter samples it (src/inverse/fit.cpp: step
+// out from the optimum, doubling the step, until Delta chi^2 passes the
+// threshold, then 5 bisections), on chi^2 = chi2_min + s2 ((v - v0) / sd)^2,
+// whose 95% interval is v0 -+ 1.96 sd. Returns the sampled interval ends (the
+// last points inside); `flat_above` keeps the upper side under the threshold
+// up to `box_high` (open-ended profile, end NaN).
+struct SampledProfile {
+  std::vector<double> value, chi2;
+  double low = NAN, high = NAN;
+};
+SampledProfile SampleProfile(double v0, double sd, double chi2_min, double s2, bool flat_above = false,
+                             double box_high = NAN) {
+  SampledProfile p;
+  const double threshold = 3.84 * s2;
+  auto chi2 = [&](double v) {
+    const double z = (v - v0) / sd;
+    return chi2_min + s2 * (flat_above && v > v0 ? 0.01 * z : z * z);
+  };
+  auto sample = [&](double v) {
+    p.value.push_back(v);
+    p.chi2.push_back(chi2(v));
+    return p.chi2.back() - chi2_min <= threshold;
+  };
+  for (int direction : {-1, +1}) {
+    double in = v0, step = 0.3 * sd;
+    while (true) {
+      double out = in + direction * step;
+      if (direction > 0 && out >= box_high) out = box_high;
+      if (out == in) break;  // box edge reached inside: open
+      if (!sample(out)) {
+        double lo = in, hi = out;
+        for (int b = 0; b < 5; ++b) {
+          const double mid = 0.5 * (lo + hi);
+          (sample(mid) ? lo : hi) = mid;
+        }
+        (direction < 0 ? p.low : p.high) = lo;
+        break;
+      }
+      in = out;
+      step *= 2.0;
+    }
+  }
+  p.value.push_back(v0);
+  p.chi2.push_back(chi2_min);
+  return p;
+}
+
+void WriteProfile(io::H5Writer& f, const std::string& name, const SampledProfile& p, double s2,
+                  bool flat, const std::string& units) {
+  const std::string g = "/fit/profiles/" + name;
+  f.WriteVector(g + "/value", p.value, units);
+  f.WriteVector(g + "/chi2", p.chi2, "1");
+  f.WriteAttribute(g, "chi2_threshold", 3.84 * s2);
+  f.WriteAttribute(g, "flat", flat ? 1.0 : 0.0);
+}
+
+// A fit file in the layout of `bridgefit fit --out` (docs/FORMATS.md), shaped
+// like the MDF sample's load fit (chi^2 about 665, reduced chi^2 1.6):
+// sigma_c 0.45 MPa identified from its profile, delta_c >= 1.5 mm, J_B >= 340
+// J/m^2 (its profile open above), J_tip,c 2210 J/m^2 from its profile.
+fs::path WriteFitFile(const fs::path& dir, bool with_record = false, bool load_fit = false,
+                      bool jb_open = false) {
   const fs::path path = dir / "fit.h5";
   io::H5Writer f(path);
   if (with_record) {
@@ -71,6 +139,10 @@ fs::path WriteFitFile(const fs::path& dir, bool with_record = false) {
     fa.push_back(a.back());
     fR.push_back(2210 + 400 * (1 - std::exp(-i / 8.0)));
   }
+  const double s2 = 1.6, chi2_min = 665.0;
+  const SampledProfile sigma = SampleProfile(0.45e6, 0.0102e6, chi2_min, s2);
+  const SampledProfile jtip = SampleProfile(2210, 10.2, chi2_min, s2);
+  const SampledProfile jb = SampleProfile(450, 60, chi2_min, s2, true, 5000);
   const std::string g = "/fit";
   f.WriteAttribute(g, "model", "reduced");
   f.WriteAttribute(g, "optimizer", "ceres-lm");
@@ -80,6 +152,7 @@ fs::path WriteFitFile(const fs::path& dir, bool with_record = false) {
   f.WriteAttribute(g, "steady_state_reached", 0.0);
   f.WriteAttribute(g, "bridging_detected", 1.0);
   f.WriteAttribute(g, "rms_residual_J_per_m2", 7.0);
+  f.WriteAttribute(g, "reduced_chi2", s2);
   f.WriteAttribute(g, "wall_s", 1.5);
   f.WriteVector(g + "/crack_length", a, "m");
   f.WriteVector(g + "/R", R, "J/m^2");
@@ -87,71 +160,26 @@ fs::path WriteFitFile(const fs::path& dir, bool with_record = false) {
   f.WriteVector(g + "/fitted_R", fR, "J/m^2");
   f.WriteVector(g + "/outlier_crack_length", {}, "m");
   f.WriteVector(g + "/outlier_R", {}, "J/m^2");
-  WriteEstimate(f, g + "/parameters/sigma_c", 0.45e6, 0.43e6, 0.47e6, NAN, true, "Pa");
+  WriteEstimate(f, g + "/parameters/sigma_c", 0.45e6, sigma.low, sigma.high, NAN, true, "Pa");
   WriteEstimate(f, g + "/parameters/delta_c", 2.0e-3, NAN, NAN, 1.5e-3, false, "m");
-  WriteEstimate(f, g + "/parameters/J_B", 450, NAN, NAN, 340, false, "J/m^2");
-  WriteEstimate(f, g + "/parameters/J_tip_c", 2210, 2190, 2230, NAN, true, "J/m^2");
-  std::vector<double> pv, pc;
-  for (int i = 0; i < 9; ++i) {
-    pv.push_back(0.41e6 + 0.01e6 * i);
-    pc.push_back(20 + std::pow((pv.back() - 0.45e6) / 0.01e6, 2) * 1.5);
+  if (jb_open) {  // steady state reached, J_B's profile flat above: an open interval
+    WriteEstimate(f, g + "/parameters/J_B", 450, jb.low, NAN, NAN, false, "J/m^2");
+    f.WriteAttribute(g + "/parameters/J_B", "note", "profile likelihood flat above the optimum (0.5 .. 5000)");
+  } else {
+    WriteEstimate(f, g + "/parameters/J_B", 450, NAN, NAN, 340, false, "J/m^2");
   }
-  f.WriteVector(g + "/profiles/sigma_c/value", pv, "Pa");
-  f.WriteVector(g + "/profiles/sigma_c/chi2", pc, "1");
-  f.WriteAttribute(g + "/profiles/sigma_c", "chi2_threshold", 23.84);
+  WriteEstimate(f, g + "/parameters/J_tip_c", 2210, jtip.low, jtip.high, NAN, true, "J/m^2");
+  WriteProfile(f, "sigma_c", sigma, s2, false, "Pa");
+  WriteProfile(f, "J_B", jb, s2, true, "J/m^2");
+  WriteProfile(f, "J_tip_c", jtip, s2, false, "J/m^2");
+  if (load_fit) {
+    f.WriteAttribute(g, "rms_residual_N", 3.0);
+    f.WriteVector(g + "/load_displacement/displacement", {1e-4, 2e-4, 3e-4}, "m");
+    f.WriteVector(g + "/load_displacement/load", {100, 200, 290}, "N");
+    f.WriteVector(g + "/load_displacement/fitted_load", {101, 199, 292}, "N");
+  }
   f.Commit();
   return path;
-}
-
-std::vector<std::string> ImageSources(const std::string& html) {
-  std::vector<std::string> out;
-  const std::regex img("<img[^>]*src=\"([^\"]+)\"");
-  for (auto it = std::sregex_iterator(html.begin(), html.end(), img); it != std::sregex_iterator(); ++it)
-    out.push_back((*it)[1]);
-  return out;
-}
-
-// PNG width and height from the IHDR chunk (0 when not a PNG).
-std::pair<int, int> PngSize(const fs::path& p) {
-  const std::string s = ReadText(p);
-  if (s.size() < 24 || s.compare(0, 8, "\x89PNG\r\n\x1a\n") != 0) return {0, 0};
-  auto be = [&](size_t o) {
-    return (int(uint8_t(s[o])) << 24) | (int(uint8_t(s[o + 1])) << 16) |
-           (int(uint8_t(s[o + 2])) << 8) | int(uint8_t(s[o + 3]));
-  };
-  return {be(16), be(20)};
-}
-
-std::string FindChromium() {
-  for (const char* name : {"chromium", "chromium-browser", "google-chrome"}) {
-    const std::string cmd = std::string("command -v ") + name + " > /dev/null 2>&1";
-    if (std::system(cmd.c_str()) == 0) return name;
-  }
-  return "";
-}
-
-// DOM after load, as headless Chromium sees it.
-std::string DumpDom(const std::string& chromium, const fs::path& page, const fs::path& work) {
-  const fs::path profile = work / "chromium-profile";
-  const fs::path out = work / "dom.html";
-  const std::string cmd = "timeout 60 " + chromium +
-                          " --headless --no-sandbox --disable-gpu --disable-dev-shm-usage"
-                          " --disable-background-networking --disable-component-update"
-                          " --disable-sync --no-first-run --user-data-dir='" + profile.string() +
-                          "' --dump-dom 'file://" + fs::absolute(page).string() + "' > '" +
-                          out.string() + "' 2> '" + (work / "chromium.log").string() + "'";
-  const int rc = std::system(cmd.c_str());
-  EXPECT_EQ(rc, 0) << ReadText(work / "chromium.log");
-  return ReadText(out);
-}
-
-std::string CheckStatus(const std::string& dom) {
-  std::smatch m;
-  if (std::regex_search(dom, m, std::regex("id=\"bf-check\"[^>]*data-status=\"([a-z-]+)\"")))
-    return m[1];
-  if (std::regex_search(dom, m, std::regex("data-status=\"([a-z-]+)\"[^>]*id=\"bf-check\"")))
-    return m[1];
-  return "absent";
 }
 
 }  // namespace
@@ -182,6 +210,20 @@ TEST(Report, PageFiguresAndTableWithUnits) {
   fs::remove_all(dir);
 }
 
+// The profile figure agrees with the printed table: the threshold drawn is
+// the Delta chi^2 that defines the intervals (3.84 s^2 with s^2 = 1.6), and
+// each printed end lies where the drawn profile crosses it.
+TEST(Report, ProfileFigureShowsThePrintedIntervals) {
+  const fs::path dir = TempDir("profiles");
+  const fs::path fit = WriteFitFile(dir);
+  report::WriteFitReport(fit, dir / "report");
+  const report_check::ProfileReadBack check = report_check::CheckProfileFigures(dir / "report", fit);
+  EXPECT_EQ(check.profiles, 3);
+  EXPECT_EQ(check.ends_checked, 4);  // sigma_c and J_tip,c, both ends
+  for (const std::string& failure : check.failures) ADD_FAILURE() << failure;
+  fs::remove_all(dir);
+}
+
 TEST(Report, RecordInTheFitFileGivesLoadAndCrackFigures) {
   const fs::path dir = TempDir("record");
   const report::ReportSummary s = report::WriteFitReport(WriteFitFile(dir, true), dir / "report");
@@ -208,10 +250,17 @@ TEST(Report, RecordInTheFitFileGivesLoadAndCrackFigures) {
 }
 
 TEST(Report, LawRegionFollowsTheBounds) {
-  // Linear laws with sigma_c in [0.43, 0.47] MPa and delta_c >= 1.5 mm: the
-  // lowest is 0.43 (1 - d/1.5 mm), the highest stays at 0.47 MPa (delta_c unbounded).
+  // Linear laws with sigma_c in its CI (about [0.43, 0.47] MPa) and delta_c >=
+  // 1.5 mm: the lowest is s_lo (1 - d/1.5 mm), the highest stays at s_hi
+  // (delta_c unbounded).
   const fs::path dir = TempDir("law");
-  report::WriteFitReport(WriteFitFile(dir), dir / "report");
+  const fs::path fit = WriteFitFile(dir);
+  const io::H5Reader h5(fit);
+  const double s_lo = h5.ReadNumberAttribute("/fit/parameters/sigma_c", "ci95_low") * 1e-6;
+  const double s_hi = h5.ReadNumberAttribute("/fit/parameters/sigma_c", "ci95_high") * 1e-6;
+  EXPECT_NEAR(s_lo, 0.43, 0.001);
+  EXPECT_NEAR(s_hi, 0.47, 0.001);
+  report::WriteFitReport(fit, dir / "report");
   std::ifstream in(dir / "report" / "law.dat");
   std::string line;
   std::getline(in, line);
@@ -219,10 +268,10 @@ TEST(Report, LawRegionFollowsTheBounds) {
   double d, lo, hi, best;
   std::string truth_text;
   while (in >> d >> lo >> hi >> best >> truth_text) {
-    const double expected_lo = d < 1.5 ? 0.43 * (1 - d / 1.5) : 0.0;
+    const double expected_lo = d < 1.5 ? s_lo * (1 - d / 1.5) : 0.0;
     const double expected_best = d < 2.0 ? 0.45 * (1 - d / 2.0) : 0.0;
     EXPECT_NEAR(lo, expected_lo, 1e-6) << d;
-    EXPECT_NEAR(hi, 0.47, 1e-6) << d;
+    EXPECT_NEAR(hi, s_hi, 1e-6) << d;
     EXPECT_NEAR(best, expected_best, 1e-6) << d;
     ++rows;
   }
@@ -273,5 +322,167 @@ TEST(ReportBrowser, HeadlessChromiumLoadsEveryFigure) {
   html.replace(html.find("</body>"), 7, "<script>undefined_function();</script></body>");
   std::ofstream(dir / "report" / "broken.html") << html;
   EXPECT_EQ(CheckStatus(DumpDom(chromium, dir / "report" / "broken.html", dir)), "script-error");
+  fs::remove_all(dir);
+}
+
+// The read-back on any report: BRIDGEFIT_REPORT_CHECK=DIR:FIT.h5 (e.g. a demo
+// report, out/mdf_ct:out/mdf_ct.work/fit.h5); skipped when unset.
+TEST(ReportReadBack, ReportNamedInTheEnvironment) {
+  const char* spec = std::getenv("BRIDGEFIT_REPORT_CHECK");
+  if (!spec) GTEST_SKIP() << "set BRIDGEFIT_REPORT_CHECK=REPORT_DIR:FIT_H5 to check a report";
+  const std::string text(spec);
+  const size_t colon = text.find(':');
+  ASSERT_NE(colon, std::string::npos) << text;
+  const report_check::ProfileReadBack check =
+      report_check::CheckProfileFigures(text.substr(0, colon), text.substr(colon + 1));
+  std::cout << check.profiles << " profiles, " << check.ends_checked << " printed ends checked\n";
+  EXPECT_GT(check.profiles, 0);
+  for (const std::string& failure : check.failures) ADD_FAILURE() << failure;
+}
+
+// DIC evidence from a DIC file in the layout of `bridgefit dic --out` with
+// three 80x50 frames: the reference, a flagged middle frame (half of its
+// points correlated) and the last are drawn with the tips and the window;
+// the frame table links them; a crack-path dataset (a later DIC version)
+// is drawn when present; the opening figure reads the profiles.
+TEST(Report, DicEvidenceFromTheDicFile) {
+  const fs::path dir = TempDir("dic");
+  const fs::path fit = WriteFitFile(dir, true);
+  fs::create_directories(dir / "images");
+  for (int k = 0; k < 3; ++k) {
+    dic::Image image(80, 50);
+    for (int y = 0; y < 50; ++y)
+      for (int x = 0; x < 80; ++x) image.at(x, y) = static_cast<float>((x * 7 + y * 13 + k * 5) % 256);
+    dic::WriteImage(dir / "images" / ("f" + std::to_string(k) + ".png"), image, 8);
+  }
+  {
+    io::H5Writer h5(dir / "dic.h5");
+    // Recorded as bare names: resolved through --images.
+    h5.WriteStrings("/dic/images", {"f0.png", "f1.png", "f2.png"});
+    h5.WriteStrings("/dic/tip_method", {"none", "williams", "williams"});
+    h5.WriteVector("/dic/crack_length", {NAN, 0.0220, 0.0230}, "m");
+    h5.WriteVector("/dic/tip_x", {NAN, 20.0, 30.0}, "px");
+    h5.WriteVector("/dic/tip_y", {NAN, 25.0, 25.0}, "px");
+    h5.WriteVector("/dic/valid_fraction", {1.0, 0.5, 0.95}, "1");
+    h5.WriteAttribute("/dic", "crack_line_px", "0,25,79,25");
+    h5.WriteAttribute("/dic", "scale_m_per_px", 1e-4);
+    h5.WriteAttribute("/dic", "offset_m", 0.020);
+    h5.WriteAttribute("/dic", "fit_radius_px", 12.0);
+    for (int k = 1; k < 3; ++k) {
+      const std::string g = "/dic/frame_000" + std::to_string(k);
+      h5.WriteVector(g + "/cod_s", {0, 10, 20, 30, 40}, "px");
+      h5.WriteVector(g + "/cod_opening", {0.5 * k, 0.3 * k, 0.1 * k, 0.0, 0.0}, "px");
+    }
+    h5.WriteVector("/dic/frame_0002/path_x", {0, 15, 30}, "px");
+    h5.WriteVector("/dic/frame_0002/path_y", {25, 26, 25}, "px");
+    h5.Commit();
+  }
+  report::ReportOptions options;
+  options.dic_h5 = dir / "dic.h5";
+  options.images_dir = dir / "images";
+  const report::ReportSummary s = report::WriteFitReport(fit, dir / "report", options);
+  const std::string html = ReadText(s.index_html);
+  const auto sources = ImageSources(html);
+  for (const char* fig : {"dic_frame_0000.png", "dic_frame_0001.png", "dic_frame_0002.png", "dic_opening.png"}) {
+    EXPECT_NE(std::find(sources.begin(), sources.end(), fig), sources.end()) << fig;
+    EXPECT_GT(PngSize(dir / "report" / fig).first, 100) << fig;
+  }
+  EXPECT_NE(html.find("href=\"#dic_frame_0001\""), std::string::npos);
+  EXPECT_NE(html.find("<figure id=\"dic_frame_0001\">"), std::string::npos);
+  EXPECT_NE(html.find("50% of the points correlated"), std::string::npos);  // the flag, said
+  // The tips drawn are the file's, with their frame and crack length in mm.
+  std::ifstream tips(dir / "report" / "dic_tips.dat");
+  std::string line;
+  std::getline(tips, line);
+  double x, y, a;
+  int frame;
+  std::vector<int> frames;
+  while (tips >> x >> y >> frame >> a) {
+    EXPECT_EQ(x, frame == 1 ? 20.0 : 30.0);
+    EXPECT_EQ(y, 25.0);
+    EXPECT_NEAR(a, frame == 1 ? 22.0 : 23.0, 1e-9);
+    frames.push_back(frame);
+  }
+  EXPECT_EQ(frames, (std::vector<int>{1, 2}));
+  EXPECT_TRUE(fs::exists(dir / "report" / "dic_frame_0002_path.dat"));
+  // The opening in um at a in mm: 0.5 px x 0.1 mm/px = 50 um at a = 20 mm (frame 1).
+  std::ifstream opening(dir / "report" / "dic_opening_0001.dat");
+  std::getline(opening, line);
+  double at, open;
+  opening >> at >> open;
+  EXPECT_NEAR(at, 20.0, 1e-9);
+  EXPECT_NEAR(open, 50.0, 1e-9);
+
+  // Images that cannot be found: the frames are not drawn, the page says why.
+  options.images_dir = dir / "nowhere";
+  fs::rename(dir / "images", dir / "moved");
+  const report::ReportSummary without = report::WriteFitReport(fit, dir / "report2", options);
+  const std::string html2 = ReadText(without.index_html);
+  EXPECT_EQ(html2.find("dic_frame_0000.png\""), std::string::npos);
+  EXPECT_NE(html2.find("3 of 3 DIC images not found"), std::string::npos);
+  fs::remove_all(dir);
+}
+
+// Every multiplot panel sets its four margins in screen coordinates and no two
+// panels of one figure come closer than 5% of the canvas (room for the tick
+// labels between them): the stacked R-curve and load panels, the profiles.
+TEST(Report, MultiplotPanelsHaveExplicitSeparatedMargins) {
+  const fs::path dir = TempDir("margins");
+  const fs::path fit = WriteFitFile(dir, true, true);  // a load fit: its stacked figure too
+  report::WriteFitReport(fit, dir / "report");
+  std::istringstream gp(ReadText(dir / "report" / "report.gp"));
+  struct Box { double l, r, t, b; };
+  std::vector<std::vector<Box>> figures;
+  std::map<std::string, double> margin;
+  bool inside = false;
+  std::string line;
+  const std::regex set_margin("set ([lrtb])margin at screen ([-0-9.]+)");
+  while (std::getline(gp, line)) {
+    std::smatch m;
+    if (line.rfind("set multiplot", 0) == 0) inside = true, figures.emplace_back(), margin.clear();
+    if (line.rfind("unset multiplot", 0) == 0) inside = false;
+    if (!inside) continue;
+    if (std::regex_search(line, m, set_margin)) margin[m[1]] = std::stod(m[2]);
+    if (line.rfind("plot ", 0) == 0) {
+      ASSERT_EQ(margin.size(), 4u) << "panel without four screen margins: " << line;
+      figures.back().push_back({margin["l"], margin["r"], margin["t"], margin["b"]});
+    }
+  }
+  ASSERT_EQ(figures.size(), 3u);  // R curve, profiles, load-displacement
+  for (const auto& panels : figures) {
+    ASSERT_GE(panels.size(), 2u);
+    for (size_t i = 0; i < panels.size(); ++i)
+      for (size_t j = i + 1; j < panels.size(); ++j) {
+        const Box& a = panels[i];
+        const Box& b = panels[j];
+        const double gap = std::max({b.l - a.r, a.l - b.r, a.b - b.t, b.b - a.t});
+        EXPECT_GE(gap, 0.05) << "panels " << i << " and " << j;
+      }
+  }
+  fs::remove_all(dir);
+}
+
+// An open-ended profile: J_B flat above its optimum. Its printed lower end is
+// on the profile at the threshold, the upper side is labelled open and no
+// upper end is marked.
+TEST(Report, OpenEndedProfileDrawnOpen) {
+  const fs::path dir = TempDir("open");
+  const fs::path fit = WriteFitFile(dir, false, false, true);
+  report::WriteFitReport(fit, dir / "report");
+  const report_check::ProfileReadBack check = report_check::CheckProfileFigures(dir / "report", fit);
+  EXPECT_EQ(check.ends_checked, 5);  // sigma_c and J_tip,c both ends, J_B the lower
+  for (const std::string& failure : check.failures) ADD_FAILURE() << failure;
+  std::ifstream ends(dir / "report" / "profile_J_B_ends.dat");
+  std::string header;
+  std::getline(ends, header);
+  double value, delta;
+  std::vector<double> marked;
+  while (ends >> value >> delta)
+    if (std::isfinite(value)) marked.push_back(value);
+  ASSERT_EQ(marked.size(), 1u);
+  EXPECT_LT(marked[0], 450.0);
+  const std::string gp = ReadText(dir / "report" / "report.gp");
+  EXPECT_NE(gp.find("open: under the threshold"), std::string::npos);
+  EXPECT_NE(ReadText(dir / "report" / "index.html").find("(open above)"), std::string::npos);
   fs::remove_all(dir);
 }

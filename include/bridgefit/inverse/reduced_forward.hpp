@@ -15,4 +15,9 @@ namespace bridgefit::inverse {
 std::unique_ptr<SimulationForwardModel> MakeReducedForwardModel(
     const Scene& scene, const models::ReducedOptions& options);
 
+// The analytic model of a scene: E' = specimen::EffectiveModulus (the one
+// effective modulus the reduced model, synth and the R-curve reductions use;
+// Sih-Paris-Irwin for an orthotropic material), a0 = the notch.
+std::unique_ptr<AnalyticForwardModel> MakeAnalyticForwardModel(const Scene& scene);
+
 }  // namespace bridgefit::inverse

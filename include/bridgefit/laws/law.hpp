@@ -11,6 +11,7 @@
 // respect to sigma_c and delta_c; the shape parameters stay double.
 
 #include <cmath>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -45,6 +46,15 @@ LawShape MakeCubicShape();
 LawShape MakeTriangularShape(double peak_ratio);
 // Exponential decay exp(-alpha d), cut at d = 1.
 LawShape MakeExponentialShape(double alpha);
+// The one home of the family -> shape rule: the default parameter of the
+// one-parameter families (scene files, `bridgefit law` and `fit` use them).
+constexpr double kDefaultPeakRatio = 0.1;        // triangular
+constexpr double kDefaultExponentialAlpha = 3.0; // exponential
+// A family's shape with its default parameter; nullopt for the families
+// whose shape is data (trilinear, table: from a scene or the command line).
+std::optional<LawShape> DefaultShape(LawFamily family);
+// The families a fit compares by AICc, with their default shapes.
+std::vector<LawShape> ComparedShapes();
 // General three-segment law through (0, s0), (d1, s1), (d2, s2), (1, 0),
 // with 0 < d1 < d2 < 1; s values are rescaled so the peak is 1.
 LawShape MakeTrilinearShape(double s0, double d1, double s1, double d2, double s2);

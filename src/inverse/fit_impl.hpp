@@ -1,0 +1,146 @@
+#pragma once
+// Private to src/inverse: the fit's objective in box coordinates and the
+// local optimizers behind FitBridgingLaw (fit.cpp); fit_optimize.cpp
+// implements them.
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "bridgefit/inverse/fit.hpp"
+
+namespace bridgefit::inverse::fit_internal {
+
+inline constexpr double kFailedCost = 1e30;  // chi^2 of a failed forward run (infeasible)
+
+// sigma_c and J_B span decades: their box coordinate is logarithmic.
+inline bool IsLogScale(int index) { return index == kSigmaC || index == kJB; }
+
+inline double FromBox(int index, double x, const FitOptions& o) {
+  const double lo = o.lower[index], hi = o.upper[index];
+  x = std::clamp(x, 0.0, 1.0);
+  return IsLogScale(index) ? lo * std::pow(hi / lo, x) : lo + x * (hi - lo);
+}
+// The inverse of FromBox, clamped to the box.
+inline double ToBox(int index, double value, const FitOptions& o) {
+  const double lo = o.lower[index], hi = o.upper[index];
+  const double v = std::clamp(value, lo, hi);
+  return IsLogScale(index) ? std::log(v / lo) / std::log(hi / lo) : (v - lo) / (hi - lo);
+}
+
+// The objective: weighted residuals of the model against the data.
+class Objective {
+ public:
+  Objective(const ForwardModel& model, const laws::LawShape& shape, const FitData& data,
+            const FitOptions& options)
+      : model_(model), shape_(shape), data_(data), options_(options) {
+    for (int i = 0; i < kParameterCount; ++i)
+      if (!options.fixed[i]) free_.push_back(i);
+  }
+
+  const std::vector<int>& free() const { return free_; }
+  int evaluations() const { return evaluations_; }
+  int failures() const { return failures_; }
+  // Counts of evaluations made on copies of this objective (parallel profiles).
+  void AddCounts(int evaluations, int failures) const {
+    evaluations_ += evaluations;
+    failures_ += failures;
+  }
+
+  LawParameters Parameters(const std::vector<double>& full) const {
+    return {full[kSigmaC], full[kJB], full[kJTipC]};
+  }
+  // Full physical parameter vector from the free box coordinates; `pinned`
+  // overrides one free parameter (profile likelihood).
+  std::vector<double> Expand(const double* x, int pinned = -1, double pinned_value = 0.0) const {
+    std::vector<double> full(kParameterCount);
+    for (int i = 0; i < kParameterCount; ++i) full[i] = options_.fixed_value[i];
+    for (size_t k = 0; k < free_.size(); ++k) full[free_[k]] = FromBox(free_[k], x[k], options_);
+    if (pinned >= 0) full[pinned] = pinned_value;
+    return full;
+  }
+
+  // Residuals r_i = (R_model - R_i) / u_i, or (P_model - P_i) / u_i for a
+  // load-displacement fit. False when the forward run failed.
+  bool Residuals(const std::vector<double>& full, double* residuals,
+                 ForwardPrediction* prediction = nullptr) const {
+    ++evaluations_;
+    const bool load = data_.target == FitTarget::kLoad;
+    ForwardPrediction p =
+        load ? model_.PredictLoad(shape_, Parameters(full), data_.displacement)
+             : model_.Predict(shape_, Parameters(full), data_.crack_length, data_.kind);
+    const std::vector<double>& model_values = load ? p.load : p.R;
+    const std::vector<double>& values = load ? data_.load : data_.R;
+    const std::vector<double>& uncertainty = load ? data_.load_uncertainty : data_.R_uncertainty;
+    if (!p.ok() || model_values.size() != values.size()) {
+      ++failures_;
+      last_failure_ = p.message;
+      return false;
+    }
+    for (size_t i = 0; i < values.size(); ++i) {
+      const double u = uncertainty.empty() ? 1.0 : uncertainty[i];
+      residuals[i] = (model_values[i] - values[i]) / u;
+      if (!std::isfinite(residuals[i])) {
+        ++failures_;
+        last_failure_ = load ? "non-finite model load" : "non-finite model R";
+        return false;
+      }
+    }
+    if (prediction) *prediction = std::move(p);
+    return true;
+  }
+
+  double Chi2(const std::vector<double>& full) const {
+    std::vector<double> r(data_.size());
+    if (!Residuals(full, r.data())) return kFailedCost;
+    double sum = 0.0;
+    for (double v : r) sum += v * v;
+    return sum;
+  }
+
+  const std::string& last_failure() const { return last_failure_; }
+  const FitData& data() const { return data_; }
+  const FitOptions& options() const { return options_; }
+
+ private:
+  const ForwardModel& model_;
+  const laws::LawShape& shape_;
+  const FitData& data_;
+  const FitOptions& options_;
+  std::vector<int> free_;
+  mutable int evaluations_ = 0;
+  mutable int failures_ = 0;
+  mutable std::string last_failure_;
+};
+
+struct LocalResult {
+  std::vector<double> x;
+  double chi2 = kFailedCost;
+  int evaluations = 0;
+  std::string stop_reason;
+  bool converged = false;
+};
+
+// Minimizes chi^2 over the free box coordinates (one of them may be pinned)
+// with an NLopt algorithm.
+LocalResult MinimizeNlopt(const Objective& objective, Optimizer optimizer, std::vector<double> x0,
+                          int max_evaluations, int pinned = -1, double pinned_value = 0.0,
+                          double xtol = 0.0);
+// The optimizer of the options: Ceres LM, an NLopt local one, or a global
+// NLopt search polished by BOBYQA.
+LocalResult MinimizeLocal(const Objective& objective, Optimizer optimizer,
+                          const std::vector<double>& x0, int max_evaluations, int pinned = -1,
+                          double pinned_value = 0.0);
+// Latin-hypercube design in the unit box.
+std::vector<std::vector<double>> LatinHypercube(int points, int dims, unsigned seed);
+// Jacobian d r_i / d p_j of the physical free parameters (central differences).
+bool PhysicalJacobian(const Objective& objective, const std::vector<double>& full,
+                      Eigen::MatrixXd* jacobian);
+// Sets full[index] to the best of 9 evenly spaced box points.
+void ScanBox(const Objective& objective, int index, std::vector<double>& full);
+// A first start read off the data (box coordinates of the free parameters).
+std::vector<double> DataInformedStart(const Objective& objective);
+
+}  // namespace bridgefit::inverse::fit_internal

@@ -1,0 +1,176 @@
+#include "bridgefit/pipeline/synth.hpp"
+
+#include <algorithm>
+#include <random>
+
+#include <fmt/format.h>
+
+#include "bridgefit/core/atomic_file.hpp"
+#include "bridgefit/core/error.hpp"
+#include "bridgefit/core/progress.hpp"
+#include "bridgefit/models/reduced.hpp"
+#include "bridgefit/specimen/calibrations.hpp"
+
+namespace bridgefit::pipeline {
+
+std::string SynthFrameName(int frame) { return fmt::format("frame_{:02d}.png", frame); }
+
+void SynthRequest::Check() const {
+  scene.Validate();
+  if (!scene.fracture)
+    throw Error(ErrorKind::kInput, "synth needs a [fracture] table", {.file = scene.source});
+  if (loading_rows < 2 || growth_rows < 2)
+    throw Error(ErrorKind::kUsage, "need at least 2 loading and 2 growth points");
+}
+
+namespace {
+
+// Exact rows: linear loading at a0 up to initiation, then growth rows evenly
+// spaced along the simulated path; time at a constant displacement rate.
+ExperimentRecord ExactRows(const SynthRequest& request, const SimulationResult& sim,
+                           std::vector<std::size_t>& growth_index) {
+  ExperimentRecord exact =
+      RecordAlongPath(sim, request.loading_rows, request.growth_rows, &growth_index);
+  exact.time.assign(exact.size(), 0.0);
+  for (std::size_t i = 1; i < exact.size(); ++i)
+    exact.time[i] = exact.time[i - 1] + std::abs(exact.displacement[i] - exact.displacement[i - 1]) /
+                                            request.displacement_rate;
+  return exact;
+}
+
+// Frame 0 unloaded (row 0), frames 1.. spread over the growth rows from
+// initiation to the last row: each frame's growth row index and record row.
+void FrameRows(const SynthRequest& request, std::size_t growth_count,
+               std::vector<std::size_t>& frame_growth, std::vector<std::size_t>& frame_row) {
+  const int frames = request.frames;
+  frame_growth.assign(frames, 0);
+  frame_row.assign(frames, 0);
+  for (int f = 1; f < frames; ++f) {
+    const std::size_t g =
+        frames <= 2 ? 0
+                    : static_cast<std::size_t>(
+                          std::llround(double(f - 1) * (growth_count - 1) / (frames - 2)));
+    frame_growth[f] = std::min(g, growth_count - 1);
+    frame_row[f] = request.loading_rows + frame_growth[f];
+  }
+}
+
+// The noisy record; with frames, an `image` column names the frame taken at
+// a row (the link `bridgefit rcurve --crack-length-from` uses).
+std::string NoisyRecordCsv(const SynthRequest& request, const ExperimentRecord& exact,
+                           const std::vector<std::size_t>& frame_row, std::mt19937_64& rng) {
+  std::normal_distribution<double> normal(0.0, 1.0);
+  std::string csv = std::string("time [s], load [N], displacement [mm], crack_length [mm]") +
+                    (request.frames > 0 ? ", image\n" : "\n");
+  for (std::size_t i = 0; i < exact.size(); ++i) {
+    const double load = exact.load[i] * (1.0 + request.load_noise * normal(rng));
+    const double disp =
+        exact.displacement[i] + (i == 0 ? 0.0 : request.displacement_noise * normal(rng));
+    const double crack = exact.crack_length[i] + request.crack_noise * normal(rng);
+    csv += fmt::format("{:.4f}, {:.5f}, {:.6f}, {:.4f}", exact.time[i], load, disp * 1e3,
+                       crack * 1e3);
+    if (request.frames > 0) {
+      const auto it = std::find(frame_row.begin(), frame_row.end(), i);
+      csv += ", " + (it == frame_row.end()
+                         ? std::string()
+                         : "images/" + SynthFrameName(static_cast<int>(it - frame_row.begin())));
+    }
+    csv += "\n";
+  }
+  return csv;
+}
+
+// Speckle frames: frame 0 unloaded, then the LEFM field of the far-field K
+// (tip plus bridging, so the opening grows as in the test) at each frame's
+// simulated crack length, with a small rigid motion.
+void RenderFrames(const SynthRequest& request, const SimulationResult& sim,
+                  const std::vector<std::size_t>& growth_index,
+                  const std::vector<std::size_t>& frame_growth,
+                  const std::vector<std::size_t>& frame_row, SynthTest& test) {
+  const MaterialSpec& m = request.scene.material;
+  const double nu = m.orthotropic ? m.nu12 : m.nu;
+  const bool strain = request.scene.specimen.plane == PlaneCondition::kPlaneStrain;
+  const double mu = m.orthotropic ? m.G12 : m.AxialModulus() / (2 * (1 + nu));
+  const double kappa = strain ? 3 - 4 * nu : (3 - nu) / (1 + nu);
+  dic::SpeckleOptions so;
+  so.width = request.image_width;
+  so.height = request.image_height;
+  so.speckle_radius_px = 2.0;
+  so.seed = request.seed;
+  const dic::SpeckleRenderer renderer(so);
+  Progress progress("synth: speckle frames", request.frames, request.progress);
+  for (int f = 0; f < request.frames; ++f) {
+    SynthFrame frame;
+    frame.index = f;
+    frame.record_row = frame_row[f];
+    frame.field.tip_y = 0.5 * request.image_height;
+    frame.field.kappa = kappa;
+    frame.crack_length = request.scene.specimen.notch;
+    if (f > 0) {
+      const SimulationPoint& p = sim.points[growth_index[frame_growth[f]]];
+      frame.crack_length = p.crack_length;
+      frame.J_ff = std::isfinite(p.J_ff) ? p.J_ff : request.scene.fracture->J_tip_c;
+      frame.K_I = std::sqrt(test.effective_modulus * frame.J_ff);
+    }
+    frame.field.tip_x = (frame.crack_length - request.image_x0) / request.scale;
+    frame.field.k_over_2mu = frame.K_I / (2 * mu) / std::sqrt(request.scale);
+    frame.field.translation_x = 0.3 * f;
+    frame.field.translation_y = -0.2 * f;
+    frame.image = f == 0 ? renderer.RenderReference(request.seed * 1000 + f)
+                         : renderer.Render(frame.field, request.seed * 1000 + f);
+    test.frames.push_back(std::move(frame));
+    progress.Update(f + 1);
+  }
+  progress.Finish();
+}
+
+}  // namespace
+
+SynthTest MakeSyntheticTest(const SynthRequest& request) {
+  request.Check();
+  Stopwatch watch;
+  SynthTest test;
+  test.effective_modulus =
+      specimen::EffectiveModulus(request.scene.material, request.scene.specimen.plane);
+  models::ReducedOptions options;
+  if (std::isfinite(request.resolution)) options.mesh.resolution = request.resolution;
+  options.progress = request.progress;
+  test.simulation = models::SimulateReduced(request.scene, options);
+  const SimulationResult& sim = test.simulation;
+  if (sim.status != RunStatus::kOk || sim.points.size() < 2)
+    throw Error(ErrorKind::kRuntime, "the forward model failed: " + sim.message,
+                {.file = request.scene.source});
+  std::vector<std::size_t> growth_index;  // nearest simulated point of each growth row
+  test.exact = ExactRows(request, sim, growth_index);
+  std::vector<std::size_t> frame_growth, frame_row;
+  FrameRows(request, growth_index.size(), frame_growth, frame_row);
+  std::mt19937_64 rng(request.seed);
+  test.record_csv = NoisyRecordCsv(request, test.exact, frame_row, rng);
+  RenderFrames(request, sim, growth_index, frame_growth, frame_row, test);
+  test.wall_s = watch.Seconds();
+  return test;
+}
+
+std::string SynthTest::TruthCsv() const {
+  std::string truth =
+      "frame, record_row, crack_length [mm], tip_x [px], tip_y [px], K_I [MPa m^0.5], "
+      "translation_x [px], translation_y [px]\n";
+  for (const SynthFrame& f : frames)
+    truth += fmt::format("{}, {}, {:.4f}, {:.3f}, {:.3f}, {:.5f}, {:.3f}, {:.3f}\n", f.index,
+                         f.record_row, f.crack_length * 1e3, f.field.tip_x, f.field.tip_y,
+                         f.K_I * 1e-6, f.field.translation_x, f.field.translation_y);
+  return truth;
+}
+
+void WriteSyntheticTest(const SynthTest& test, const std::filesystem::path& dir,
+                        const std::string& record_name) {
+  std::filesystem::create_directories(dir);
+  WriteTextFileAtomic(dir / record_name, test.record_csv);
+  if (test.frames.empty()) return;
+  const std::filesystem::path images = dir / "images";
+  std::filesystem::create_directories(images);
+  for (const SynthFrame& f : test.frames) dic::WriteImage(images / SynthFrameName(f.index), f.image, 8);
+  WriteTextFileAtomic(images / "truth.csv", test.TruthCsv());
+}
+
+}  // namespace bridgefit::pipeline
