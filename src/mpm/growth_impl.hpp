@@ -231,6 +231,47 @@ class StaticGrowth {
                       double f[6]) const;
   double ContourJ(const Vec& u, double x_tip, int k) const;
 
+  // ------------------------------------------------------------ Run's stages
+  // (growth.cpp; each states its equation at its definition)
+  // One crack length's unit fields, reduced bridged system and state.
+  struct LengthSystem {
+    double x_tip = 0;
+    std::vector<int> act;               // active (unbroken) bridged points
+    std::vector<double> c;              // their face lengths
+    int nb = 0;                         // act.size()
+    std::vector<Functional> cod;        // opening functionals of every crack point
+    Functional tip_cod;                 // opening at the tip
+    std::vector<Functional> g;          // cod of the active points
+    Vec U_d;                            // K^-1 F_d
+    Eigen::MatrixXd G;                  // K^-1 g_q, one column per active point
+    Vec A;                              // g_q . U_d
+    Eigen::MatrixXd M;                  // g_q . G_r
+    Vec delta, sig;                     // openings and closing forces c sigma
+    std::vector<double> J_all, Jtip_all;  // per contour
+  };
+  struct LoadSolution {
+    double d2 = 0, f2 = 0;  // last secant iterate and its residual
+    int iterations = 0;
+    bool ok = true;  // bridged openings converged
+  };
+  bool FactorizeAt(double x_tip);
+  LengthSystem UnitFields(const std::vector<BridgedPoint>& pts, double x_tip);
+  void ReduceToBridgedPoints(const std::vector<BridgedPoint>& pts, LengthSystem& sys) const;
+  bool SolveOpenings(const laws::BridgingLaw* law, const std::vector<BridgedPoint>& pts,
+                     LengthSystem& sys, double d) const;
+  static Vec Field(const LengthSystem& sys, double d);
+  double TipJ(const laws::BridgingLaw* law, const std::vector<BridgedPoint>& pts,
+              LengthSystem& sys, const Vec& u) const;
+  LoadSolution SolveLoadForJtipc(const laws::BridgingLaw* law, double J_tip_c,
+                                 const std::vector<BridgedPoint>& pts, double d_prev,
+                                 LengthSystem& sys) const;
+  SimulationPoint RecordCrackLength(const laws::BridgingLaw* law, double J_tip_c,
+                                    const Functional& mouth, const Vec& u, double d,
+                                    const LengthSystem& sys, std::vector<BridgedPoint>& pts,
+                                    SimulationResult& res) const;
+  void AddBridgedPoints(const laws::BridgingLaw* law, double x_tip, double next,
+                        std::vector<BridgedPoint>& pts) const;
+
   const Scene& scene_;
   GrowthOptions opt_;
   Model model_;
