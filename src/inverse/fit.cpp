@@ -54,7 +54,8 @@ void ApplyProfile(const ProfileRun& run, bool lower_side, const FitOptions& opti
     e.note = "interval unreliable (" + std::string(IntervalStatusName(profile.status)) +
              "): " + profile.status_reason;
     if (std::isfinite(e.ci95_low) || std::isfinite(e.ci95_high))
-      e.note = "CI from the profile likelihood, " + e.note;
+      e.note = (lower_side ? "CI from the profile likelihood, "
+                           : "CI: Jacobian below, profile likelihood above, ") + e.note;
   } else {
     e.identified = true;
     e.note = lower_side ? "CI from the profile likelihood"
