@@ -1,6 +1,7 @@
 // bridgefit: fracture tests with fibre bridging -> bridging-law parameters.
 //
-// Exit codes: 0 success, 1 runtime or data error, 2 usage error.
+// Exit codes: 0 success, 1 runtime or data error (a corrupt HDF5 input too),
+// 2 usage error, 130 / 143 interrupted by SIGINT / SIGTERM (no output written).
 // Sample runs:
 //   bridgefit law --law cubic --sigma-c "0.45 MPa" --jb "500 J/m^2" --jtip "2210 J/m^2"
 //   bridgefit law --law linear --sigma-c 1MPa --delta-c 1mm --jtip 2210J/m^2 --json
@@ -8,12 +9,17 @@
 #include <glog/logging.h>
 
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <sstream>
 #include <vector>
 
 #include "bridgefit/core/error.hpp"
+#include "bridgefit/core/input_limits.hpp"
+#include "bridgefit/core/interrupt.hpp"
 #include "bridgefit/core/version.hpp"
+#include "bridgefit/io/hdf5.hpp"
 #include "command.hpp"
 
 namespace bridgefit::cli {
@@ -55,10 +61,49 @@ double ParseOptionQuantity(const std::string& text, const Dimension& dimension,
   }
 }
 
+namespace {
+
+// Every value given to a subcommand (positionals and options), in order.
+std::vector<std::string> CommandLineValues(const CLI::App& sub) {
+  std::vector<std::string> values;
+  for (const CLI::Option* option : sub.get_options())
+    for (const std::string& value : option->results()) values.push_back(value);
+  return values;
+}
+
+// HDF5 files named on the command line are read first in a child process,
+// so a file that crashes libhdf5 ends as "corrupt HDF5 file: FILE", exit 1.
+void CheckHdf5Inputs(const std::vector<std::string>& values) {
+  for (const std::string& value : values) {
+    std::error_code ec;
+    if (value.empty() || !std::filesystem::is_regular_file(value, ec)) continue;
+    if (io::HasHdf5Signature(value)) io::CheckH5FileInChildProcess(value);
+  }
+}
+
+}  // namespace
 }  // namespace bridgefit::cli
 
 int main(int argc, char** argv) {
   using namespace bridgefit;
+  // OpenCV checks an image header against this before decoding: our pixel limit.
+  try {
+    const InputLimits limits = InputLimits::FromEnvironment();
+    setenv("OPENCV_IO_MAX_IMAGE_PIXELS", std::to_string(limits.max_image_pixels).c_str(), 0);
+  } catch (const Error& e) {
+    std::cerr << "bridgefit: error: " << e.what() << "\n";
+    return 2;
+  }
+  // Before any thread exists: SIGINT / SIGTERM go to the watcher thread only.
+  InterruptWatchOptions interrupt_options;
+  {
+    std::string what = "bridgefit";
+    for (int i = 1; i < argc && i < 8; ++i) what += std::string(" ") + argv[i];
+    if (argc > 8) what += " ...";
+    interrupt_options.what = what;
+    for (int i = 1; i < argc; ++i) interrupt_options.outputs.emplace_back(argv[i]);
+  }
+  StartInterruptWatcher(interrupt_options);
   // Ceres logs through glog; a failed evaluation inside a fit is reported in
   // the fit summary, so its internal messages are not shown.
   FLAGS_minloglevel = google::GLOG_FATAL;
@@ -95,8 +140,14 @@ int main(int argc, char** argv) {
   for (size_t i = 0; i < commands.size(); ++i) {
     if (!subs[i]->parsed()) continue;
     try {
+      cli::CheckHdf5Inputs(cli::CommandLineValues(*subs[i]));
       return commands[i]->Run(common);
     } catch (const Error& e) {
+      if (e.kind() == ErrorKind::kInterrupted) {
+        std::cerr << "bridgefit " << commands[i]->name() << ": " << e.what()
+                  << " Stopped; no output written.\n";
+        return 128 + InterruptSignal();
+      }
       std::cerr << "bridgefit " << commands[i]->name() << ": error: " << e.what() << "\n";
       return e.kind() == ErrorKind::kUsage ? 2 : 1;
     } catch (const std::exception& e) {

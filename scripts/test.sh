@@ -2,6 +2,11 @@
 # The README's test command: installs what is missing, builds, runs the whole suite.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+if [[ "${1:-}" == "--sanitize" ]]; then
+  shift
+  bash scripts/setup.sh
+  exec bash scripts/test_sanitize.sh "$@"
+fi
 start=$(date +%s)
 bash scripts/setup.sh
 bash scripts/build.sh

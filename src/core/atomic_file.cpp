@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include "bridgefit/core/error.hpp"
+#include "bridgefit/core/interrupt.hpp"
 
 namespace bridgefit {
 
@@ -27,6 +28,8 @@ AtomicOutput::~AtomicOutput() {
 }
 
 void AtomicOutput::Commit() {
+  // An interrupted run writes nothing: the temporary goes with the destructor.
+  ThrowIfInterrupted("writing " + target_.string());
   std::error_code ec;
   std::filesystem::rename(temporary_, target_, ec);
   if (ec)

@@ -50,12 +50,63 @@ constexpr std::array<Prefix, 9> kPrefixes = {{{"G", 1e9},
                                               {"\xCE\xBC", 1e-6},  // Greek mu
                                               {"n", 1e-9}}};
 
-Dimension Scaled(const Dimension& d, int power) {
-  return {d.mass * power, d.length * power, d.time * power, d.pixel * power};
+// Exponents are small integers in practice (m^3, s^-2); bounding them keeps
+// every dimension sum far from int overflow, so a wrapped exponent can never
+// pass as a valid dimension (fuzzing found "m^2147483647*m^2147483647*m^3").
+constexpr int kMaxWrittenExponent = kMaxUnitExponent;
+constexpr int kMaxDimensionExponent = 4 * kMaxUnitExponent;
+constexpr std::size_t kMaxUnitLength = 128;
+
+[[noreturn]] void ExponentOutOfRange(std::string_view whole, const std::string& what) {
+  throw Error(ErrorKind::kInput, "unit exponent out of range: " + what,
+              {.value = std::string(whole),
+               .expected = "integer exponents between -" + std::to_string(kMaxWrittenExponent) +
+                           " and " + std::to_string(kMaxWrittenExponent) +
+                           ", e.g. 'm^2' or 's^-2'"});
 }
-Dimension Add(const Dimension& a, const Dimension& b) {
-  return {a.mass + b.mass, a.length + b.length, a.time + b.time,
-          a.pixel + b.pixel};
+
+// One dimension exponent += power * factor exponent, checked.
+int CombineExponent(int total, int factor, int power, std::string_view whole) {
+  long long scaled = static_cast<long long>(factor) * power;  // |.| <= 4 * 12
+  long long sum = static_cast<long long>(total) + scaled;
+  if (sum > kMaxDimensionExponent || sum < -kMaxDimensionExponent)
+    ExponentOutOfRange(whole, "the combined exponent " + std::to_string(sum) + " exceeds " +
+                                  std::to_string(kMaxDimensionExponent));
+  return static_cast<int>(sum);
+}
+
+Dimension Combine(const Dimension& total, const Dimension& factor, int power,
+                  std::string_view whole) {
+  return {CombineExponent(total.mass, factor.mass, power, whole),
+          CombineExponent(total.length, factor.length, power, whole),
+          CombineExponent(total.time, factor.time, power, whole),
+          CombineExponent(total.pixel, factor.pixel, power, whole)};
+}
+
+// Reads the integer after '^' in text[begin, ...); returns it and sets *end.
+int ParseExponent(std::string_view text, size_t begin, size_t* end, std::string_view whole) {
+  size_t digits = begin;
+  int sign = 1;
+  if (digits < text.size() && (text[digits] == '-' || text[digits] == '+')) {
+    sign = text[digits] == '-' ? -1 : 1;
+    ++digits;
+  }
+  size_t stop = digits;
+  while (stop < text.size() && std::isdigit(static_cast<unsigned char>(text[stop]))) ++stop;
+  if (stop == digits)
+    throw Error(ErrorKind::kInput, "malformed unit exponent",
+                {.value = std::string(whole), .expected = "an integer exponent such as 'm^2'"});
+  // Leading zeros aside, more than two digits is out of range whatever they say.
+  size_t first = digits;
+  while (first + 1 < stop && text[first] == '0') ++first;
+  if (stop - first > 2)
+    ExponentOutOfRange(whole, "'" + std::string(text.substr(begin, stop - begin)) + "'");
+  int magnitude = 0;
+  for (size_t i = first; i < stop; ++i) magnitude = magnitude * 10 + (text[i] - '0');
+  if (magnitude > kMaxWrittenExponent)
+    ExponentOutOfRange(whole, "'" + std::string(text.substr(begin, stop - begin)) + "'");
+  *end = stop;
+  return sign * magnitude;
 }
 
 Unit LookupSymbol(std::string_view symbol, std::string_view whole) {
@@ -129,6 +180,11 @@ Unit ParseUnit(std::string_view text) {
   text = Trim(text);
   if (text.empty())
     throw Error(ErrorKind::kInput, "empty unit", {.expected = "a unit such as 'mm' or 'MPa'"});
+  if (text.size() > kMaxUnitLength)
+    throw Error(ErrorKind::kInput,
+                "unit longer than " + std::to_string(kMaxUnitLength) + " characters",
+                {.value = std::string(whole.substr(0, 40)) + "...",
+                 .expected = "a unit such as 'J/m^2' or 'kg/m^3'"});
   Unit unit;
   int sign = +1;  // +1 before the first '/', -1 after
   size_t pos = 0;
@@ -144,22 +200,13 @@ Unit ParseUnit(std::string_view text) {
       throw Error(ErrorKind::kInput, "malformed unit", {.value = std::string(whole),
                   .expected = "a unit such as 'J/m^2' or 'kg/m^3'"});
     int power = 1;
-    if (end < text.size() && text[end] == '^') {
-      size_t exp_begin = end + 1;
-      size_t exp_end = exp_begin;
-      if (exp_end < text.size() && (text[exp_end] == '-' || text[exp_end] == '+')) ++exp_end;
-      while (exp_end < text.size() && std::isdigit(static_cast<unsigned char>(text[exp_end]))) ++exp_end;
-      auto [ptr, ec] = std::from_chars(text.data() + exp_begin + (text[exp_begin] == '+'),
-                                       text.data() + exp_end, power);
-      if (ec != std::errc() || exp_end == exp_begin)
-        throw Error(ErrorKind::kInput, "malformed unit exponent",
-                    {.value = std::string(whole), .expected = "an integer exponent such as 'm^2'"});
-      (void)ptr;
-      end = exp_end;
-    }
+    if (end < text.size() && text[end] == '^') power = ParseExponent(text, end + 1, &end, whole);
     const Unit factor = LookupSymbol(symbol, whole);
-    unit.scale *= std::pow(factor.scale, sign * power);
-    unit.dimension = Add(unit.dimension, Scaled(factor.dimension, sign * power));
+    unit.scale *= std::pow(factor.scale, sign * power);  // |sign * power| <= 12
+    unit.dimension = Combine(unit.dimension, factor.dimension, sign * power, whole);
+    if (!std::isfinite(unit.scale) || unit.scale == 0.0)
+      throw Error(ErrorKind::kInput, "unit scale overflows a double",
+                  {.value = std::string(whole), .expected = "a unit such as 'J/m^2' or 'kg/m^3'"});
     while (end < text.size() && std::isspace(static_cast<unsigned char>(text[end]))) ++end;
     if (end >= text.size()) break;
     const char op = text[end];
@@ -204,14 +251,22 @@ double ParseQuantity(std::string_view text, const Dimension& expected) {
   try {
     unit = ParseUnit(unit_text);
   } catch (const Error& e) {
-    throw e.WithContext({.value = whole, .expected = DescribeDimension(expected)});
+    // The whole quantity as written, e.g. "2 m^99", is what the user can find.
+    ErrorContext context = e.context();
+    context.value = whole;
+    if (context.expected.empty()) context.expected = DescribeDimension(expected);
+    throw Error(e.kind(), e.message(), context);
   }
   if (!(unit.dimension == expected))
     throw Error(ErrorKind::kInput,
                 "wrong unit: '" + std::string(unit_text) + "' is " + SiUnitName(unit.dimension) +
                     " but the field needs " + SiUnitName(expected),
                 {.value = whole, .expected = DescribeDimension(expected)});
-  return number * unit.scale;
+  const double si = number * unit.scale;
+  if (!std::isfinite(si))
+    throw Error(ErrorKind::kInput, "the value overflows a double in SI units",
+                {.value = whole, .expected = DescribeDimension(expected)});
+  return si;
 }
 
 double ToSi(double value, std::string_view unit_text, const Dimension& expected) {

@@ -3,6 +3,7 @@
 #include "bridgefit/dic/image.hpp"
 
 #include <algorithm>
+#include <cstdint>
 #include <cctype>
 #include <fnmatch.h>
 #include <system_error>
@@ -11,6 +12,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "bridgefit/core/error.hpp"
+#include "bridgefit/core/input_limits.hpp"
 
 namespace bridgefit::dic {
 namespace fs = std::filesystem;
@@ -19,22 +21,46 @@ Image ReadImage(const fs::path& path) {
   std::error_code ec;
   if (!fs::is_regular_file(path, ec))
     throw Error(ErrorKind::kInput, "image file not found", {.file = path.string()});
+  // An image file bigger than its largest allowed pixel count at 8 bytes a
+  // pixel is refused before it is read.
+  const InputLimits limits = InputLimits::FromEnvironment();
+  const std::string bytes = ReadFileLimited(path, limits.max_image_pixels * 8,
+                                            InputLimits::kImagePixelsVariable, "image file");
+  return DecodeImage(bytes, path.string(), limits);
+}
+
+Image DecodeImage(std::string_view bytes, const std::string& name, const InputLimits& limits) {
   cv::Mat mat;
   try {
-    mat = cv::imread(path.string(), cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
+    const cv::Mat buffer(1, static_cast<int>(std::min<std::size_t>(bytes.size(), INT32_MAX)),
+                         CV_8U, const_cast<char*>(bytes.data()));
+    // OpenCV checks the header's size against OPENCV_IO_MAX_IMAGE_PIXELS
+    // before decoding; the CLI sets that to the limit below.
+    if (!bytes.empty()) mat = cv::imdecode(buffer, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
   } catch (const cv::Exception& e) {
-    throw Error(ErrorKind::kInput, std::string("cannot decode image: ") + e.what(),
-                {.file = path.string()});
+    throw Error(ErrorKind::kInput, std::string("cannot decode image: ") + e.what(), {.file = name});
   }
   if (mat.empty())
-    throw Error(ErrorKind::kInput, "cannot read image (not an image or unsupported format)",
-                {.file = path.string(), .expected = "an 8- or 16-bit grayscale image"});
+    throw Error(ErrorKind::kInput, "cannot read image (not an image, unsupported format or over "
+                                   "the pixel limit)",
+                {.file = name, .expected = "an 8- or 16-bit grayscale image of at most " +
+                                               std::to_string(limits.max_image_pixels) +
+                                               " pixels (" + InputLimits::kImagePixelsVariable +
+                                               ")"});
+  CheckLimit(static_cast<std::uint64_t>(mat.total()), limits.max_image_pixels,
+             InputLimits::kImagePixelsVariable, "the image", "pixels", name);
+  if (mat.dims != 2)
+    throw Error(ErrorKind::kInput, "not a 2-D image", {.file = name});
   if (mat.channels() == 3) cv::cvtColor(mat, mat, cv::COLOR_BGR2GRAY);
   else if (mat.channels() == 4) cv::cvtColor(mat, mat, cv::COLOR_BGRA2GRAY);
+  else if (mat.channels() != 1)
+    throw Error(ErrorKind::kInput, "unsupported number of channels",
+                {.file = name, .value = std::to_string(mat.channels()),
+                 .expected = "a grayscale (or colour) image"});
   const int depth = mat.depth();
   if (depth != CV_8U && depth != CV_16U && depth != CV_32F)
     throw Error(ErrorKind::kInput, "unsupported image depth",
-                {.file = path.string(), .expected = "8- or 16-bit grayscale"});
+                {.file = name, .expected = "8- or 16-bit grayscale"});
   Image image(mat.cols, mat.rows, 0.0f, depth == CV_8U ? 8 : 16);
   cv::Mat wrapped(mat.rows, mat.cols, CV_32F, image.pixels.data());
   mat.convertTo(wrapped, CV_32F);
@@ -113,6 +139,7 @@ void SortNatural(std::vector<fs::path>& paths) {
 }  // namespace
 
 std::vector<fs::path> ExpandImageArguments(const std::vector<std::string>& args) {
+  const InputLimits limits = InputLimits::FromEnvironment();
   std::vector<fs::path> out;
   std::error_code ec;
   for (const std::string& arg : args) {
@@ -147,6 +174,8 @@ std::vector<fs::path> ExpandImageArguments(const std::vector<std::string>& args)
   }
   if (out.empty())
     throw Error(ErrorKind::kInput, "no images given", {.expected = "a folder, a glob or files"});
+  CheckLimit(out.size(), limits.max_frames, InputLimits::kFramesVariable, "the image sequence",
+             "frames", args.empty() ? std::string() : args.front());
   return out;
 }
 

@@ -1,6 +1,9 @@
 #pragma once
 // Private: cubic B-spline coefficients (prefiltered once per image) and
-// Keys bicubic, evaluated with value and gradient on a 4x4 neighbourhood.
+// Keys bicubic, evaluated with value and gradient on a 4x4 neighbourhood;
+// a row sampler for affine warps (four samples per SSE2 step) and the value
+// and gradient of the interpolant at every pixel node (reference subsets at
+// integer centres read these instead of interpolating).
 
 #include <cmath>
 #include <vector>
@@ -9,6 +12,16 @@
 #include "bridgefit/dic/image.hpp"
 
 namespace bridgefit::dic::detail {
+
+// Value and gradient of the interpolant at the pixel nodes (x, y integer),
+// row-major, width x height; valid for 1 <= x <= width - 2 (and y alike),
+// the rest is zero. B-spline at a node: value (c[-1] + 4 c[0] + c[1]) / 6,
+// derivative (c[1] - c[-1]) / 2 per axis; Keys: the pixel, central differences.
+struct NodeMaps {
+  int width = 0, height = 0;
+  std::vector<float> value, gx, gy;
+  bool empty() const { return value.empty(); }
+};
 
 // Interpolation coefficients of one image. For B-splines these are the
 // prefiltered coefficients c with I(x) = sum c_k beta3(x - k); for Keys the
@@ -20,6 +33,13 @@ struct InterpolatedImage {
 
   InterpolatedImage() = default;
   InterpolatedImage(const Image& image, Interpolation kind);
+
+  // Value and gradient at every node (computed on demand, once per reference).
+  NodeMaps Nodes() const;
+
+  // Samples I(x0 + j ax, y0 + j ay) for j = 0..count-1 into out; every
+  // sample must be Inside (the caller checks the ends of the row).
+  void SampleRow(double x0, double y0, double ax, double ay, int count, float* out) const;
 
   // The 4x4 neighbourhood of (x, y) lies inside the image.
   bool Inside(double x, double y) const {

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -130,15 +131,19 @@ const std::vector<std::string>& CsvTable::TextColumn(const std::string& name) co
   return text[index];
 }
 
-CsvTable ReadCsvTable(const std::filesystem::path& path) {
-  const std::string source = path.string();
-  std::ifstream stream(path, std::ios::binary);
-  if (!stream)
-    throw Error(ErrorKind::kInput, "cannot open file", {.file = source,
-                .expected = "a readable CSV file"});
-  std::stringstream buffer;
-  buffer << stream.rdbuf();
-  const std::string content = buffer.str();
+CsvTable ReadCsvTable(const std::filesystem::path& path, CsvKind kind) {
+  const InputLimits limits = InputLimits::FromEnvironment();
+  const bool law_table = kind == CsvKind::kLawTable;
+  const std::string content = ReadFileLimited(
+      path, law_table ? limits.max_table_bytes : limits.max_text_bytes,
+      law_table ? InputLimits::kTableBytesVariable : InputLimits::kTextBytesVariable,
+      law_table ? "bridging-law table file" : "CSV file");
+  return ParseCsvTable(content, path.string(), limits);
+}
+
+CsvTable ParseCsvTable(std::string_view content_view, const std::string& source,
+                       const InputLimits& limits) {
+  const std::string content(content_view);
   if (content.find_first_not_of(" \t\r\n") == std::string::npos)
     throw Error(ErrorKind::kInput, "the file is empty",
                 {.file = source, .expected = "a header row and data rows"});
@@ -153,13 +158,19 @@ CsvTable ReadCsvTable(const std::filesystem::path& path) {
   int line_number = 0;
   bool have_header = false;
   while (std::getline(lines, line)) {
-    ++line_number;
+    if (++line_number == std::numeric_limits<int>::max())
+      throw Error(ErrorKind::kInput, "more lines than a line number can count", {.file = source});
+    if (line.size() > limits.max_line_bytes)
+      CheckLimit(line.size(), limits.max_line_bytes, InputLimits::kLineBytesVariable,
+                 "line " + std::to_string(line_number), "bytes", source);
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (line_number == 1 && line.size() >= 3 && line.compare(0, 3, "\xEF\xBB\xBF") == 0)
       line = line.substr(3);  // UTF-8 byte-order mark
     const std::string trimmed = Trim(line);
     if (trimmed.empty() || trimmed[0] == '#') continue;
     const std::vector<std::string> cells = SplitCells(line);
+    CheckLimit(cells.size(), limits.max_csv_columns, InputLimits::kCsvColumnsVariable,
+               "line " + std::to_string(line_number), "columns", source);
     if (!have_header) {
       for (const std::string& cell : cells) {
         auto [name, unit] = SplitNameUnit(cell);
@@ -200,6 +211,8 @@ CsvTable ReadCsvTable(const std::filesystem::path& path) {
       table.text[c].push_back(cells[c]);
     }
     table.lines.push_back(line_number);
+    CheckLimit(table.lines.size(), limits.max_csv_rows, InputLimits::kCsvRowsVariable,
+               "the CSV file", "data rows", source);
   }
   if (table.lines.empty())
     throw Error(ErrorKind::kInput, "no data rows after the header", {.file = source});
@@ -246,13 +259,16 @@ void ApplyUnitMapping(const std::string& mapping, RecordColumns& columns) {
 }
 
 ExperimentRecord ReadRecordCsv(const std::filesystem::path& path, const RecordColumns& columns) {
-  const CsvTable table = ReadCsvTable(path);
+  return RecordFromCsvTable(ReadCsvTable(path), columns);
+}
+
+ExperimentRecord RecordFromCsvTable(const CsvTable& table, const RecordColumns& columns) {
   auto unit_for = [&columns](const std::string& quantity) {
     const auto it = columns.units.find(quantity);
     return it == columns.units.end() ? std::string() : it->second;
   };
   ExperimentRecord record;
-  record.source = path.string();
+  record.source = table.source;
   const std::vector<double> load = table.ColumnSi(columns.load, Dimension::Force(), unit_for("load"));
   const std::vector<double> disp =
       table.ColumnSi(columns.displacement, Dimension::Length(), unit_for("displacement"));

@@ -2,12 +2,18 @@
 
 #include <H5Cpp.h>
 
+#include <algorithm>
+#include <cmath>
+#include <cstring>
 #include <ctime>
 #include <optional>
+
+#include <fmt/format.h>
 
 #include "bridgefit/core/atomic_file.hpp"
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/core/version.hpp"
+#include "hdf5_checked.hpp"
 
 namespace bridgefit::io {
 namespace {
@@ -192,16 +198,180 @@ void H5Writer::Commit() {
 }
 
 // ---- Reader ---------------------------------------------------------------
+// Layered defence (docs/HOSTILE_INPUT.md): every dataset's extent is checked
+// against the file size and the element cap before anything is allocated,
+// every attribute's type class and element count before it is read, and
+// external or virtual storage (which would read other files) is refused.
+// Crashes inside libhdf5 itself are caught one level up, by
+// CheckH5FileInChildProcess (hdf5_check.cpp).
+
+namespace {
+
+// Bytes one variable-length element takes in the dataset's own storage
+// (length + global-heap address + index): a lower bound on the file size.
+constexpr std::uint64_t kVlenReferenceBytes = 16;
+// Compression cannot shrink data more than about 1032:1 (deflate's limit).
+constexpr std::uint64_t kMaxFilterRatio = 1100;
+constexpr std::uint64_t kMaxStringAttributeBytes = 1 << 20;
+
+// A memory string type of `size` with the file type's character set:
+// libhdf5 does not convert between ASCII and UTF-8.
+H5::StrType MemoryString(const H5::DataType& file_type, std::size_t size) {
+  H5::StrType memory(H5::PredType::C_S1, size);
+  memory.setCset(H5Tget_cset(file_type.getId()));
+  return memory;
+}
+
+}  // namespace
+
+H5Checked::H5Checked(std::string file_name, std::uint64_t file_bytes, InputLimits limits)
+    : file_(std::move(file_name)), file_bytes_(file_bytes), limits_(limits) {}
+
+Error H5Checked::Refuse(const std::string& field, const std::string& what,
+                        const std::string& value, const std::string& expected) const {
+  return Error(ErrorKind::kInput, what,
+               {.file = file_, .field = field, .value = value, .expected = expected});
+}
+
+std::uint64_t H5Checked::CheckedExtent(const H5::DataSet& dataset, const std::string& field,
+                                       std::uint64_t stored_element_bytes) const {
+  const H5::DataSpace space = dataset.getSpace();
+  const H5S_class_t space_class = space.getSimpleExtentType();
+  if (space_class == H5S_NULL) return 0;
+  const hssize_t points = space.getSimpleExtentNpoints();
+  if (points < 0) throw Refuse(field, "dataset has an invalid extent");
+  const auto n = static_cast<std::uint64_t>(points);
+  const H5::DSetCreatPropList create = dataset.getCreatePlist();
+  if (create.getLayout() == H5D_VIRTUAL || create.getExternalCount() > 0)
+    throw Refuse(field, "dataset stores its data in other files (external or virtual layout)",
+                 "", "data stored inside this file");
+  if (n > limits_.max_dataset_elements)
+    throw Refuse(field,
+                 fmt::format("dataset has {} elements, over the limit of {} ({})", n,
+                             limits_.max_dataset_elements, InputLimits::kDatasetElementsVariable),
+                 "", fmt::format("at most {} elements; set {} to raise the limit",
+                                 limits_.max_dataset_elements,
+                                 InputLimits::kDatasetElementsVariable));
+  const bool filtered = create.getNfilters() > 0;
+  const std::uint64_t allowed = filtered ? file_bytes_ * kMaxFilterRatio : file_bytes_;
+  const std::uint64_t element = std::max<std::uint64_t>(stored_element_bytes, 1);
+  if (n > allowed / element)
+    throw Refuse(field,
+                 fmt::format("dataset claims {} elements of {} bytes but the file has only {} "
+                             "bytes",
+                             n, element, file_bytes_),
+                 "", "an intact HDF5 file (this one is truncated or corrupt)");
+  return n;
+}
+
+std::vector<double> H5Checked::ReadNumbers(const H5::DataSet& dataset,
+                                           const std::string& field) const {
+  const H5::DataType type = dataset.getDataType();
+  const H5T_class_t type_class = type.getClass();
+  if (type_class != H5T_FLOAT && type_class != H5T_INTEGER)
+    throw Refuse(field, "dataset is not numeric", "", "a dataset of numbers");
+  const std::uint64_t n = CheckedExtent(dataset, field, type.getSize());
+  std::vector<double> values(n);
+  if (n > 0) dataset.read(values.data(), H5::PredType::NATIVE_DOUBLE);
+  return values;
+}
+
+std::vector<std::string> H5Checked::ReadTexts(const H5::DataSet& dataset,
+                                              const std::string& field) const {
+  const H5::DataType type = dataset.getDataType();
+  if (type.getClass() != H5T_STRING)
+    throw Refuse(field, "dataset is not text", "", "a dataset of strings");
+  std::vector<std::string> out;
+  if (type.isVariableStr()) {
+    const std::uint64_t n = CheckedExtent(dataset, field, kVlenReferenceBytes);
+    std::vector<char*> pointers(n, nullptr);
+    const H5::StrType memory = MemoryString(type, H5T_VARIABLE);
+    if (n > 0) dataset.read(pointers.data(), memory);
+    out.reserve(n);
+    for (char* p : pointers) {
+      out.emplace_back(p ? p : "");
+      H5free_memory(p);
+    }
+    return out;
+  }
+  const std::size_t width = type.getSize();
+  const std::uint64_t n = CheckedExtent(dataset, field, width);
+  std::vector<char> buffer(n * width + 1, '\0');
+  const H5::StrType memory = MemoryString(type, width);
+  if (n > 0) dataset.read(buffer.data(), memory);
+  for (std::uint64_t i = 0; i < n; ++i) {
+    const char* begin = buffer.data() + i * width;
+    out.emplace_back(begin, strnlen(begin, width));
+  }
+  return out;
+}
+
+void H5Checked::CheckScalarAttribute(const H5::Attribute& attribute,
+                                     const std::string& field) const {
+  const H5::DataSpace space = attribute.getSpace();
+  const H5S_class_t space_class = space.getSimpleExtentType();
+  const hssize_t points = space_class == H5S_NULL ? 0 : space.getSimpleExtentNpoints();
+  if (points != 1)
+    throw Refuse(field, fmt::format("attribute holds {} values, not one", points), "",
+                 "a scalar attribute");
+}
+
+std::string H5Checked::ReadTextAttribute(const H5::Attribute& attribute,
+                                         const std::string& field) const {
+  const H5::DataType type = attribute.getDataType();
+  if (type.getClass() != H5T_STRING)
+    throw Refuse(field, "attribute is not text", "", "a string attribute");
+  CheckScalarAttribute(attribute, field);
+  if (type.isVariableStr()) {
+    char* pointer = nullptr;
+    const H5::StrType memory = MemoryString(type, H5T_VARIABLE);
+    attribute.read(memory, &pointer);
+    std::string value = pointer ? pointer : "";
+    H5free_memory(pointer);
+    return value;
+  }
+  const std::size_t width = type.getSize();
+  if (width > kMaxStringAttributeBytes || width > file_bytes_)
+    throw Refuse(field, fmt::format("string attribute of {} bytes in a file of {} bytes", width,
+                                    file_bytes_));
+  // A buffer of exactly one element of the file's width: the read cannot
+  // write past it (the H5::Attribute std::string read could, on corrupt sizes).
+  std::vector<char> buffer(width + 1, '\0');
+  const H5::StrType memory = MemoryString(type, width);
+  attribute.read(memory, buffer.data());
+  return std::string(buffer.data(), strnlen(buffer.data(), width));
+}
+
+double H5Checked::ReadNumberAttribute(const H5::Attribute& attribute,
+                                      const std::string& field) const {
+  const H5::DataType type = attribute.getDataType();
+  const H5T_class_t type_class = type.getClass();
+  if (type_class != H5T_FLOAT && type_class != H5T_INTEGER)
+    throw Refuse(field, "attribute is not a number", "", "a numeric attribute");
+  CheckScalarAttribute(attribute, field);
+  double value = 0.0;
+  attribute.read(H5::PredType::NATIVE_DOUBLE, &value);
+  return value;
+}
 
 struct H5Reader::Impl {
   std::string name;
   std::unique_ptr<H5::H5File> file;
+  std::unique_ptr<H5Checked> checked;
 };
 
 H5Reader::H5Reader(const std::filesystem::path& path) : impl_(std::make_unique<Impl>()) {
   impl_->name = path.string();
-  if (!std::filesystem::exists(path))
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  if (ec || !std::filesystem::exists(status))
     throw Error(ErrorKind::kInput, "file not found", {.file = impl_->name});
+  if (!std::filesystem::is_regular_file(status))
+    throw Error(ErrorKind::kInput, "not a regular file",
+                {.file = impl_->name, .expected = "an HDF5 file written by bridgefit"});
+  const std::uint64_t bytes = std::filesystem::file_size(path, ec);
+  if (ec) throw Error(ErrorKind::kInput, "cannot read file size", {.file = impl_->name});
+  impl_->checked = std::make_unique<H5Checked>(impl_->name, bytes, InputLimits::FromEnvironment());
   H5::Exception::dontPrint();
   try {
     if (!H5::H5File::isHdf5(impl_->name))
@@ -221,6 +391,12 @@ bool H5Reader::Exists(const std::string& path) const {
     for (const std::string& part : SplitPath(path)) {
       current += "/" + part;
       if (!impl_->file->nameExists(current)) return false;
+      H5L_info_t info;
+      if (H5Lget_info(impl_->file->getId(), current.c_str(), &info, H5P_DEFAULT) < 0) return false;
+      if (info.type == H5L_TYPE_EXTERNAL || info.type >= H5L_TYPE_UD_MIN)
+        throw Error(ErrorKind::kInput, "link to another file is not followed",
+                    {.file = impl_->name, .field = current,
+                     .expected = "groups and datasets inside this file"});
     }
     return true;
   } catch (const H5::Exception&) {
@@ -232,11 +408,8 @@ std::vector<double> H5Reader::ReadVector(const std::string& path, std::string* u
   if (!Exists(path))
     throw Error(ErrorKind::kInput, "missing dataset", {.file = impl_->name, .field = path});
   try {
-    H5::DataSet dataset = impl_->file->openDataSet(path);
-    const H5::DataSpace space = dataset.getSpace();
-    const hssize_t n = space.getSimpleExtentNpoints();
-    std::vector<double> values(static_cast<size_t>(n));
-    if (n > 0) dataset.read(values.data(), H5::PredType::NATIVE_DOUBLE);
+    const H5::DataSet dataset = impl_->file->openDataSet(path);
+    std::vector<double> values = impl_->checked->ReadNumbers(dataset, path);
     if (units) *units = dataset.attrExists("units") ? ReadStringAttribute(path, "units") : "";
     return values;
   } catch (const H5::Exception& e) {
@@ -249,17 +422,8 @@ std::vector<std::string> H5Reader::ReadStrings(const std::string& path) const {
   if (!Exists(path))
     throw Error(ErrorKind::kInput, "missing dataset", {.file = impl_->name, .field = path});
   try {
-    H5::DataSet dataset = impl_->file->openDataSet(path);
-    const hssize_t n = dataset.getSpace().getSimpleExtentNpoints();
-    std::vector<char*> pointers(static_cast<size_t>(n), nullptr);
-    const H5::StrType type = VariableString();
-    if (n > 0) dataset.read(pointers.data(), type);
-    std::vector<std::string> out;
-    for (char* p : pointers) {
-      out.emplace_back(p ? p : "");
-      std::free(p);
-    }
-    return out;
+    const H5::DataSet dataset = impl_->file->openDataSet(path);
+    return impl_->checked->ReadTexts(dataset, path);
   } catch (const H5::Exception& e) {
     throw Error(ErrorKind::kInput, "cannot read dataset: " + e.getDetailMsg(),
                 {.file = impl_->name, .field = path});
@@ -278,37 +442,44 @@ bool H5Reader::HasAttribute(const std::string& object_path, const std::string& k
 
 std::string H5Reader::ReadStringAttribute(const std::string& object_path,
                                           const std::string& key) const {
+  const std::string field = object_path + "@" + key;
   if (!HasAttribute(object_path, key))
-    throw Error(ErrorKind::kInput, "missing attribute",
-                {.file = impl_->name, .field = object_path + "@" + key});
+    throw Error(ErrorKind::kInput, "missing attribute", {.file = impl_->name, .field = field});
   try {
     return VisitObject(*impl_->file, object_path, [&](H5::H5Object& o) {
-      H5::Attribute attribute = o.openAttribute(key);
-      std::string value;
-      attribute.read(attribute.getStrType(), value);
-      return value;
+      return impl_->checked->ReadTextAttribute(o.openAttribute(key), field);
     });
   } catch (const H5::Exception& e) {
     throw Error(ErrorKind::kInput, "cannot read attribute: " + e.getDetailMsg(),
-                {.file = impl_->name, .field = object_path + "@" + key});
+                {.file = impl_->name, .field = field});
   }
 }
 
 double H5Reader::ReadNumberAttribute(const std::string& object_path, const std::string& key) const {
+  const std::string field = object_path + "@" + key;
   if (!HasAttribute(object_path, key))
-    throw Error(ErrorKind::kInput, "missing attribute",
-                {.file = impl_->name, .field = object_path + "@" + key});
+    throw Error(ErrorKind::kInput, "missing attribute", {.file = impl_->name, .field = field});
   try {
     return VisitObject(*impl_->file, object_path, [&](H5::H5Object& o) {
-      H5::Attribute attribute = o.openAttribute(key);
-      double value = 0.0;
-      attribute.read(H5::PredType::NATIVE_DOUBLE, &value);
-      return value;
+      return impl_->checked->ReadNumberAttribute(o.openAttribute(key), field);
     });
   } catch (const H5::Exception& e) {
     throw Error(ErrorKind::kInput, "cannot read attribute: " + e.getDetailMsg(),
-                {.file = impl_->name, .field = object_path + "@" + key});
+                {.file = impl_->name, .field = field});
   }
+}
+
+std::int64_t H5Reader::ReadIntegerAttribute(const std::string& object_path, const std::string& key,
+                                            std::int64_t min, std::int64_t max) const {
+  const double value = ReadNumberAttribute(object_path, key);
+  // Compared as doubles first: casting NaN or 1e300 to an integer is undefined.
+  if (!(value >= static_cast<double>(min) && value <= static_cast<double>(max)) ||
+      value != std::floor(value))
+    throw Error(ErrorKind::kInput, "attribute out of range",
+                {.file = impl_->name, .field = object_path + "@" + key,
+                 .value = fmt::format("{:g}", value),
+                 .expected = fmt::format("an integer from {} to {}", min, max)});
+  return static_cast<std::int64_t>(value);
 }
 
 }  // namespace bridgefit::io

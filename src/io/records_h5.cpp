@@ -1,5 +1,6 @@
 // Record types <-> HDF5 groups; the layout is documented in docs/FORMATS.md.
 #include <cmath>
+#include <limits>
 
 #include <fmt/format.h>
 
@@ -35,6 +36,14 @@ double AttributeOr(const H5Reader& file, const std::string& group, const std::st
   return file.HasAttribute(group, key) ? file.ReadNumberAttribute(group, key) : fallback;
 }
 
+// A row count: an integer from 0 to INT_MAX, checked before the conversion
+// (a file with rows_read = 1e300 or NaN is refused, not cast).
+int CountOr(const H5Reader& file, const std::string& group, const std::string& key) {
+  if (!file.HasAttribute(group, key)) return 0;
+  return static_cast<int>(
+      file.ReadIntegerAttribute(group, key, 0, std::numeric_limits<int>::max()));
+}
+
 }  // namespace
 
 void WriteRecordH5(H5Writer& file, const ExperimentRecord& record, const std::string& group) {
@@ -57,9 +66,9 @@ void WriteRecordH5(H5Writer& file, const ExperimentRecord& record, const std::st
 ExperimentRecord ReadExperimentH5(const H5Reader& file, const std::string& group) {
   ExperimentRecord record;
   record.source = file.ReadStringAttribute(group, "source");
-  record.rows_read = static_cast<int>(AttributeOr(file, group, "rows_read", 0));
-  record.rows_dropped_nan = static_cast<int>(AttributeOr(file, group, "rows_dropped_nan", 0));
-  record.rows_repeated = static_cast<int>(AttributeOr(file, group, "rows_repeated", 0));
+  record.rows_read = CountOr(file, group, "rows_read");
+  record.rows_dropped_nan = CountOr(file, group, "rows_dropped_nan");
+  record.rows_repeated = CountOr(file, group, "rows_repeated");
   record.load = file.ReadVector(group + "/load");
   record.displacement = file.ReadVector(group + "/displacement");
   if (file.Exists(group + "/time")) record.time = file.ReadVector(group + "/time");

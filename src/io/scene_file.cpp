@@ -9,6 +9,7 @@
 #include <toml++/toml.h>
 
 #include "bridgefit/core/error.hpp"
+#include "bridgefit/core/input_limits.hpp"
 #include "bridgefit/core/units.hpp"
 #include "bridgefit/io/csv.hpp"
 
@@ -287,7 +288,9 @@ Scene ParseScene(std::string_view text, const std::string& source_name) {
           if (table.is_relative())
             table = std::filesystem::path(source_name).parent_path() / table;
           b.table_file = table.string();
-          const CsvTable csv = ReadCsvTable(table);
+          // A table is small: refused at its own limit (a scene naming
+          // /dev/zero would otherwise read until memory runs out).
+          const CsvTable csv = ReadCsvTable(table, CsvKind::kLawTable);
           double sc = 0, dc = 0;
           b.shape = laws::MakeTableShape(csv.ColumnSi("delta", Dimension::Length()),
                                          csv.ColumnSi("sigma", Dimension::Stress()), &sc, &dc);
@@ -317,13 +320,8 @@ Scene ParseScene(std::string_view text, const std::string& source_name) {
 }
 
 Scene ReadSceneFile(const std::filesystem::path& path) {
-  std::ifstream stream(path, std::ios::binary);
-  if (!stream)
-    throw Error(ErrorKind::kInput, "cannot open scene file",
-                {.file = path.string(), .expected = "a readable TOML scene file"});
-  std::stringstream buffer;
-  buffer << stream.rdbuf();
-  const std::string text = buffer.str();
+  const std::string text = ReadFileLimited(path, InputLimits::FromEnvironment().max_text_bytes,
+                                           InputLimits::kTextBytesVariable, "scene file");
   if (text.find_first_not_of(" \t\r\n") == std::string::npos)
     throw Error(ErrorKind::kInput, "the scene file is empty",
                 {.file = path.string(), .expected = "a scene with [specimen] and [material]"});

@@ -60,8 +60,8 @@ specimen::CrackPlaneModel ReadCrackPlaneModel(const std::filesystem::path& path)
   m.mouth_compliance = file.ReadNumberAttribute(g, "mouth_compliance_m2_per_N");
   m.gauge_compliance = file.ReadNumberAttribute(g, "gauge_compliance_m2_per_N");
   m.gauge_x = file.ReadNumberAttribute(g, "gauge_x_m");
-  m.elements = static_cast<int>(file.ReadNumberAttribute(g, "elements"));
-  m.dofs = static_cast<int>(file.ReadNumberAttribute(g, "dofs"));
+  m.elements = static_cast<int>(file.ReadIntegerAttribute(g, "elements", 0, 1 << 30));
+  m.dofs = static_cast<int>(file.ReadIntegerAttribute(g, "dofs", 0, 1 << 30));
   m.build_s = file.ReadNumberAttribute(g, "build_s");
   m.node_x = file.ReadVector(g + "/node_x");
   m.stiffness = file.ReadVector(g + "/stiffness");

@@ -64,6 +64,43 @@ TEST(Units, RejectedForms) {
   EXPECT_NE(MessageOf("inf MPa", Dimension::Stress()).find("not finite"), std::string::npos);
 }
 
+// Fuzzing found exponents that wrapped int and passed as the right dimension.
+TEST(Units, WrappedExponentsAreRefusedNotWrapped) {
+  for (const char* text : {"2 m^2147483647*m^2147483647*m^3", "1 m^-2147483648",
+                           "1 m^99999999999999999999", "1 m^13", "1 s^-13", "1 m^0013",
+                           "1 m^12*m^12*m^12*m^12*m^12"}) {
+    const std::string m = MessageOf(text, Dimension::Length());
+    EXPECT_NE(m.find("exponent out of range"), std::string::npos) << text << ": " << m;
+    EXPECT_NE(m.find("between -12 and 12"), std::string::npos) << m;
+  }
+  // The bounds themselves still parse.
+  EXPECT_DOUBLE_EQ(ParseUnit("m^12/m^11").scale, 1.0);
+  EXPECT_EQ(ParseUnit("m^12/m^11").dimension, Dimension::Length());
+  EXPECT_EQ(ParseUnit("m^+2*s^-12").dimension, (Dimension{0, 2, -12, 0}));
+  EXPECT_EQ(ParseUnit("m^007").dimension, (Dimension{0, 7, 0, 0}));
+}
+
+// "m^" at the very end of the text: the exponent check must not read past it.
+// A string_view into a larger buffer puts a digit right after the end.
+TEST(Units, ExponentSignAtEndOfTextStaysInside) {
+  const std::string buffer = "m^2";
+  EXPECT_THROW(ParseUnit(std::string_view(buffer.data(), 2)), Error);
+  const std::string minus = "m^-3";
+  EXPECT_THROW(ParseUnit(std::string_view(minus.data(), 3)), Error);
+  const std::string m = MessageOf("1 m^", Dimension::Length());
+  EXPECT_NE(m.find("malformed unit exponent"), std::string::npos) << m;
+}
+
+TEST(Units, ScaleOverflowIsAnErrorNotInfinity) {
+  // Dimensionless overall, but the scale is 1e108 * 1e108 * 1e72 * 1e72.
+  const std::string m = MessageOf("1 Gm^12*Gm^12/um^12*um^12", Dimension::None());
+  EXPECT_NE(m.find("unit scale overflows"), std::string::npos) << m;
+  EXPECT_NE(MessageOf("1e300 GPa", Dimension::Stress()).find("overflows"), std::string::npos);
+  EXPECT_NE(MessageOf(std::string("1 ") + std::string(200, 'm'), Dimension::Length())
+                .find("longer than 128"),
+            std::string::npos);
+}
+
 TEST(Units, RoundTripThroughSi) {
   EXPECT_DOUBLE_EQ(FromSi(0.0254, "mm", Dimension::Length()), 25.4);
   EXPECT_DOUBLE_EQ(ToSi(19.3, "GPa", Dimension::Stress()), 19.3e9);

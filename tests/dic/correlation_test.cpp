@@ -56,6 +56,15 @@ SpeckleOptions RealisticSpeckle(int w, int h) {
   return o;
 }
 
+Image Translated(const SpeckleRenderer& renderer, double du, double dv, std::uint64_t seed) {
+  return renderer.Render(
+      [&](double, double, double* u, double* v) {
+        *u = du;
+        *v = dv;
+      },
+      seed);
+}
+
 // Acceptance: rigid sub-pixel translation, 31x31 subsets, realistic noise:
 // |mean error| < 0.005 px and std < 0.01 px in both directions.
 class TranslationTest : public ::testing::TestWithParam<std::pair<double, double>> {};
@@ -189,6 +198,95 @@ TEST(Correlation, IncrementalSequenceAccumulatesDisplacement) {
     EXPECT_GT(valid, 20u) << summary.BriefReport();
     EXPECT_LT(worst, 0.05) << "frame " << k << ": " << summary.BriefReport();
   }
+}
+
+// Keys bicubic: the same sub-pixel translation oracle as the B-spline
+// tests (exercises the Keys node maps and the four-sample row sampler).
+TEST(Correlation, KeysInterpolationRecoversSubpixelShift) {
+  const SpeckleRenderer renderer(RealisticSpeckle(200, 200));
+  const Image ref = renderer.RenderReference(21);
+  const double du = 1.37, dv = -0.62;
+  const Image def = Translated(renderer, du, dv, 22);
+  CorrelationOptions opt;
+  opt.subset_size = 31;
+  opt.step = 8;
+  opt.interpolation = Interpolation::kBicubicKeys;
+  CorrelationSummary summary;
+  const DisplacementField f = CorrelatePair(ref, def, opt, &summary);
+  const ErrorStats s = Compare(f, du, dv, opt.subset_size / 2, 200, 200);
+  EXPECT_EQ(s.valid, s.total) << summary.BriefReport();
+  EXPECT_LT(std::abs(s.mean_u), 0.01);
+  EXPECT_LT(std::abs(s.mean_v), 0.01);
+  EXPECT_LT(s.std_u, 0.02);
+  EXPECT_LT(s.std_v, 0.02);
+}
+
+// A point that has not met |dp| < convergence_px within max_iterations is
+// flagged no_convergence and carries no displacement, whatever its ZNCC.
+TEST(Correlation, NonConvergedPointsAreFlaggedNeverValid) {
+  const SpeckleRenderer renderer(RealisticSpeckle(160, 160));
+  const Image ref = renderer.RenderReference(31);
+  const Image def = Translated(renderer, 0.4, 0.3, 32);
+  CorrelationOptions opt;
+  opt.subset_size = 21;
+  opt.step = 10;
+  opt.max_iterations = 1;  // one step from a 0.5 px error cannot end below 1e-3 px
+  const DisplacementField f = CorrelatePair(ref, def, opt);
+  // No point converges, so nothing propagates: every seed attempt leaves one
+  // flagged point, the rest stays unreached.
+  size_t flagged = 0;
+  for (size_t i = 0; i < f.size(); ++i) {
+    EXPECT_TRUE(f.status[i] == PointStatus::kNoConvergence ||
+                f.status[i] == PointStatus::kUnreached || f.status[i] == PointStatus::kOutOfImage)
+        << PointStatusName(f.status[i]) << " at " << f.x[i] << "," << f.y[i];
+    if (f.status[i] == PointStatus::kNoConvergence) {
+      ++flagged;
+      EXPECT_EQ(f.u[i], 0.0);
+      EXPECT_EQ(f.iterations[i], 1);
+    }
+  }
+  EXPECT_EQ(flagged, static_cast<size_t>(opt.max_seed_attempts));
+  EXPECT_EQ(f.ValidFraction(), 0.0);
+  // The same images with the OpenCorr limit (10 iterations) converge.
+  opt.max_iterations = 10;
+  const DisplacementField g = CorrelatePair(ref, def, opt);
+  const ErrorStats s = Compare(g, 0.4, 0.3, opt.subset_size / 2, 160, 160);
+  EXPECT_EQ(s.valid, s.total);
+}
+
+// Reference data cached per point survives across frames: a Correlator's
+// third frame agrees with a fresh pair correlation of the same images
+// (within the convergence tolerance, the starting guesses differ).
+TEST(Correlation, SequenceFramesMatchPairCorrelation) {
+  const SpeckleRenderer renderer(RealisticSpeckle(180, 140));
+  const Image ref = renderer.RenderReference(41);
+  CorrelationOptions opt;
+  opt.subset_size = 21;
+  opt.step = 7;
+  opt.incremental = false;
+  Correlator correlator(opt, ref);
+  Image last;
+  for (int k = 1; k <= 3; ++k) {
+    last = renderer.Render(
+        [&](double X, double Y, double* u, double* v) {
+          *u = 0.6 * k + 0.003 * k * (X - 90);
+          *v = -0.3 * k - 0.002 * k * (Y - 70);
+        },
+        41 + k);
+    correlator.Next(last);
+  }
+  // Frame 3 again through the sequence (guesses from frame 3 itself).
+  const DisplacementField seq = correlator.Next(last);
+  const DisplacementField pair = CorrelatePair(ref, last, opt);
+  size_t both = 0;
+  for (size_t i = 0; i < seq.size(); ++i) {
+    if (!seq.ok(i) || !pair.ok(i)) continue;
+    ++both;
+    EXPECT_NEAR(seq.u[i], pair.u[i], 2e-3) << seq.x[i] << "," << seq.y[i];
+    EXPECT_NEAR(seq.v[i], pair.v[i], 2e-3) << seq.x[i] << "," << seq.y[i];
+    EXPECT_NEAR(seq.u[i], 1.8 + 0.009 * (seq.x[i] - 90), 0.05);
+  }
+  EXPECT_GT(both, seq.size() * 8 / 10);
 }
 
 TEST(Correlation, CrackBandPointsAreExcluded) {

@@ -6,12 +6,14 @@
 
 namespace bridgefit {
 
-// What kind of failure: decides the CLI exit code (usage -> 2, others -> 1).
+// What kind of failure: decides the CLI exit code (usage -> 2, interrupted ->
+// 128 + signal, others -> 1).
 enum class ErrorKind {
   kInput,    // bad data or file: missing column, wrong unit, corrupt image
   kUsage,    // bad command-line use: conflicting or missing options
   kRuntime,  // a computation failed (solver diverged, I/O failed)
-  kInternal  // a broken invariant: a bug
+  kInternal,    // a broken invariant: a bug
+  kInterrupted  // SIGINT / SIGTERM (core/interrupt.hpp): exit 128 + signal
 };
 
 // Where an error was found; every field is optional.

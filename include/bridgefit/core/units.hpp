@@ -45,8 +45,14 @@ struct Unit {
   Dimension dimension;
 };
 
+// Largest |exponent| a unit may write ("m^12"); the dimension a unit adds up
+// to is bounded by 4x this. Anything outside is an Error, never a wrap-around.
+inline constexpr int kMaxUnitExponent = 12;
+
 // Parses a unit expression: "MPa", "J/m^2", "N/mm", "kg/m^3", "mm/px",
-// "kJ/m^2", "m.s^-1", "N*mm". Throws Error naming the unknown symbol.
+// "kJ/m^2", "m.s^-1", "N*mm". Throws Error naming the unknown symbol, an
+// exponent outside [-kMaxUnitExponent, kMaxUnitExponent] or a unit over 128
+// characters.
 Unit ParseUnit(std::string_view text);
 
 // Parses "<number> <unit>" (space optional) and checks the dimension.
@@ -57,7 +63,7 @@ double ParseQuantity(std::string_view text, const Dimension& expected);
 // Converts a number given in `unit_text` to SI, checking the dimension.
 double ToSi(double value, std::string_view unit_text, const Dimension& expected);
 // Converts an SI value to `unit_text` (e.g. metres to "mm").
-double FromSi(double si_value, std::string_view unit_text,
+double FromSi(double value_in_si, std::string_view unit_text,
               const Dimension& expected);
 
 }  // namespace bridgefit

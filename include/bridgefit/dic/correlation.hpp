@@ -75,6 +75,9 @@ struct CorrelationOptions {
   double update_min_valid_fraction = 0.9;
   double update_min_mean_zncc = 0.9;
   int threads = 0;  // OpenMP threads, 0 = default
+  // Time the stages of every solve into CorrelationSummary::stages (costs a
+  // clock read per stage; off for production runs).
+  bool profile_stages = false;
 
   bool IsValid(std::string* why) const;
 };
@@ -108,6 +111,17 @@ struct CorrelationSummary {
   double mean_iterations = 0;
   double wall_s = 0;
   double points_per_s = 0;  // IC-GN point solves per second of wall time
+  std::size_t solves = 0;   // IC-GN solves (a point may need a retry from an NCC guess)
+  // Seconds per stage of the last frame, summed over threads (filled
+  // with CorrelationOptions::profile_stages): setup (interpolant of the frame),
+  // NCC search, reference subsets (f, grad f, Hessian), interpolation of the
+  // deformed subsets, residual and gradient, update (solve, warp
+  // composition, convergence test), propagation (the rest: guesses, fronts,
+  // seeds, bookkeeping; meaningful on one thread).
+  struct StageSeconds {
+    double setup = 0, search = 0, reference = 0, interpolation = 0, residual = 0, update = 0,
+           propagation = 0;
+  } stages;
   std::string BriefReport() const;
 };
 

@@ -4,6 +4,9 @@
 // (0..255 for 8-bit, 0..65535 for 16-bit).
 
 #include <filesystem>
+#include <string_view>
+
+#include "bridgefit/core/input_limits.hpp"
 #include <string>
 #include <vector>
 
@@ -26,6 +29,9 @@ struct Image {
 // Reads an 8- or 16-bit grayscale image (colour is converted to gray).
 // Throws Error(kInput) naming the file when it cannot be read.
 Image ReadImage(const std::filesystem::path& path);
+// Decodes an image held in memory (`name` labels errors). Refuses more than
+// limits.max_image_pixels pixels (BRIDGEFIT_MAX_IMAGE_PIXELS).
+Image DecodeImage(std::string_view bytes, const std::string& name, const InputLimits& limits);
 // Writes an image rounded and clipped to `bit_depth` (8 or 16) gray levels.
 void WriteImage(const std::filesystem::path& path, const Image& image, int bit_depth);
 // Copy of the rectangle [x0, x0+w) x [y0, y0+h).

@@ -5,8 +5,10 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
+#include "bridgefit/core/input_limits.hpp"
 #include "bridgefit/core/records.hpp"
 #include "bridgefit/core/units.hpp"
 
@@ -35,9 +37,18 @@ struct CsvTable {
   const std::vector<std::string>& TextColumn(const std::string& name) const;
 };
 
+// Which size limit applies (core/input_limits.hpp): a test record, or a
+// bridging-law table (much smaller).
+enum class CsvKind { kRecord, kLawTable };
+
 // Reads a CSV with a header row. Throws Error for an empty file, a binary
-// file, a row with the wrong number of cells or a non-numeric cell.
-CsvTable ReadCsvTable(const std::filesystem::path& path);
+// file, a row with the wrong number of cells or a non-numeric cell, and for
+// a file, line, row count or column count over its limit (the message names
+// the limit and the environment variable that raises it).
+CsvTable ReadCsvTable(const std::filesystem::path& path, CsvKind kind = CsvKind::kRecord);
+// The same from text in memory (`source` names it in errors).
+CsvTable ParseCsvTable(std::string_view content, const std::string& source,
+                       const InputLimits& limits);
 
 // How to read a test record: which header names hold which quantity and in
 // which unit (overriding the header's brackets).
@@ -59,5 +70,7 @@ void ApplyUnitMapping(const std::string& mapping, RecordColumns& columns);
 // are dropped and counted; exact repeats of the previous row are dropped and
 // counted. Throws Error for missing columns or units.
 ExperimentRecord ReadRecordCsv(const std::filesystem::path& path, const RecordColumns& columns);
+// The same from a table already read.
+ExperimentRecord RecordFromCsvTable(const CsvTable& table, const RecordColumns& columns);
 
 }  // namespace bridgefit::io

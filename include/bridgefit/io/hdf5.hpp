@@ -5,6 +5,7 @@
 // The HDF5 C++ API stays inside src/io (pimpl).
 
 #include <filesystem>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -52,12 +53,29 @@ class H5Reader {
   std::vector<std::string> ReadStrings(const std::string& path) const;
   std::string ReadStringAttribute(const std::string& object_path, const std::string& key) const;
   double ReadNumberAttribute(const std::string& object_path, const std::string& key) const;
+  // A numeric attribute that must be an integer in [min, max]: NaN, 1e300 or
+  // 2.5 are an Error naming the attribute and value, never a cast.
+  std::int64_t ReadIntegerAttribute(const std::string& object_path, const std::string& key,
+                                    std::int64_t min, std::int64_t max) const;
   bool HasAttribute(const std::string& object_path, const std::string& key) const;
 
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+// Defence against crashes inside libhdf5 itself (fuzzing found several in
+// 1.10.8): opens `path` in a child process and reads every dataset and
+// attribute there through the same checks H5Reader uses, with the address
+// space bounded. A child that dies by a signal, takes longer than
+// `timeout_s`, or refuses the file makes this throw Error(kInput)
+// "corrupt HDF5 file: <path> ..." (with the child's reason when it has one).
+// Cost: one fork plus one extra read of the file (docs/HOSTILE_INPUT.md).
+void CheckH5FileInChildProcess(const std::filesystem::path& path, double timeout_s = 60.0);
+
+// True when the file starts with the HDF5 signature (at byte 0, 512, 1024,
+// ...), read without libhdf5.
+bool HasHdf5Signature(const std::filesystem::path& path);
 
 // Record types <-> HDF5 groups ("/experiment", "/rcurve", "/simulation").
 void WriteRecordH5(H5Writer& file, const ExperimentRecord& record,

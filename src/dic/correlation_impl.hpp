@@ -1,0 +1,71 @@
+#pragma once
+// Private: the state of a Correlator (current reference, per-point
+// reference motion and cached reference data, last frame's results) and its
+// stages. Pass (pass.cpp) correlates one frame; Next (correlation.cpp)
+// wraps it with the reference update and the accumulation of motions.
+
+#include <vector>
+
+#include "bridgefit/dic/correlation.hpp"
+#include "icgn.hpp"
+#include "interpolation.hpp"
+
+namespace bridgefit::dic {
+namespace detail {
+
+// The data of a Correlator (what a pass reads and writes).
+struct CorrelatorState {
+  CorrelationOptions opt;
+  DisplacementField grid;        // positions and static status
+  std::vector<char> eligible;    // correlate this point
+  Image ref_image;               // current reference
+  detail::InterpolatedImage ref_interp;
+  detail::NodeMaps ref_nodes;    // first order: f and grad f at pixel nodes
+  std::vector<detail::ReferenceSubset> ref_cache;  // per point, for the current reference
+  int ref_index = 0;
+  std::vector<Params> ref_p;     // point motion original -> current reference
+  std::vector<char> ref_known;
+  Image prev_image;
+  int frame_index = 0;
+  std::vector<Params> prev_total;  // last frame's total motion
+  std::vector<char> prev_ok;
+  std::vector<PointStatus> prev_status;
+  // Why a point has no known position in the current reference (it failed
+  // in that frame): reported for it from then on.
+  std::vector<PointStatus> lost_status;
+  int updates = 0;
+  int grid_width = 0, grid_height = 0;
+  std::vector<detail::Workspace> workspaces;  // one per thread
+
+  int Threads() const;
+};
+
+// One pass: every eligible point from `guess` (where given) or by
+// wavefront propagation from converged neighbours and seeds (pass.cpp).
+std::vector<PointResult> RunPass(CorrelatorState& state, const Image& def_image,
+                                 const InterpolatedImage& def_interp,
+                                 const std::vector<Params>& guess,
+                                 const std::vector<char>& has_guess, std::size_t* solves);
+
+}  // namespace detail
+
+struct Correlator::Impl : detail::CorrelatorState {
+  using Params = detail::Params;
+  using PointResult = detail::PointResult;
+
+  void BuildGrid(const Image& reference);
+  // Makes `image` the reference: interpolant, node maps, empty per-point cache.
+  void SetReference(const Image& image);
+
+  std::vector<PointResult> Pass(const Image& def_image, const detail::InterpolatedImage& def_interp,
+                                const std::vector<Params>& guess,
+                                const std::vector<char>& has_guess, std::size_t* solves) {
+    return detail::RunPass(*this, def_image, def_interp, guess, has_guess, solves);
+  }
+  void FillUnknown(std::vector<Params>& p, std::vector<char>& known) const;
+  DisplacementField Next(const Image& frame, CorrelationSummary* summary);
+  static Params Accumulate(const Params& d, const Params& r);
+  static Params Increment(const Params& t, const Params& r);
+};
+
+}  // namespace bridgefit::dic
