@@ -111,7 +111,11 @@ class ProfileSearch {
       }
       in = back;
     }
-    return {NAN, IntervalStatus::kUnreliableNonSmooth, jump + " repeatedly; no interval end printed"};
+    return {NAN, IntervalStatus::kUnreliableNonSmooth,
+            (jump.empty() ? std::string("the profile chi^2 jumps at every end found, and each re-solve "
+                                        "from more starts moved it further out (4 rounds)")
+                          : jump + " repeatedly") +
+                "; no interval end printed"};
   }
 
   // A profile that falls going away from the optimum, or finds a lower
