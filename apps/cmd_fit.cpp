@@ -170,6 +170,10 @@ class FitCommand final : public Command {
   int Run(const CommonOptions& common) override {
     const pipeline::FitRequest request = MakeRequest(common);
     const pipeline::FitRun run = pipeline::RunFit(request);
+    // The in-process R curve's warnings (cleaning rules, a fallback start).
+    if (run.input.reduction)
+      for (const std::string& warning : run.input.reduction->warnings)
+        std::cerr << "warning: " << warning << "\n";
     // The report reads the fit file: without --out it goes to a temporary file.
     const std::string fit_file =
         !out_h5_.empty() ? out_h5_
@@ -331,6 +335,7 @@ class FitCommand final : public Command {
       data_json["min_crack_increment_m"] = input.reduction_options.min_crack_increment;
       data_json["max_crack_length_m"] = NumberOrNull(input.reduction_options.max_crack_length);
       data_json["notes"] = r.notes;
+      data_json["warnings"] = r.warnings;
       data_json["reduction_wall_s"] = r.wall_s;
     }
     out["data"] = std::move(data_json);

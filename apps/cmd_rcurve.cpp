@@ -82,6 +82,21 @@ class RcurveCommand final : public Command {
                    "With --large-displacement: L', loading-pin centre to block edge (default 0)");
     sub.add_option("--coverage", coverage_, "Coverage factor of the reported uncertainty")
         ->default_val(2.0);
+    // Record cleaning (docs/RCURVE_METHODS.md, "Cleaning"): tolerances of the named rules.
+    sub.add_option("--reversal-tolerance", cleaning_.reversal_tolerance,
+                   "Displacement drop below its running maximum that starts an unload-reload "
+                   "cycle, in noise sigmas (less is jitter)")
+        ->default_val(cleaning_.reversal_tolerance);
+    sub.add_option("--glitch-tolerance", cleaning_.glitch_tolerance,
+                   "Single-row spike in load or displacement dropped as a glitch, in noise sigmas")
+        ->default_val(cleaning_.glitch_tolerance);
+    sub.add_option("--preload-fraction", cleaning_.preload_fraction,
+                   "Leading rows with load below this fraction of the maximum are the preload")
+        ->default_val(cleaning_.preload_fraction);
+    sub.add_option("--failure-fraction", cleaning_.failure_fraction,
+                   "Trailing rows after the last load above this fraction of the maximum are after "
+                   "final failure")
+        ->default_val(cleaning_.failure_fraction);
   }
 
   int Run(const CommonOptions& common) override {
@@ -103,6 +118,7 @@ class RcurveCommand final : public Command {
       options.min_crack_increment = Quantity(min_increment_, Dimension::Length(), "--min-increment");
     options.max_crack_length = Quantity(max_crack_, Dimension::Length(), "--max-crack-length");
     options.coverage_factor = coverage_;
+    options.cleaning = cleaning_;
     options.smoothing_half_window = smooth_rows_;
     options.large_displacement_correction = large_displacement_;
     if (!block_offset_.empty())
@@ -134,6 +150,7 @@ class RcurveCommand final : public Command {
     }
     experiment::RCurveResult result = experiment::ComputeRCurve(record, options);
     result.notes.insert(result.notes.begin(), frame_notes.begin(), frame_notes.end());
+    for (const std::string& warning : result.warnings) std::cerr << "warning: " << warning << "\n";
 
     if (!out_.empty()) {
       io::H5Writer file(out_);
@@ -199,6 +216,7 @@ class RcurveCommand final : public Command {
       for (const auto& [key, value] : result.figures) figures[key] = NumberOrNull(value);
       out["figures"] = std::move(figures);
       out["notes"] = result.notes;
+      out["warnings"] = result.warnings;
       out["wall_s"] = result.wall_s;
       if (!out_.empty()) out["out"] = out_;
       if (!csv_.empty()) out["csv"] = csv_;
@@ -272,6 +290,7 @@ class RcurveCommand final : public Command {
   double nu_ = NAN;
   double coverage_ = 2.0;
   int smooth_rows_ = 0;
+  experiment::CleaningOptions cleaning_;
 };
 
 }  // namespace

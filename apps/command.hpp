@@ -35,6 +35,7 @@ std::unique_ptr<Command> MakeLawCommand();
 std::unique_ptr<Command> MakeSimulateCommand();
 std::unique_ptr<Command> MakeRcurveCommand();
 std::unique_ptr<Command> MakeDicCommand();
+std::unique_ptr<Command> MakeCrackCommand();
 std::unique_ptr<Command> MakeFitCommand();
 std::unique_ptr<Command> MakeReportCommand();  std::unique_ptr<Command> MakeSynthCommand();
 

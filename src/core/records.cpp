@@ -9,14 +9,14 @@ namespace bridgefit {
 namespace {
 
 void CheckColumn(const std::string& source, const char* name, const std::vector<double>& column,
-                 std::size_t expected_size, bool may_be_empty) {
+                 std::size_t expected_size, bool may_be_empty, bool may_hold_nan = false) {
   if (column.empty() && may_be_empty) return;
   if (column.size() != expected_size)
     throw Error(ErrorKind::kInput, "column length differs from the load column",
                 {.file = source, .field = name, .value = std::to_string(column.size()) + " rows",
                  .expected = std::to_string(expected_size) + " rows"});
   for (std::size_t i = 0; i < column.size(); ++i)
-    if (!std::isfinite(column[i]))
+    if (!std::isfinite(column[i]) && !(may_hold_nan && std::isnan(column[i])))
       throw Error(ErrorKind::kInput, "value is not finite in row " + std::to_string(i + 1),
                   {.file = source, .field = name, .value = std::to_string(column[i])});
 }
@@ -28,7 +28,9 @@ void ExperimentRecord::Validate() const {
   CheckColumn(source, "load", load, n, false);
   CheckColumn(source, "displacement", displacement, n, false);
   CheckColumn(source, "time", time, n, true);
-  CheckColumn(source, "crack_length", crack_length, n, true);
+  // A crack length may be missing (NaN) in some rows: the R-curve methods
+  // that need it take those rows out and count them.
+  CheckColumn(source, "crack_length", crack_length, n, true, true);
   if (!images.empty() && images.size() != n)
     throw Error(ErrorKind::kInput, "image column length differs from the load column",
                 {.file = source, .field = "image"});

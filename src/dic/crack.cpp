@@ -203,6 +203,23 @@ WilliamsFit FitWilliams(const std::vector<const LocalPoint*>& pts, double s_tip,
   return fit;
 }
 
+// Pairwise: |s_a - s_b| > 2 sqrt(sigma_a^2 + sigma_b^2), sigmas at least one
+// station / sqrt(12); the jump tip may lie ahead of the others by up to the
+// band half width (it reads the opening where it drops below a threshold).
+bool MethodsDisagree(const CrackTipResult& r, const CrackTipOptions& o) {
+  const double floor_sigma = o.station_spacing_px / std::sqrt(12.0);
+  auto sig = [&](const TipEstimate& t) { return std::max(t.uncertainty_px, floor_sigma); };
+  auto apart = [&](const TipEstimate& a, const TipEstimate& b, double ahead_allowed) {
+    if (!a.found || !b.found) return false;
+    const double tol = 2.0 * std::hypot(sig(a), sig(b));
+    const double d = a.s_px - b.s_px;  // a relative to b
+    return d > tol + ahead_allowed || d < -tol;
+  };
+  const TipEstimate &w = r.williams, &q = r.sqrt_cod, &j = r.jump;
+  return apart(w, q, 0) || apart(j, w, o.band_half_width_px) ||
+         apart(j, q, o.band_half_width_px);
+}
+
 void SetPosition(const CrackLine& line, TipEstimate* tip) {
   line.FromLocal(tip->s_px, 0.0, &tip->x_px, &tip->y_px);
 }
@@ -248,6 +265,8 @@ CrackTipResult LocateCrackTip(const DisplacementField& field, const CrackTipOpti
       if (++gap > 1) break;
     }
   }
+  for (size_t k = 0; k < ns; ++k)
+    if (cod.valid[k]) res.last_station_px = cod.s_px[k];
   // An opening must span at least two stations to count as a crack.
   int above = 0;
   for (int k = std::max(first, 0); first >= 0 && k <= last; ++k)
@@ -268,6 +287,7 @@ CrackTipResult LocateCrackTip(const DisplacementField& field, const CrackTipOpti
       t.uncertainty_px = std::hypot(ds / std::sqrt(12.0), slope > 0 ? res.noise_px / slope : ds);
     } else {
       t.uncertainty_px = ds;
+      res.tip_at_edge = true;  // still open at the last station with data
     }
     t.found = true;
     SetPosition(o.line, &t);
@@ -366,6 +386,7 @@ CrackTipResult LocateCrackTip(const DisplacementField& field, const CrackTipOpti
       const bool interior = s_tip > lo + 0.5 * h || lo <= 0.0;
       const bool interior_hi = s_tip < hi - 0.5 * h || hi >= o.line.Length();
       t.found = std::isfinite(s_tip) && res.k_over_2mu_sqrt_px > 0 && interior && interior_hi;
+      if (!interior_hi || s_tip > res.last_station_px) res.tip_at_edge = true;
       SetPosition(o.line, &t);
     }
   }
@@ -386,13 +407,8 @@ CrackTipResult LocateCrackTip(const DisplacementField& field, const CrackTipOpti
   pick(TipMethod::kSqrtCod);
   pick(TipMethod::kJump);
   if (chosen) res.tip = *chosen;
-  double smin = 1e300, smax = -1e300;
-  for (const TipEstimate* t : {&res.williams, &res.jump, &res.sqrt_cod})
-    if (t->found) {
-      smin = std::min(smin, t->s_px);
-      smax = std::max(smax, t->s_px);
-    }
-  res.methods_disagree = smax - smin > ds;
+  res.methods_disagree = MethodsDisagree(res, o);
+  return res;
   return res;
 }
 

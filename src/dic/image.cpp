@@ -2,10 +2,14 @@
 // expansion of command-line image arguments (folder, glob, files).
 #include "bridgefit/dic/image.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cstdint>
 #include <cctype>
+#include <cstdio>
 #include <fnmatch.h>
+#include <string>
 #include <system_error>
 
 #include <opencv2/imgcodecs.hpp>
@@ -16,6 +20,49 @@
 
 namespace bridgefit::dic {
 namespace fs = std::filesystem;
+namespace {
+
+// The codecs under OpenCV (libpng, libtiff) print their own "libpng error:"
+// lines on stderr before imread returns an empty image; while decoding, the
+// process's stderr goes to a temporary file so that the text can join our
+// error message instead (images are read one at a time).
+class StderrCapture {
+ public:
+  StderrCapture() : file_(std::tmpfile()) {
+    if (!file_) return;
+    std::fflush(stderr);
+    saved_ = dup(STDERR_FILENO);
+    if (saved_ < 0 || dup2(fileno(file_), STDERR_FILENO) < 0) Restore();
+  }
+  ~StderrCapture() {
+    Restore();
+    if (file_) std::fclose(file_);
+  }
+  // Restores stderr and returns what was written meanwhile.
+  std::string Release() {
+    Restore();
+    std::string text;
+    if (!file_) return text;
+    std::rewind(file_);
+    char buffer[512];
+    while (std::fgets(buffer, sizeof buffer, file_)) text += buffer;
+    while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.pop_back();
+    return text;
+  }
+
+ private:
+  void Restore() {
+    if (saved_ < 0) return;
+    std::fflush(stderr);
+    dup2(saved_, STDERR_FILENO);
+    close(saved_);
+    saved_ = -1;
+  }
+  std::FILE* file_ = nullptr;
+  int saved_ = -1;
+};
+
+}  // namespace
 
 Image ReadImage(const fs::path& path) {
   std::error_code ec;
@@ -31,22 +78,30 @@ Image ReadImage(const fs::path& path) {
 
 Image DecodeImage(std::string_view bytes, const std::string& name, const InputLimits& limits) {
   cv::Mat mat;
-  try {
-    const cv::Mat buffer(1, static_cast<int>(std::min<std::size_t>(bytes.size(), INT32_MAX)),
-                         CV_8U, const_cast<char*>(bytes.data()));
-    // OpenCV checks the header's size against OPENCV_IO_MAX_IMAGE_PIXELS
-    // before decoding; the CLI sets that to the limit below.
-    if (!bytes.empty()) mat = cv::imdecode(buffer, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
-  } catch (const cv::Exception& e) {
-    throw Error(ErrorKind::kInput, std::string("cannot decode image: ") + e.what(), {.file = name});
+  std::string codec_text;
+  {
+    StderrCapture capture;
+    try {
+      const cv::Mat buffer(1, static_cast<int>(std::min<std::size_t>(bytes.size(), INT32_MAX)),
+                           CV_8U, const_cast<char*>(bytes.data()));
+      // OpenCV checks the header's size against OPENCV_IO_MAX_IMAGE_PIXELS
+      // before decoding; the CLI sets that to the limit below.
+      if (!bytes.empty()) mat = cv::imdecode(buffer, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
+    } catch (const cv::Exception& e) {
+      codec_text = capture.Release();
+      throw Error(ErrorKind::kInput, std::string("cannot decode image: ") + e.what(),
+                  {.file = name, .value = codec_text});
+    }
+    codec_text = capture.Release();
   }
   if (mat.empty())
-    throw Error(ErrorKind::kInput, "cannot read image (not an image, unsupported format or over "
-                                   "the pixel limit)",
-                {.file = name, .expected = "an 8- or 16-bit grayscale image of at most " +
-                                               std::to_string(limits.max_image_pixels) +
-                                               " pixels (" + InputLimits::kImagePixelsVariable +
-                                               ")"});
+    throw Error(ErrorKind::kInput, "cannot read image (corrupt, not an image, unsupported format "
+                                   "or over the pixel limit)",
+                {.file = name, .value = codec_text,
+                 .expected = "an 8- or 16-bit grayscale image (png, tif, bmp, jpg, pgm) of at most " +
+                             std::to_string(limits.max_image_pixels) + " pixels (" +
+                             InputLimits::kImagePixelsVariable + ")"});
+  if (!codec_text.empty()) std::fprintf(stderr, "%s: %s\n", name.c_str(), codec_text.c_str());
   CheckLimit(static_cast<std::uint64_t>(mat.total()), limits.max_image_pixels,
              InputLimits::kImagePixelsVariable, "the image", "pixels", name);
   if (mat.dims != 2)

@@ -1,10 +1,12 @@
 #include "bridgefit/dic/sequence.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
 
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/core/progress.hpp"
+#include "bridgefit/dic/fields.hpp"
 
 namespace bridgefit::dic {
 
@@ -17,10 +19,33 @@ bool CrackSequenceOptions::IsValid(std::string* why) const {
     if (why) *why = "offset must be finite";
     return false;
   }
+  if (!has_line && !find_path) {
+    if (why) *why = "without a crack line the path must be found from the data";
+    return false;
+  }
   CorrelationOptions c = correlation;
-  c.has_crack = true;
+  c.has_crack = has_line && !find_path;
   c.crack = tip.line;
-  return c.IsValid(why) && tip.IsValid(why);
+  CrackTipOptions t = tip;
+  if (!has_line) t.line = {0, 0, 2, 0};  // placeholder: the found path replaces it
+  CrackPathOptions p = path;
+  p.has_hint = has_line;
+  p.hint = tip.line;
+  return c.IsValid(why) && t.IsValid(why) && (!find_path || p.IsValid(why));
+}
+
+std::string FrameResult::Flags() const {
+  std::string out;
+  auto add = [&](bool on, const char* name) {
+    if (!on) return;
+    if (!out.empty()) out += ";";
+    out += name;
+  };
+  add(path_not_found, "path_not_found");
+  add(path_disagrees_with_hint, "path_disagrees_with_line");
+  add(tip.tip_at_edge, "tip_at_edge");
+  add(tip.methods_disagree, "methods_disagree");
+  return out;
 }
 
 std::string CrackSequenceResult::BriefReport() const {
@@ -30,6 +55,136 @@ std::string CrackSequenceResult::BriefReport() const {
                      frames.size(), with_tip, points, wall_s, points_per_s);
 }
 
+void SetGridDefaults(int subset_px, int step_px, CrackSequenceOptions* o) {
+  o->correlation.subset_size = subset_px;
+  o->correlation.step = step_px;
+  o->tip.station_spacing_px = step_px;
+  o->tip.band_half_width_px = subset_px / 2 + 1;
+  o->tip.side_depth_px = 2.5 * step_px;
+  o->tip.fit_radius_px = std::max(60.0, 5.0 * subset_px);
+  o->tip.sqrt_window_px = o->tip.fit_radius_px;
+  o->path.station_spacing_px = step_px;
+  o->path.gap_px = o->tip.band_half_width_px;
+  o->path.side_depth_px = std::max(o->tip.side_depth_px, 3.0 * step_px);
+  // Where straddling subsets fail, the path is resolved to half a grid step.
+  o->path.hint_tolerance_px = std::max(2.0, 0.5 * step_px + 1.0);
+}
+
+void SetFieldDefaults(double spacing, double band, CrackSequenceOptions* o) {
+  o->tip.station_spacing_px = spacing;
+  o->tip.band_half_width_px = band;
+  o->tip.side_depth_px = 2.5 * spacing;
+  o->tip.fit_radius_px = std::max(10.0 * band, 12.0 * spacing);
+  o->tip.sqrt_window_px = o->tip.fit_radius_px;
+  o->path.station_spacing_px = spacing;
+  o->path.gap_px = band;
+  o->path.side_depth_px = 3.0 * spacing;
+  o->path.hint_tolerance_px = 1.5 * spacing;
+  o->path.search_half_width_px = std::max(o->path.search_half_width_px, 8.0 * spacing);
+}
+
+CrackSequenceResult AnalyzeCrackFields(const std::vector<std::filesystem::path>& files,
+                                       CrackSequenceOptions options, bool auto_defaults,
+                                       double band) {
+  if (files.empty()) throw Error(ErrorKind::kInput, "no field files given");
+  Stopwatch watch;
+  CrackSequenceResult out;
+  Progress progress("crack", files.size(), options.show_progress);
+  CrackPathOptions path_opt;
+  std::string unit;
+  for (size_t k = 0; k < files.size(); ++k) {
+    FieldFile file = ReadFieldFile(files[k]);
+    if (k == 0) {
+      unit = file.unit;
+      if (!file.IsPixels()) options.scale_m_per_px = file.m_per_unit;
+      if (!(options.scale_m_per_px > 0))
+        throw Error(ErrorKind::kUsage, "the fields are in px: a scale is needed",
+                    {.file = files[k].string(), .field = "--scale", .expected = "e.g. '0.05mm/px'"});
+      if (auto_defaults) {
+        const double spacing = PointSpacing(file.field);
+        BF_CHECK_INPUT(spacing > 0, "cannot tell the point spacing (fewer than two valid points)",
+                       {.file = files[k].string()});
+        SetFieldDefaults(spacing, band > 0 ? band : 1.5 * spacing, &options);
+      }
+      std::string why;
+      if (!options.IsValid(&why)) throw Error(ErrorKind::kUsage, "invalid crack options: " + why);
+      path_opt = PathOptionsFor(options, 0, 0);
+      out.points = file.field.size();
+    } else if (file.unit != unit) {
+      throw Error(ErrorKind::kInput, "field unit differs from the first file's",
+                  {.file = files[k].string(), .field = "unit", .value = file.unit,
+                   .expected = unit + " (as in " + files[0].string() + ")"});
+    }
+    FrameResult r;
+    r.image = files[k].string();
+    try {
+      LocateCrackInField(file.field, options, path_opt, &r);
+    } catch (const Error& e) {
+      throw e.WithContext({.file = files[k].string()});
+    }
+    if (options.keep_fields) r.field = std::move(file.field);
+    out.frames.push_back(std::move(r));
+    progress.Update(k + 1);
+  }
+  progress.Finish();
+  MakeMonotone(&out.frames);
+  out.wall_s = watch.Seconds();
+  return out;
+}
+
+CrackPathOptions PathOptionsFor(const CrackSequenceOptions& options, int width, int height) {
+  CrackPathOptions p = options.path;
+  p.has_hint = options.has_line;
+  p.hint = options.tip.line;
+  if (!p.has_hint && width > 0 && height > 0) {
+    p.bounds_x0 = p.bounds_y0 = 0;
+    p.bounds_x1 = width - 1;
+    p.bounds_y1 = height - 1;
+  }
+  return p;
+}
+
+void LocateCrackInField(const DisplacementField& field, const CrackSequenceOptions& options,
+                        const CrackPathOptions& path_opt, FrameResult* r) {
+  CrackTipOptions tip_opt = options.tip;
+  bool have_line = options.has_line;
+  if (options.find_path) {
+    r->path = FindCrackPath(field, path_opt);
+    if (r->path.found) {
+      tip_opt.line = r->path.line;
+      have_line = true;
+      r->path_disagrees_with_hint = r->path.disagrees_with_hint;
+    } else {
+      r->path_not_found = true;
+    }
+  }
+  r->line_used = tip_opt.line;
+  r->valid_fraction = field.ValidFraction();
+  if (have_line) r->tip = LocateCrackTip(field, tip_opt, options.method);
+  if (r->tip.tip.found) {
+    r->has_length = true;
+    r->crack_length_raw_m = r->tip.tip.s_px * options.scale_m_per_px + options.offset_m;
+    // At least the grid resolution: one station / sqrt(12).
+    const double sigma_px =
+        std::max(r->tip.tip.uncertainty_px, options.tip.station_spacing_px / std::sqrt(12.0));
+    r->uncertainty_m = sigma_px * options.scale_m_per_px;
+  }
+  r->flagged = !r->Flags().empty();
+}
+
+void MakeMonotone(std::vector<FrameResult>* frames) {
+  std::vector<double> values, sigmas;
+  std::vector<char> valid;
+  for (const FrameResult& f : *frames) {
+    values.push_back(f.crack_length_raw_m);
+    sigmas.push_back(f.uncertainty_m);
+    valid.push_back(f.has_length ? 1 : 0);
+  }
+  const std::vector<double> mono = MonotoneNonDecreasing(values, sigmas, valid);
+  for (size_t k = 0; k < frames->size(); ++k)
+    if ((*frames)[k].has_length) (*frames)[k].crack_length_m = mono[k];
+}
+
 CrackSequenceResult AnalyzeCrackSequence(const std::vector<std::filesystem::path>& images,
                                          const CrackSequenceOptions& options) {
   std::string why;
@@ -37,9 +192,25 @@ CrackSequenceResult AnalyzeCrackSequence(const std::vector<std::filesystem::path
   if (images.empty()) throw Error(ErrorKind::kInput, "no images given");
   Stopwatch watch;
   CorrelationOptions copt = options.correlation;
-  copt.has_crack = true;
+  // With the path found from the data there is no crack band: subsets across
+  // the crack smear or fail, and both the path search and the tip methods
+  // skip the points within the band half width of the crack.
+  copt.has_crack = options.has_line && !options.find_path;
   copt.crack = options.tip.line;
   const Image reference = ReadImage(images[0]);
+  if (options.has_line) {
+    const CrackLine& l = options.tip.line;
+    auto inside = [&](double x, double y) {
+      return x >= 0 && y >= 0 && x <= reference.width - 1 && y <= reference.height - 1;
+    };
+    if (!inside(l.x0, l.y0) || !inside(l.x1, l.y1))
+      throw Error(ErrorKind::kInput, "crack line leaves the image",
+                  {.file = images[0].string(), .field = "--crack-line",
+                   .value = fmt::format("{},{},{},{}", l.x0, l.y0, l.x1, l.y1),
+                   .expected = fmt::format("end points within 0..{} x 0..{} px", reference.width - 1,
+                                           reference.height - 1)});
+  }
+  const CrackPathOptions path_opt = PathOptionsFor(options, reference.width, reference.height);
   std::unique_ptr<Correlator> correlator;
   try {
     correlator = std::make_unique<Correlator>(copt, reference);
@@ -67,31 +238,13 @@ CrackSequenceResult AnalyzeCrackSequence(const std::vector<std::filesystem::path
     DisplacementField field = correlator->Next(frame, &r.correlation);
     solve_seconds += r.correlation.wall_s;
     solves += r.correlation.points_per_s * r.correlation.wall_s;
-    r.valid_fraction = field.ValidFraction();
-    r.tip = LocateCrackTip(field, options.tip, options.method);
-    if (r.tip.tip.found) {
-      r.has_length = true;
-      r.crack_length_raw_m = r.tip.tip.s_px * options.scale_m_per_px + options.offset_m;
-      // At least the grid resolution: one station / sqrt(12).
-      const double sigma_px =
-          std::max(r.tip.tip.uncertainty_px, options.tip.station_spacing_px / std::sqrt(12.0));
-      r.uncertainty_m = sigma_px * options.scale_m_per_px;
-    }
+    LocateCrackInField(field, options, path_opt, &r);
     if (options.keep_fields) r.field = std::move(field);
     out.frames.push_back(std::move(r));
     progress.Update(k);
   }
   progress.Finish();
-  std::vector<double> values, sigmas;
-  std::vector<char> valid;
-  for (const FrameResult& f : out.frames) {
-    values.push_back(f.crack_length_raw_m);
-    sigmas.push_back(f.uncertainty_m);
-    valid.push_back(f.has_length ? 1 : 0);
-  }
-  const std::vector<double> mono = MonotoneNonDecreasing(values, sigmas, valid);
-  for (size_t k = 0; k < out.frames.size(); ++k)
-    if (out.frames[k].has_length) out.frames[k].crack_length_m = mono[k];
+  MakeMonotone(&out.frames);
   out.wall_s = watch.Seconds();
   out.points_per_s = solve_seconds > 0 ? solves / solve_seconds : 0;
   return out;

@@ -23,6 +23,10 @@ double ComplianceCurve::At(double a) const {
 }
 
 bool ComplianceFitOptions::IsValid(std::string* why) const {
+  if (std::isnan(min_series_compliance)) {
+    if (why) *why = "min_series_compliance must be a number (m/N)";
+    return false;
+  }
   if (min_rows < 2 + (fit_series ? 1 : 0)) {
     if (why) *why = "min_rows must exceed the number of fitted constants";
     return false;
@@ -31,10 +35,16 @@ bool ComplianceFitOptions::IsValid(std::string* why) const {
 }
 
 std::string ComplianceFit::Summary() const {
-  return fmt::format("compliance along the crack: scale {:.4f}, series {:.4g} mm/N, rms {:.2f}% "
-                     "over {} rows (a = {:.1f}..{:.1f} mm)",
-                     scale, series_compliance * 1e3, 100.0 * rms_relative, rows, crack_min * 1e3,
-                     crack_max * 1e3);
+  std::string text = fmt::format(
+      "compliance along the crack: scale {:.4f}, series {:.4g} mm/N, rms {:.2f}% over {} rows "
+      "(a = {:.1f}..{:.1f} mm)",
+      scale, series_compliance * 1e3, 100.0 * rms_relative, rows, crack_min * 1e3, crack_max * 1e3);
+  if (series_at_bound)
+    text += fmt::format("; the free fit asked for a negative series compliance ({:.3g} mm/N), held "
+                        "at {:.3g} mm/N: the model is too compliant at long cracks for a spring to "
+                        "explain (check the scene's moduli)",
+                        series_unconstrained * 1e3, series_compliance * 1e3);
+  return text;
 }
 
 ComplianceFit FitComplianceAlongCrack(const ComplianceCurve& model,
@@ -78,6 +88,13 @@ ComplianceFit FitComplianceAlongCrack(const ComplianceCurve& model,
                    {.file = source, .field = "crack_length"});
     fit.scale = (x1 * yy - y1 * xy) / det;
     fit.series_compliance = (y1 * xx - x1 * xy) / det;
+    fit.series_unconstrained = fit.series_compliance;
+    if (fit.series_compliance < options.min_series_compliance) {
+      // C_s held at its bound: the scale alone minimises sum (s x + C_s y - 1)^2.
+      fit.series_compliance = options.min_series_compliance;
+      fit.scale = (x1 - fit.series_compliance * xy) / xx;
+      fit.series_at_bound = true;
+    }
   } else {
     fit.scale = x1 / xx;
     fit.series_compliance = 0.0;

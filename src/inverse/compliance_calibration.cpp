@@ -234,15 +234,20 @@ void CalibrateAlongCrack(const ComplianceCalibrationOptions& options,
     }
     previous_F = F, previous_g = g;
     out.modulus_factor = std::exp(x[0] + std::clamp(next[0] - x[0], -0.2, 0.2));
-    out.series_compliance = next[1] * reference;
+    // A compliance in series is >= 0 (issue 15): FitComplianceAlongCrack
+    // holds it there, and so does the accelerated step.
+    out.series_compliance = std::max(0.0, next[1] * reference);
     along.rounds = round + 1;
-    if (std::abs(F[0]) < options.round_tolerance && std::abs(F[1]) < options.round_tolerance) {
-      if (out.series_compliance < -0.01 * reference)
+    const bool settled =
+        std::abs(F[0]) < options.round_tolerance && std::abs(F[1]) < options.round_tolerance;
+    if (settled || (along.fit.series_at_bound && out.series_compliance == 0.0 &&
+                    std::abs(F[0]) < options.round_tolerance)) {
+      if (along.fit.series_at_bound)
         out.note = fmt::format(
-            "compliance along the crack: the series compliance is negative ({:.3g} mm/N): the "
-            "model is too compliant at long cracks for a spring to explain; check the scene's "
-            "moduli",
-            1e3 * out.series_compliance);
+            "compliance along the crack: the record asks for a negative series compliance "
+            "({:.3g} mm/N), held at 0: the model is too compliant at long cracks for a spring to "
+            "explain; check the scene's moduli (E, G13) before trusting sigma_c",
+            1e3 * along.fit.series_unconstrained);
       return;
     }
   }

@@ -283,16 +283,19 @@ ExperimentRecord RecordFromCsvTable(const CsvTable& table, const RecordColumns& 
 
   record.rows_read = static_cast<int>(table.rows());
   for (size_t r = 0; r < table.rows(); ++r) {
+    // A missing crack length keeps the row (NaN): only the methods that need
+    // the crack length drop it, and count it (experiment::CleanRecord).
     const bool finite = std::isfinite(load[r]) && std::isfinite(disp[r]) &&
                         (!has_time || std::isfinite(time[r])) &&
-                        (!has_crack || std::isfinite(crack[r]));
+                        (!has_crack || std::isfinite(crack[r]) || std::isnan(crack[r]));
     if (!finite) {
       ++record.rows_dropped_nan;
       continue;
     }
     if (!record.load.empty() && load[r] == record.load.back() &&
         disp[r] == record.displacement.back() && (!has_time || time[r] == record.time.back()) &&
-        (!has_crack || crack[r] == record.crack_length.back())) {
+        (!has_crack || crack[r] == record.crack_length.back() ||
+         (std::isnan(crack[r]) && std::isnan(record.crack_length.back())))) {
       ++record.rows_repeated;
       continue;
     }

@@ -66,8 +66,12 @@ class StaticGrowth {
                      "the full explicit-crack model needs an even number of particles per cell "
                      "(the crack plane lies between particle rows)",
                      {.field = "ppc", .value = std::to_string(opt_.ppc), .expected = "2, 4, 6 or 8"});
-    model_ = half_ ? BuildHalfSpecimenModel(scene, opt_.cell, opt_.ppc)
-                   : BuildSpecimenModel(scene, opt_.cell, opt_.ppc);
+    // The quasi-static solve has no inertia: the density (optional in the
+    // scene, docs/FORMATS.md) only has to satisfy the model's check.
+    Scene static_scene = scene;
+    if (!(static_scene.material.density > 0.0)) static_scene.material.density = 1.0;
+    model_ = half_ ? BuildHalfSpecimenModel(static_scene, opt_.cell, opt_.ppc)
+                   : BuildSpecimenModel(static_scene, opt_.cell, opt_.ppc);
     const auto* elastic = dynamic_cast<const LinearElastic*>(model_.law.get());
     BF_CHECK_INPUT(elastic != nullptr, "MPM crack growth needs a linear elastic material");
     Q_ = elastic->Stiffness();
@@ -226,6 +230,47 @@ class StaticGrowth {
   void ParticleFields(const Vec& u, std::size_t p, const Weights& wt, std::uint16_t bits,
                       double f[6]) const;
   double ContourJ(const Vec& u, double x_tip, int k) const;
+
+  // ------------------------------------------------------------ Run's stages
+  // (growth.cpp; each states its equation at its definition)
+  // One crack length's unit fields, reduced bridged system and state.
+  struct LengthSystem {
+    double x_tip = 0;
+    std::vector<int> act;               // active (unbroken) bridged points
+    std::vector<double> c;              // their face lengths
+    int nb = 0;                         // act.size()
+    std::vector<Functional> cod;        // opening functionals of every crack point
+    Functional tip_cod;                 // opening at the tip
+    std::vector<Functional> g;          // cod of the active points
+    Vec U_d;                            // K^-1 F_d
+    Eigen::MatrixXd G;                  // K^-1 g_q, one column per active point
+    Vec A;                              // g_q . U_d
+    Eigen::MatrixXd M;                  // g_q . G_r
+    Vec delta, sig;                     // openings and closing forces c sigma
+    std::vector<double> J_all, Jtip_all;  // per contour
+  };
+  struct LoadSolution {
+    double d2 = 0, f2 = 0;  // last secant iterate and its residual
+    int iterations = 0;
+    bool ok = true;  // bridged openings converged
+  };
+  bool FactorizeAt(double x_tip);
+  LengthSystem UnitFields(const std::vector<BridgedPoint>& pts, double x_tip);
+  void ReduceToBridgedPoints(const std::vector<BridgedPoint>& pts, LengthSystem& sys) const;
+  bool SolveOpenings(const laws::BridgingLaw* law, const std::vector<BridgedPoint>& pts,
+                     LengthSystem& sys, double d) const;
+  static Vec Field(const LengthSystem& sys, double d);
+  double TipJ(const laws::BridgingLaw* law, const std::vector<BridgedPoint>& pts,
+              LengthSystem& sys, const Vec& u) const;
+  LoadSolution SolveLoadForJtipc(const laws::BridgingLaw* law, double J_tip_c,
+                                 const std::vector<BridgedPoint>& pts, double d_prev,
+                                 LengthSystem& sys) const;
+  SimulationPoint RecordCrackLength(const laws::BridgingLaw* law, double J_tip_c,
+                                    const Functional& mouth, const Vec& u, double d,
+                                    const LengthSystem& sys, std::vector<BridgedPoint>& pts,
+                                    SimulationResult& res) const;
+  void AddBridgedPoints(const laws::BridgingLaw* law, double x_tip, double next,
+                        std::vector<BridgedPoint>& pts) const;
 
   const Scene& scene_;
   GrowthOptions opt_;

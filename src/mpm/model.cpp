@@ -36,7 +36,9 @@ void Model::Validate() const {
   BF_CHECK_INPUT(law != nullptr, "the model has no constitutive law");
   BF_CHECK_INPUT(density > 0.0, "density must be positive for the explicit MPM solver",
                  {.field = "material.density", .value = fmt::format("{:g}", density),
-                  .expected = "> 0 kg/m^3"});
+                  .expected = "> 0 kg/m^3 for the stationary explicit run (e.g. density = "
+                              "\"609 kg/m^3\"); the quasi-static growth run (a scene with "
+                              "[fracture]) needs none"});
   BF_CHECK_INPUT(grid.cell > 0.0 && grid.nx >= 4 && grid.ny >= 4, "grid too small");
   BF_CHECK_INPUT(ppc >= 1 && ppc <= 8, "particles per cell must be 1..8",
                  {.field = "ppc", .value = std::to_string(ppc)});

@@ -77,6 +77,79 @@ bool MethodNeedsCrackLength(experiment::RMethod method, SpecimenType specimen) {
          !(method == experiment::RMethod::kLefm && specimen == SpecimenType::kCT);
 }
 
+// ---- issue 15: the in-process R curve names itself and falls back ----
+// A fit needs at least four R values. The energy method on a visually
+// tracked crack may give fewer (or none); a load-displacement fit only uses
+// the R curve for its start, so it starts from the point-wise method of the
+// specimen instead (DCB: mbt; CT: lefm, with the compliance's crack length
+// when there are no readings) and says so. Any other failure names the file,
+// the stage (the in-process R curve) and the way out.
+constexpr std::size_t kFitMinPoints = 4;
+
+experiment::RMethod FallbackMethod(SpecimenType type) {
+  return type == SpecimenType::kDCB ? experiment::RMethod::kMbt : experiment::RMethod::kLefm;
+}
+
+std::string WayOut(SpecimenType type) {
+  return type == SpecimenType::kDCB
+             ? "--rcurve-method mbt (or cc), a smaller --rcurve-min-increment, or --fit-to "
+               "load-displacement"
+             : "--rcurve-method lefm (or equivalent), a smaller --rcurve-min-increment, or "
+               "--fit-to load-displacement";
+}
+
+experiment::RCurveResult ReduceInProcess(const FitRequest& request, const FitInput& input,
+                                         experiment::RCurveOptions& options) {
+  const SpecimenType type = request.scene.specimen.type;
+  const std::string stage =
+      fmt::format("the in-process R curve of `fit` ({} method, --rcurve-method)",
+                  experiment::RMethodName(options.method));
+  const bool may_fall_back = request.target == inverse::FitTarget::kLoad &&
+                             options.method == experiment::RMethod::kEnergy;
+  std::string why_not;
+  try {
+    experiment::RCurveResult result = experiment::ComputeRCurve(*input.record, options);
+    if (result.curve.size() >= kFitMinPoints) return result;
+    why_not = fmt::format("gave {} R points", result.curve.size());
+    if (!may_fall_back)
+      throw Error(ErrorKind::kInput,
+                  fmt::format("{} gave {} R points; a fit needs at least {}", stage,
+                              result.curve.size(), kFitMinPoints),
+                  {.file = input.label, .field = "R",
+                   .value = fmt::format("{} points, increment {:.3g} mm", result.curve.size(),
+                                        1e3 * result.figures["energy_min_increment_m"]),
+                   .expected = ">= 4 R points; way out: " + WayOut(type)});
+  } catch (const Error& e) {
+    if (!may_fall_back || !why_not.empty()) {
+      if (e.kind() != ErrorKind::kInput || std::string(e.what()).find(stage) != std::string::npos)
+        throw;
+      throw Error(e.kind(), stage + ": " + e.message(), e.context())
+          .WithContext({.expected = "way out: " + WayOut(type)});
+    }
+    why_not = e.message();
+  }
+  options.method = FallbackMethod(type);
+  if (type == SpecimenType::kCT && !input.record->has_crack_length())
+    options.method = experiment::RMethod::kEquivalentCrack;
+  experiment::RCurveResult result;
+  try {
+    result = experiment::ComputeRCurve(*input.record, options);
+  } catch (const Error& e) {
+    throw Error(e.kind(),
+                fmt::format("{} failed ({}), and so did the {} R curve that would start the "
+                            "load fit: {}",
+                            stage, why_not, experiment::RMethodName(options.method), e.message()),
+                e.context());
+  }
+  const std::string said = fmt::format(
+      "the energy R curve {} (fewer than {}): the load-displacement fit starts from the {} R "
+      "curve instead",
+      why_not, kFitMinPoints, experiment::RMethodName(options.method));
+  result.notes.insert(result.notes.begin(), said);
+  result.warnings.insert(result.warnings.begin(), input.label + ": " + said);
+  return result;
+}
+
 // A record input, reduced here.
 void ReduceRecordInput(const FitRequest& request, FitInput& input) {
   experiment::RCurveOptions& options = input.reduction_options;
@@ -101,7 +174,7 @@ void ReduceRecordInput(const FitRequest& request, FitInput& input) {
                              "crack_length=HEADER), an R curve as input, or --rcurve-method "
                              "equivalent (crack length from the compliance)"});
   }
-  input.reduction = experiment::ComputeRCurve(*input.record, options);
+  input.reduction = ReduceInProcess(request, input, options);
   input.curve = input.reduction->curve;
   input.initial_compliance = input.reduction->initiation.initial_compliance;
 }

@@ -80,6 +80,8 @@ void WriteReductionH5(io::H5Writer& file, const ExperimentRecord& record,
   file.WriteVector("/rcurve/dropped_counts", counts, "1", "rows dropped per reason");
   file.WriteStrings("/rcurve/notes",
                     result.notes.empty() ? std::vector<std::string>{"none"} : result.notes);
+  file.WriteStrings("/rcurve/warnings",
+                    result.warnings.empty() ? std::vector<std::string>{"none"} : result.warnings);
   file.WriteAttribute("/rcurve", "points_used", static_cast<double>(result.points_used));
   file.WriteAttribute("/rcurve", "load_noise_N", result.load_noise);
   file.WriteAttribute("/rcurve", "displacement_noise_m", result.displacement_noise);

@@ -131,6 +131,7 @@ TEST(CrackTip, SyntheticCrackedSequence) {
   int found[3] = {0, 0, 0};
   std::vector<double> lengths, sigmas;
   std::vector<char> valid;
+  int disagree = 0;
   for (int k = 0; k < 10; ++k) {
     ModeICrackField motion;
     motion.tip_x = 120 + 10.3 * k;
@@ -154,11 +155,20 @@ TEST(CrackTip, SyntheticCrackedSequence) {
     std::printf("frame %d: true %.2f williams %.2f (+-%.2f, K/2mu %.4f) jump %.2f sqrt %.2f  %s\n", k,
                 s_true, r.williams.s_px, r.williams.uncertainty_px, r.k_over_2mu_sqrt_px,
                 r.jump.s_px, r.sqrt_cod.s_px, summary.BriefReport().c_str());
+    // Never a confident wrong tip: within 2 sigma (sigma at least one
+    // station / sqrt(12), as the sequence states it) or flagged.
+    const double sigma = std::max(r.tip.uncertainty_px, tip_opt.station_spacing_px / std::sqrt(12.0));
+    EXPECT_TRUE(std::abs(r.tip.s_px - s_true) <= 2 * sigma || r.methods_disagree || r.tip_at_edge)
+        << "frame " << k << ": error " << r.tip.s_px - s_true << " px, sigma " << sigma;
+    disagree += r.methods_disagree ? 1 : 0;
     lengths.push_back(r.tip.s_px * mm_per_px);
     sigmas.push_back(std::max(r.tip.uncertainty_px, 0.05) * mm_per_px);
     valid.push_back(r.tip.found ? 1 : 0);
   }
   EXPECT_EQ(found[0], 10);
+  // The methods agree within their uncertainties here (Williams 0.3 px,
+  // sqrt 0.5 px, jump ahead by less than the band): no frame is flagged.
+  EXPECT_EQ(disagree, 0);
   const double mean_williams = sum_err[0] / std::max(found[0], 1);
   EXPECT_LT(mean_williams, 1.0);
   const char* names[3] = {"williams", "jump", "sqrt"};

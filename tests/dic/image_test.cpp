@@ -62,6 +62,26 @@ TEST(Image, BadInputsGiveClearErrors) {
     EXPECT_NE(std::string(e.what()).find("broken.png"), std::string::npos) << e.what();
   }
   EXPECT_THROW(ReadImage(dir / "missing.png"), Error);
+  // A PNG cut short (issue 15): libpng's own "libpng error" line joins the
+  // message instead of leaking onto stderr before it.
+  Image small;
+  small.width = small.height = 64;
+  small.pixels.assign(64 * 64, 0.0f);
+  for (int i = 0; i < 64 * 64; ++i) small.pixels[i] = static_cast<float>((i * 37) % 251);
+  WriteImage(dir / "whole.png", small, 8);
+  const auto size = fs::file_size(dir / "whole.png");
+  fs::copy_file(dir / "whole.png", dir / "cut.png");
+  fs::resize_file(dir / "cut.png", size / 2);
+  ::testing::internal::CaptureStderr();
+  std::string message;
+  try {
+    ReadImage(dir / "cut.png");
+  } catch (const Error& e) {
+    message = e.what();
+  }
+  const std::string leaked = ::testing::internal::GetCapturedStderr();
+  EXPECT_NE(message.find("cut.png"), std::string::npos) << message;
+  EXPECT_EQ(leaked.find("libpng"), std::string::npos) << leaked;
   const fs::path empty = dir / "empty";
   fs::create_directories(empty);
   try {

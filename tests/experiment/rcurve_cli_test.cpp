@@ -120,7 +120,9 @@ TEST(RcurveCli, LargeDisplacementOption) {
   EXPECT_FALSE(p.at("figures").contains("d5528_F_min"));
   EXPECT_NEAR(c.at("figures").at("d5528_F_min").get<double>(), 0.9728, 5e-4);
   EXPECT_NEAR(c.at("figures").at("d5528_N_min").get<double>(), 0.9767, 5e-4);
-  EXPECT_NEAR(c.at("figures").at("cc_n").get<double>(), 2.7103, 5e-4);
+  // 2.7103 before issue 15, when the record was cut at its first displacement
+  // "unloading" (338 propagation rows, now 343: docs/RCURVE_METHODS.md).
+  EXPECT_NEAR(c.at("figures").at("cc_n").get<double>(), 2.7126, 5e-4);
   ASSERT_EQ(p.at("points").size(), c.at("points").size());
   const double last_plain = p.at("points").back().at("R_J_per_m2").get<double>();
   const double last_corrected = c.at("points").back().at("R_J_per_m2").get<double>();

@@ -65,6 +65,33 @@ TEST(ComplianceAlongCrack, RecoversScaleAndSeriesCompliance) {
   EXPECT_GT(alone.rms_relative, 2.0 * fit.rms_relative);
 }
 
+// A record that asks for a negative series compliance (the model too
+// compliant at long cracks): C_s is held at 0 and the scale refitted, with
+// the free fit's value kept for the message; equal to the scale-only fit.
+TEST(ComplianceAlongCrack, SeriesComplianceNeverNegative) {
+  const double s = 0.8, Cs = -6.0e-6;  // m/N, about -7% of C at 40 mm
+  std::vector<double> a, C;
+  for (int i = 0; i < 150; ++i) {
+    const double crack = 0.035 + 0.060 * i / 149.0;
+    a.push_back(crack);
+    C.push_back(s * BeamCompliance(crack) + Cs);
+  }
+  const ComplianceFit fit = FitComplianceAlongCrack(BeamCurve(), a, C, {}, "negative");
+  EXPECT_TRUE(fit.series_at_bound);
+  EXPECT_EQ(fit.series_compliance, 0.0);
+  EXPECT_NEAR(fit.series_unconstrained, Cs, 1e-3 * s * BeamCompliance(0.035));
+  ComplianceFitOptions scale_only;
+  scale_only.fit_series = false;
+  const ComplianceFit alone = FitComplianceAlongCrack(BeamCurve(), a, C, scale_only, "negative");
+  EXPECT_NEAR(fit.scale, alone.scale, 1e-12);
+  EXPECT_NE(fit.Summary().find("negative series compliance"), std::string::npos) << fit.Summary();
+  // A bound of its own (e.g. a known fixture compliance) holds the same way.
+  ComplianceFitOptions floor;
+  floor.min_series_compliance = 2e-6;
+  const ComplianceFit held = FitComplianceAlongCrack(BeamCurve(), a, C, floor, "negative");
+  EXPECT_EQ(held.series_compliance, 2e-6);
+}
+
 TEST(ComplianceAlongCrack, ClearErrors) {
   const ComplianceCurve curve = BeamCurve();
   // Crack lengths outside the model's range: too few rows, named.

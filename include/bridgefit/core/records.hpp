@@ -15,7 +15,7 @@ struct ExperimentRecord {
   std::vector<double> time;           // [s] (may be empty)
   std::vector<double> load;           // P [N]
   std::vector<double> displacement;   // load-point displacement [m]
-  std::vector<double> crack_length;   // a [m], from the load line (may be empty)
+  std::vector<double> crack_length;   // a [m], from the load line (may be empty; NaN: no reading)
   std::vector<std::string> images;    // image file per row (may be empty)
   std::map<std::string, std::string> metadata;  // specimen, material, notes
 
@@ -26,7 +26,8 @@ struct ExperimentRecord {
 
   std::size_t size() const { return load.size(); }
   bool has_crack_length() const { return !crack_length.empty(); }
-  // Throws Error when column lengths differ or values are not finite.
+  // Throws Error when column lengths differ or values are not finite (a
+  // crack length may be NaN: not read in that row).
   void Validate() const;
 };
 

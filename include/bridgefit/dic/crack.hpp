@@ -66,7 +66,15 @@ struct CrackTipResult {
   int williams_points = 0;
   TipMethod method = TipMethod::kWilliams;  // the method that gave `tip`
   TipEstimate tip;
-  bool methods_disagree = false;  // spread of the found tips > one station
+  // The found tips differ by more than their stated uncertainties allow
+  // (k = 2, each at least one station / sqrt(12); the jump tip may also lie
+  // up to `band_half_width_px` ahead, its documented bias).
+  bool methods_disagree = false;
+  // The opening still exceeds the threshold at the last station with data on
+  // both sides (or the Williams minimum sits at the end of the line): the
+  // crack may run beyond the field, so the length is a lower bound.
+  bool tip_at_edge = false;
+  double last_station_px = 0;  // s of the last station with data on both sides
 };
 
 // Throws Error(kUsage) for invalid options.

@@ -11,12 +11,19 @@
 
 #include "bridgefit/dic/correlation.hpp"
 #include "bridgefit/dic/crack.hpp"
+#include "bridgefit/dic/crack_path.hpp"
 
 namespace bridgefit::dic {
 
 struct CrackSequenceOptions {
-  CorrelationOptions correlation;  // has_crack/crack are set from tip.line
-  CrackTipOptions tip;
+  CorrelationOptions correlation;  // has_crack/crack are set by the sequence
+  CrackTipOptions tip;             // tip.line: the crack line given (a hint), if has_line
+  bool has_line = true;            // false: no line given, the path is found from the data
+  // true: the crack path is found in every frame (tip.line only a hint; the
+  // correlation has no crack band, the tip search drops the points near the
+  // found path instead); false: tip.line is taken as the crack (band on it).
+  bool find_path = true;
+  CrackPathOptions path;  // has_hint/hint are set from tip.line
   TipMethod method = TipMethod::kWilliams;
   double scale_m_per_px = 0;  // > 0
   double offset_m = 0;
@@ -29,6 +36,14 @@ struct CrackSequenceOptions {
 struct FrameResult {
   std::string image;
   bool has_length = false;     // false: no detectable opening (or no tip)
+  // A length is only as good as its flags: a flagged frame may be wrong by
+  // more than its uncertainty (see Flags()).
+  bool flagged = false;
+  bool path_not_found = false;     // find_path and no path: the given line was used
+  bool path_disagrees_with_hint = false;
+  CrackPathResult path;            // find_path only
+  CrackLine line_used;             // the line the crack length is measured along
+  std::string Flags() const;       // "tip_at_edge;methods_disagree;..." ("" = none)
   double crack_length_m = 0;   // monotone in time
   double crack_length_raw_m = 0;  // this frame's own estimate
   double uncertainty_m = 0;
@@ -45,6 +60,43 @@ struct CrackSequenceResult {
   std::size_t points = 0;   // grid points per frame
   std::string BriefReport() const;
 };
+
+// Tip and path settings that follow from the subset size and the grid step
+// (band half width subset/2 + 1, side depth 2.5 steps, Williams radius
+// max(60, 5 subsets), path resolution half a step + 1 px); sets
+// correlation.subset_size and .step too.
+void SetGridDefaults(int subset_px, int step_px, CrackSequenceOptions* options);
+
+// Path options of a sequence: the hint from tip.line; without a line the
+// path runs across the image (width x height px; 0: the field's extent).
+CrackPathOptions PathOptionsFor(const CrackSequenceOptions& options, int width, int height);
+
+// One frame's crack from its displacement field: the path (find_path), the
+// tip along it (or along the given line), the raw length with its
+// uncertainty and the flags. Fills r's path, tip, length and flag members.
+void LocateCrackInField(const DisplacementField& field, const CrackSequenceOptions& options,
+                        const CrackPathOptions& path_opt, FrameResult* r);
+
+// crack_length_m of the frames with a length: non-decreasing in time
+// (weighted isotonic regression of the raw lengths).
+void MakeMonotone(std::vector<FrameResult>* frames);
+
+// Tip and path settings for exported fields, in the field's unit: stations
+// every point spacing, band half width `band` (points this close to the crack
+// are ignored: smeared subsets), side depth 2.5 spacings, Williams radius
+// max(10 band, 12 spacings), path resolution 1.5 spacings.
+void SetFieldDefaults(double spacing, double band, CrackSequenceOptions* options);
+
+// Crack length from exported displacement fields, one file per frame, read
+// one at a time (fields are relative to the reference already, so every file
+// is a frame). Lengths use options.scale_m_per_px as metres per field unit:
+// for fields in a length unit it is overwritten from the file (all files must
+// share it); for fields in px it must be given. When `auto_defaults`, the
+// tip and path settings follow SetFieldDefaults(spacing of the first file,
+// band or 1.5 spacings when band <= 0). Throws Error(kInput) naming the file.
+CrackSequenceResult AnalyzeCrackFields(const std::vector<std::filesystem::path>& files,
+                                       CrackSequenceOptions options, bool auto_defaults = true,
+                                       double band = 0);
 
 // Throws Error(kInput) naming the file for unreadable images or a size
 // mismatch, Error(kUsage) for invalid options, Error(kInput) for a crack

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "bridgefit/core/records.hpp"
+#include "bridgefit/experiment/cleaning.hpp"
 #include "bridgefit/scene/scene.hpp"
 
 namespace bridgefit::experiment {
@@ -69,10 +70,12 @@ struct RCurveOptions {
   double offset_fraction = 0.05;         // 5% offset: compliance above C0 (1 + 0.05)
 
   // Validity window. Rows past max_crack_length are dropped (edge effect);
-  // NaN: CT 0.9 W, DCB L - 4 h (when L is given). Rows after the load-point
-  // displacement first decreases (beyond 3 noise sigmas) are dropped.
+  // NaN: CT 0.9 W, DCB L - 4 h (when L is given).
   double max_crack_length = NAN;  // [m]
-  bool stop_at_unloading = true;
+  // Record cleaning by named rules (cleaning.hpp): a reversal never ends the
+  // test; unload-reload cycles, glitches, preload and post-failure rows are
+  // counted by rule.
+  CleaningOptions cleaning;
 
   // lefm/equivalent on CT: calibrate E' from the initial compliance at a0
   // (absorbs machine compliance and an uncertain modulus); false: use the
@@ -123,6 +126,11 @@ struct RCurveResult {
   int points_used = 0;
   std::vector<DroppedRows> dropped;  // rows giving no point, by reason
   std::vector<std::string> notes;    // cleaning and assumptions, in words
+  std::vector<std::string> warnings; // what may make the numbers wrong (CLI: stderr)
+  // Record rows (0-based) the cleaning kept on the envelope, before the
+  // validity window, with rows whose only fault is a missing crack reading:
+  // the rows a load-displacement fit should use.
+  std::vector<int> clean_rows;
   Initiation initiation;
   double load_noise = NAN;           // noise levels used [N], [m], [m]
   double displacement_noise = NAN;

@@ -31,6 +31,9 @@ struct ComplianceCurve {
 struct ComplianceFitOptions {
   bool fit_series = true;  // false: C_s = 0, the scale alone
   int min_rows = 5;
+  // A compliance in series (load train, hinges) cannot be negative: below
+  // this bound C_s is held at it and the scale refitted (series_at_bound).
+  double min_series_compliance = 0.0;  // [m/N]
   bool IsValid(std::string* why) const;
 };
 
@@ -38,6 +41,8 @@ struct ComplianceFit {
   double scale = NAN;              // s
   double series_compliance = NAN;  // C_s [m/N]
   double rms_relative = NAN;       // rms of (s C_m + C_s) / C_i - 1
+  bool series_at_bound = false;    // the free fit asked for C_s below the bound
+  double series_unconstrained = NAN;  // what the free fit asked for [m/N]
   int rows = 0;                    // record rows inside the model curve's range
   double crack_min = NAN, crack_max = NAN;  // [m], of those rows
   std::string Summary() const;

@@ -1,0 +1,220 @@
+// The crack path found from the displacement jump: exact LEFM fields of
+// cracks at known positions and angles (no images), with the points near the
+// crack either failed or smeared the way straddling subsets are, and hints
+// moved across the crack and tilted.
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <gtest/gtest.h>
+
+#include "bridgefit/dic/crack.hpp"
+#include "bridgefit/dic/crack_path.hpp"
+#include "bridgefit/dic/speckle.hpp"
+
+namespace bridgefit::dic {
+namespace {
+
+enum class NearCrack { kFailed, kSmeared };
+
+// Grid of `step` px over w x h; points within `half` px of the crack
+// (behind the tip) fail, or read the two faces mixed by the share of a
+// (2 half - 1) px subset on each side (what a straddling subset reports).
+DisplacementField CrackedField(const ModeICrackField& m, int w, int h, int step, double half,
+                               NearCrack near) {
+  DisplacementField f;
+  f.nx = w / step;
+  f.ny = h / step;
+  const double norm = std::hypot(m.direction_x, m.direction_y);
+  const double dx = m.direction_x / norm, dy = m.direction_y / norm;
+  for (int iy = 0; iy < f.ny; ++iy)
+    for (int ix = 0; ix < f.nx; ++ix) {
+      const double x = 2 + ix * step, y = 3 + iy * step;
+      const double s = (x - m.tip_x) * dx + (y - m.tip_y) * dy;  // along, from the tip
+      const double n = -(x - m.tip_x) * dy + (y - m.tip_y) * dx;
+      double u, v;
+      m(x, y, &u, &v);
+      PointStatus st = PointStatus::kOk;
+      if (s < 0 && std::abs(n) < half) {
+        if (near == NearCrack::kFailed) {
+          st = PointStatus::kLowCorrelation;
+        } else {
+          // The faces' motions at this s, mixed by the area share above.
+          double ua, va, ub, vb;
+          m(x - n * (-dy) + 1e-3 * (-dy), y - n * dx + 1e-3 * dx, &ua, &va);
+          m(x - n * (-dy) - 1e-3 * (-dy), y - n * dx - 1e-3 * dx, &ub, &vb);
+          const double share = std::clamp(0.5 + n / (2 * half - 1), 0.0, 1.0);
+          u = share * ua + (1 - share) * ub;
+          v = share * va + (1 - share) * vb;
+        }
+      }
+      f.x.push_back(x);
+      f.y.push_back(y);
+      f.u.push_back(u);
+      f.v.push_back(v);
+      f.zncc.push_back(1);
+      f.iterations.push_back(1);
+      f.status.push_back(st);
+    }
+  const size_t n = f.x.size();
+  f.dudx.assign(n, 0);
+  f.dudy.assign(n, 0);
+  f.dvdx.assign(n, 0);
+  f.dvdy.assign(n, 0);
+  return f;
+}
+
+CrackPathOptions PathOptions(int step, double half) {
+  CrackPathOptions o;
+  o.station_spacing_px = step;
+  o.gap_px = half;
+  o.side_depth_px = 3 * step;
+  return o;
+}
+
+// A crack entering at x = 10 along a 3 degree slope; tip at s = 170 px.
+struct Case {
+  double angle_deg = 3;
+  double y_entry = 97.3;
+  ModeICrackField Motion() const {
+    ModeICrackField m;
+    const double a = angle_deg * std::numbers::pi / 180;
+    m.direction_x = std::cos(a);
+    m.direction_y = std::sin(a);
+    m.tip_x = 10 + 170 * std::cos(a);
+    m.tip_y = y_entry + 170 * std::sin(a);
+    m.k_over_2mu = 0.05;
+    m.translation_x = 0.6;
+    m.translation_y = -0.4;
+    m.rotation = 3e-4;
+    return m;
+  }
+  // Normal distance of (x, y) to the true crack line.
+  double Offset(double x, double y) const {
+    const double a = angle_deg * std::numbers::pi / 180;
+    return -(x - 10) * std::sin(a) + (y - y_entry) * std::cos(a);
+  }
+};
+
+class CrackPathHints : public ::testing::TestWithParam<NearCrack> {};
+
+TEST_P(CrackPathHints, PathAndTipIndependentOfTheHint) {
+  const Case c;
+  const ModeICrackField m = c.Motion();
+  const int step = 4;
+  const double half = 11;
+  const DisplacementField f = CrackedField(m, 320, 200, step, half, GetParam());
+  const double a = c.angle_deg * std::numbers::pi / 180;
+  const double x_end = 310, y_true_end = c.y_entry + 300 * std::tan(a);
+  struct Hint {
+    const char* name;
+    bool given;
+    CrackLine line;
+    bool expect_disagree;
+  };
+  const double tilt = std::tan(2 * std::numbers::pi / 180) * 300;
+  // The true line moved by d across itself (along its normal).
+  auto moved = [&](double d) {
+    const double nx = -std::sin(a) * d, ny = std::cos(a) * d;
+    return CrackLine{10 + nx, c.y_entry + ny, x_end + nx, y_true_end + ny};
+  };
+  const std::vector<Hint> hints = {
+      {"on the crack", true, moved(0), false},
+      {"+5 px", true, moved(5), true},
+      {"-5 px", true, moved(-5), true},
+      {"+10 px", true, moved(10), true},
+      {"-10 px", true, moved(-10), true},
+      {"+20 px", true, moved(20), true},
+      {"-20 px", true, moved(-20), true},
+      {"horizontal (3 deg off)", true, {10, c.y_entry, x_end, c.y_entry}, true},
+      {"tilted 2 deg more", true, {10, c.y_entry, x_end, y_true_end + tilt}, true},
+      {"none", false, {}, false},
+  };
+  const double s_tip_true = 170;
+  for (const Hint& h : hints) {
+    SCOPED_TRACE(h.name);
+    CrackPathOptions o = PathOptions(step, half);
+    o.has_hint = h.given;
+    o.hint = h.line;
+    if (!h.given) o.bounds_x0 = 10, o.bounds_x1 = 319, o.bounds_y0 = 0, o.bounds_y1 = 199;
+    const CrackPathResult p = FindCrackPath(f, o);
+    ASSERT_TRUE(p.found) << p.why_not_found;
+    EXPECT_NEAR(p.angle_deg, c.angle_deg, 0.2) << p.BriefReport();
+    EXPECT_LT(std::abs(c.Offset(p.line.x0, p.line.y0)), 0.5) << p.BriefReport();
+    EXPECT_LT(std::abs(c.Offset(p.line.x1, p.line.y1)), 1.0) << p.BriefReport();
+    EXPECT_NEAR(p.line.x0, 10, 1.0);  // the hint's start, or the bounds, is the origin
+    if (h.given) {
+      EXPECT_EQ(p.disagrees_with_hint, h.expect_disagree) << p.BriefReport();
+    }
+    EXPECT_GE(p.inliers, 20);
+    // The tip along the found path.
+    CrackTipOptions t;
+    t.line = p.line;
+    t.station_spacing_px = step;
+    t.band_half_width_px = half;
+    t.side_depth_px = 2.5 * step;
+    const CrackTipResult r = LocateCrackTip(f, t, TipMethod::kWilliams);
+    ASSERT_TRUE(r.williams.found);
+    EXPECT_NEAR(r.tip.s_px, s_tip_true, 0.5);
+    std::printf("%-24s path %s | tip %.3f px (true %.1f)\n", h.name, p.BriefReport().c_str(),
+                r.tip.s_px, s_tip_true);
+    EXPECT_FALSE(r.tip_at_edge);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(NearCrack, CrackPathHints,
+                         ::testing::Values(NearCrack::kFailed, NearCrack::kSmeared));
+
+TEST(CrackPath, RigidMotionHasNoPath) {
+  ModeICrackField m;
+  m.k_over_2mu = 0;
+  m.translation_x = 1.2;
+  m.rotation = 1e-3;
+  m.tip_y = 100;
+  const DisplacementField f = CrackedField(m, 300, 200, 4, 11, NearCrack::kFailed);
+  CrackPathOptions o = PathOptions(4, 11);
+  const CrackPathResult p = FindCrackPath(f, o);
+  EXPECT_FALSE(p.found);
+  EXPECT_FALSE(p.why_not_found.empty());
+}
+
+TEST(CrackPath, VerticalCrackWithoutHint) {
+  ModeICrackField m;
+  m.direction_x = 0;
+  m.direction_y = 1;  // from the top edge downwards
+  m.tip_x = 151.5;
+  m.tip_y = 140;
+  m.k_over_2mu = 0.05;
+  const DisplacementField f = CrackedField(m, 300, 260, 4, 11, NearCrack::kFailed);
+  CrackPathOptions o = PathOptions(4, 11);
+  o.bounds_x1 = 299;
+  o.bounds_y1 = 259;
+  const CrackPathResult p = FindCrackPath(f, o);
+  ASSERT_TRUE(p.found) << p.why_not_found;
+  EXPECT_NEAR(p.angle_deg, 90, 0.2);
+  EXPECT_NEAR(p.line.x0, 151.5, 0.5);
+  EXPECT_NEAR(p.line.y0, 0, 1e-6);  // enters at the top edge (the notch side)
+}
+
+// A tip beyond the field's far edge: the opening never closes, so the
+// length is flagged, never reported as a confident value at the edge.
+TEST(CrackTip, TipBeyondTheFieldIsFlagged) {
+  ModeICrackField m;
+  m.tip_x = 420;  // the field ends at x = 298
+  m.tip_y = 101;
+  m.k_over_2mu = 0.05;
+  const DisplacementField f = CrackedField(m, 300, 200, 4, 11, NearCrack::kFailed);
+  CrackPathOptions o = PathOptions(4, 11);
+  o.has_hint = true;
+  o.hint = {2, 100, 298, 100};
+  const CrackPathResult p = FindCrackPath(f, o);
+  ASSERT_TRUE(p.found);
+  CrackTipOptions t;
+  t.line = p.line;
+  t.station_spacing_px = 4;
+  t.band_half_width_px = 11;
+  const CrackTipResult r = LocateCrackTip(f, t, TipMethod::kWilliams);
+  EXPECT_TRUE(r.tip_at_edge);
+}
+
+}  // namespace
+}  // namespace bridgefit::dic
