@@ -118,8 +118,12 @@ void ExpectStoppedCleanly(int signal_number, int expected_exit, const char* name
   const fs::path dir = fs::temp_directory_path() / ("bf_sigint_" + std::to_string(getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
+  // stderr goes beside the folder (which must stay empty), one file per test
+  // process: the SIGINT and SIGTERM tests run side by side under ctest -j.
+  const fs::path err_path =
+      fs::temp_directory_path() / ("bf_sigint_err_" + std::to_string(getpid()) + ".txt");
   const Stopped s = RunAndSignal(LongFit(dir / "fit.h5"), signal_number,
-                                 std::chrono::milliseconds(800), dir.parent_path() / "bf_sigint_err.txt");
+                                 std::chrono::milliseconds(800), err_path);
   EXPECT_EQ(s.exit_code, expected_exit) << s.err;
   EXPECT_LT(s.stop_s, 1.0) << "stopped " << s.stop_s << " s after the signal";
   EXPECT_NE(s.err.find(std::string("interrupted by ") + name), std::string::npos) << s.err;
@@ -128,6 +132,7 @@ void ExpectStoppedCleanly(int signal_number, int expected_exit, const char* name
   EXPECT_FALSE(fs::exists(dir / "fit.h5"));
   EXPECT_TRUE(fs::is_empty(dir)) << "a partial or temporary file was left behind";
   fs::remove_all(dir);
+  fs::remove(err_path);
 }
 
 TEST(Interrupt, SigintStopsARunningFitWithinASecond) { ExpectStoppedCleanly(SIGINT, 130, "SIGINT"); }
