@@ -68,7 +68,24 @@ nlohmann::json EstimateJson(const inverse::ParameterEstimate& e) {
           {"identified", e.identified},
           {"fixed", e.fixed},
           {"decided_by", e.decided_by},
-          {"note", e.note}};
+          {"note", e.note},
+          {"interval_status", inverse::IntervalStatusName(e.interval_status)},
+          {"interval_reason", e.interval_reason}};
+}
+
+// An interval that cannot be trusted is said on stderr too, whatever the
+// output format (the JSON carries it as interval_status / interval_reason).
+void WarnUnreliableIntervals(const inverse::FitSummary& s, const std::string& law) {
+  const std::pair<const char*, const inverse::ParameterEstimate*> estimates[] = {
+      {"sigma_c", &s.sigma_c}, {"J_B", &s.J_B}, {"J_tip_c", &s.J_tip_c}};
+  for (const auto& [name, e] : estimates) {
+    if (e->fixed || e->interval_status == inverse::IntervalStatus::kReliable ||
+        e->interval_status == inverse::IntervalStatus::kOpen)
+      continue;
+    std::cerr << "warning: fit (" << law << " law): " << name << " 95% interval "
+              << inverse::IntervalStatusName(e->interval_status) << ": " << e->interval_reason
+              << "\n";
+  }
 }
 
 class FitCommand final : public Command {
@@ -176,6 +193,11 @@ class FitCommand final : public Command {
         if (out_h5_.empty()) std::filesystem::remove(fit_file);
         throw;
       }
+    }
+    if (run.comparison.empty()) {
+      WarnUnreliableIntervals(run.summary, run.summary.law);
+    } else {
+      for (const inverse::LawComparison& c : run.comparison) WarnUnreliableIntervals(c.summary, c.law);
     }
     if (common.json) {
       PrintJson(RunJson(run));

@@ -22,6 +22,47 @@ ParameterEstimate& EstimateOf(FitSummary& s, int index) {
   return index == kSigmaC ? s.sigma_c : index == kJB ? s.J_B : s.J_tip_c;
 }
 
+// A profile's ends and checks into its parameter's estimate: an end that
+// cannot be trusted is NaN (open), never the optimum itself.
+void ApplyProfile(const ProfileRun& run, bool lower_side, const FitOptions& options,
+                  ParameterEstimate& e) {
+  const Profile& profile = run.profile;
+  const int index = profile.parameter;
+  auto end = [&](const ProfileEdge& edge) {
+    return std::isnan(edge.x) ? NAN : FromBox(index, edge.x, options);
+  };
+  if (lower_side) e.ci95_low = end(run.low);
+  e.ci95_high = end(run.high);
+  e.interval_status = profile.status;
+  e.interval_reason = profile.status_reason;
+  const bool open_low = lower_side && run.low.status == IntervalStatus::kOpen;
+  const bool open_high = run.high.status == IntervalStatus::kOpen;
+  if (profile.status == IntervalStatus::kOpen) {
+    e.identified = false;
+    e.note = fmt::format("profile likelihood flat {} over the range explored ({:.4g} .. {:.4g})",
+                         open_low && open_high ? "on both sides"
+                         : open_high           ? "above the optimum"
+                                               : "below the optimum",
+                         options.lower[index], options.upper[index]);
+    e.interval_reason = e.note;
+  } else if (profile.status == IntervalStatus::kEndsOnBound) {
+    e.identified = false;
+    e.note = "interval ends on the box edge: " + profile.status_reason;
+  } else if (profile.status != IntervalStatus::kReliable) {
+    // The value is still the best fit found; its interval is not trusted.
+    e.identified = !open_low && !open_high;
+    e.note = "interval unreliable (" + std::string(IntervalStatusName(profile.status)) +
+             "): " + profile.status_reason;
+    if (std::isfinite(e.ci95_low) || std::isfinite(e.ci95_high))
+      e.note = (lower_side ? "CI from the profile likelihood, "
+                           : "CI: Jacobian below, profile likelihood above, ") + e.note;
+  } else {
+    e.identified = true;
+    e.note = lower_side ? "CI from the profile likelihood"
+                        : "CI: Jacobian below, profile likelihood above";
+  }
+}
+
 }  // namespace
 
 FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape,
@@ -178,110 +219,19 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
   //    box coordinate until Delta chi^2 > threshold, then bisecting.
   const double threshold = 3.84 * scale2;
   {
-    // The profiles are independent: they run side by side, each with its
-    // own objective (and counters), and are applied in parameter order.
-    struct ProfileRun {
-      int k = 0;
-      Profile profile;
-      double x_low = 0.0, x_high = 0.0;
-      int evaluations = 0, failures = 0;
-    };
-    std::vector<ProfileRun> runs;
-    for (int k = 0; k < n_free; ++k) {
-      // J_B's profile decides identifiability (steady state in the window):
-      // it always runs; the others only when asked for.
-      if (!options.profile_likelihood && free[k] != kJB) continue;
-      runs.push_back({.k = k});
-    }
-    // Without full profiles only J_B's upper side is needed (the steady-state
-    // decision); its lower limit then stays the Jacobian one.
+    // J_B's profile decides identifiability (steady state in the window):
+    // it always runs; the others only when asked for. Without full profiles
+    // only J_B's upper side is needed; its lower limit stays the Jacobian one.
+    std::vector<int> ks;
+    for (int k = 0; k < n_free; ++k)
+      if (options.profile_likelihood || free[k] == kJB) ks.push_back(k);
     const bool lower_side = options.profile_likelihood;
-    const int profile_threads = options.threads > 0 ? options.threads : 2;
-#pragma omp parallel for num_threads(profile_threads) schedule(dynamic) \
-    if (runs.size() > 1 && profile_threads > 1)
-    for (std::size_t q = 0; q < runs.size(); ++q) {
-      ProfileRun& run = runs[q];
-      const int k = run.k;
-      const int index = free[k];
-      const Objective local(model, shape, data, options);
-      Profile& profile = run.profile;
-      profile.parameter = index;
-      profile.chi2_threshold = threshold;
-      // Each re-optimization starts from the nearest point already solved
-      // inside the interval (warm start; the step-out moves away from it).
-      std::vector<double> warm = best.x;
-      auto profile_chi2 = [&](double x) {
-        const double value = FromBox(index, x, options);
-        double chi2 = kFailedCost;
-        std::vector<double> at = full;
-        at[index] = value;
-        if (n_free == 1) {
-          chi2 = local.Chi2(at);
-        } else {
-          // The pinned coordinate stays in the vector; its value is overridden.
-          const LocalResult r =
-              MinimizeNlopt(local, Optimizer::kBobyqa, warm, 80, index, value, 1e-4);
-          chi2 = r.chi2;
-          at = local.Expand(r.x.data(), index, value);
-          if (chi2 < kFailedCost && chi2 - best.chi2 <= threshold) warm = r.x;
-        }
-        profile.points.push_back({value, chi2, chi2 < kFailedCost, {at[0], at[1], at[2]}});
-        return chi2;
-      };
-      const auto inside = [&](double chi2) {
-        return chi2 < kFailedCost && chi2 - best.chi2 <= threshold;
-      };
-      // Returns the box coordinate of the edge on one side, or NaN when the
-      // profile stays inside up to the end of the box (flat on that side).
-      auto edge = [&](double direction) -> double {
-        warm = best.x;
-        double in = best.x[k], step = 0.004;
-        while (true) {
-          const double out = std::clamp(in + direction * step, 0.0, 1.0);
-          if (out == in) return NAN;  // reached the box edge while inside
-          if (!inside(profile_chi2(out))) {
-            double lo = in, hi = out;
-            for (int b = 0; b < 5; ++b) {
-              const double mid = 0.5 * (lo + hi);
-              (inside(profile_chi2(mid)) ? lo : hi) = mid;
-            }
-            return lo;
-          }
-          in = out;
-          step *= 2.0;
-        }
-      };
-      run.x_low = lower_side ? edge(-1.0) : 0.0;
-      run.x_high = edge(+1.0);
-      profile.points.push_back({full[index], best.chi2, true, {full[0], full[1], full[2]}});
-      std::sort(profile.points.begin(), profile.points.end(),
-                [](const ProfilePoint& a, const ProfilePoint& b) { return a.value < b.value; });
-      run.evaluations = local.evaluations();
-      run.failures = local.failures();
-    }
+    std::vector<ProfileRun> runs =
+        RunProfiles(model, shape, data, options, ks, best, full, threshold, lower_side);
     for (ProfileRun& run : runs) {
-      const int index = free[run.k];
-      const double x_low = run.x_low, x_high = run.x_high;
-      Profile& profile = run.profile;
       objective.AddCounts(run.evaluations, run.failures);
-      ParameterEstimate& e = EstimateOf(s, index);
-      if (lower_side) e.ci95_low = std::isnan(x_low) ? NAN : FromBox(index, x_low, options);
-      e.ci95_high = std::isnan(x_high) ? NAN : FromBox(index, x_high, options);
-      profile.flat = std::isnan(x_low) || std::isnan(x_high);
-      if (profile.flat) {
-        e.identified = false;
-        e.note = fmt::format(
-            "profile likelihood flat {} over the range explored ({:.4g} .. {:.4g})",
-            std::isnan(x_low) && std::isnan(x_high) ? "on both sides"
-            : std::isnan(x_high)                    ? "above the optimum"
-                                                    : "below the optimum",
-            options.lower[index], options.upper[index]);
-      } else {
-        e.identified = true;
-        e.note = lower_side ? "CI from the profile likelihood"
-                            : "CI: Jacobian below, profile likelihood above";
-      }
-      s.profiles.push_back(std::move(profile));
+      ApplyProfile(run, lower_side, options, EstimateOf(s, free[run.k]));
+      s.profiles.push_back(std::move(run.profile));
     }
   }
 
@@ -425,7 +375,7 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
   };
   bool reached = reaches_in_window(prediction);
   if (reached && jb_profile) {
-    if (jb_profile->flat && std::isnan(s.J_B.ci95_high)) reached = false;
+    if (std::isnan(s.J_B.ci95_high)) reached = false;  // flat, or an end not trusted
     const ProfilePoint* largest = nullptr;
     for (const auto& point : jb_profile->points)
       if (point.ok && point.chi2 - best.chi2 <= threshold && (!largest || point.value > largest->value))

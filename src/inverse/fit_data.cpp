@@ -89,6 +89,17 @@ FitData FitData::FromRCurve(const RCurve& curve, RKind kind) {
   return data;
 }
 
+const char* IntervalStatusName(IntervalStatus status) {
+  switch (status) {
+    case IntervalStatus::kReliable: return "reliable";
+    case IntervalStatus::kOpen: return "open";
+    case IntervalStatus::kEndsOnBound: return "ends_on_bound";
+    case IntervalStatus::kUnreliableZeroWidth: return "unreliable_zero_width";
+    case IntervalStatus::kUnreliableNonSmooth: return "unreliable_non_smooth";
+  }
+  return "reliable";
+}
+
 const char* FitTargetName(FitTarget target) {
   return target == FitTarget::kLoad ? "load-displacement" : "r-curve";
 }
@@ -189,10 +200,19 @@ void FitData::Validate() const {
 std::string FitSummary::BriefReport() const {
   auto line = [](const char* name, const ParameterEstimate& e, double scale, const char* unit) {
     if (e.fixed) return fmt::format("  {:<8} = {:.4g} {} (fixed)\n", name, e.value / scale, unit);
+    auto end = [&](double v) { return std::isfinite(v) ? fmt::format("{:.4g}", v / scale) : "open"; };
+    const bool no_interval = !std::isfinite(e.ci95_low) && !std::isfinite(e.ci95_high);
+    const bool warn = e.interval_status != IntervalStatus::kReliable &&
+                      e.interval_status != IntervalStatus::kOpen;
+    if (std::isfinite(e.value) && warn)
+      return fmt::format("  {:<8} = {:.4g} {} {}(interval unreliable: {})\n", name, e.value / scale,
+                         unit,
+                         no_interval ? std::string()
+                                     : fmt::format("[95% CI {} .. {}] ", end(e.ci95_low), end(e.ci95_high)),
+                         e.interval_reason);
     if (std::isfinite(e.value))
-      return fmt::format("  {:<8} = {:.4g} {} [95% CI {:.4g} .. {:.4g}]{}\n", name, e.value / scale,
-                         unit, e.ci95_low / scale, e.ci95_high / scale,
-                         e.identified ? "" : " (not identifiable)");
+      return fmt::format("  {:<8} = {:.4g} {} [95% CI {} .. {}]{}\n", name, e.value / scale, unit,
+                         end(e.ci95_low), end(e.ci95_high), e.identified ? "" : " (not identifiable)");
     if (std::isfinite(e.lower_bound))
       return fmt::format("  {:<8} >= {:.4g} {} (lower bound: {})\n", name, e.lower_bound / scale,
                          unit, e.note);

@@ -143,4 +143,28 @@ void ScanBox(const Objective& objective, int index, std::vector<double>& full);
 // A first start read off the data (box coordinates of the free parameters).
 std::vector<double> DataInformedStart(const Objective& objective);
 
+// One end of a profile-likelihood interval (fit_profile.cpp): its box
+// coordinate (NaN: open or not trustworthy) and how far it can be trusted.
+struct ProfileEdge {
+  double x = NAN;
+  IntervalStatus status = IntervalStatus::kReliable;
+  std::string reason;  // empty when reliable
+};
+// The profile of one free parameter (index k into the free ones) with the
+// others re-optimized, and the ends of its 95% interval.
+struct ProfileRun {
+  int k = 0;
+  Profile profile;
+  ProfileEdge low, high;
+  int evaluations = 0, failures = 0;
+};
+// Profiles of the free parameters `ks` (side by side), at the optimum `best`
+// (box coordinates; `full` its physical vector), with the interval threshold
+// Delta chi^2 = `threshold`; `lower_side` false: only the upper ends.
+std::vector<ProfileRun> RunProfiles(const ForwardModel& model, const laws::LawShape& shape,
+                                    const FitData& data, const FitOptions& options,
+                                    const std::vector<int>& ks, const LocalResult& best,
+                                    const std::vector<double>& full, double threshold,
+                                    bool lower_side);
+
 }  // namespace bridgefit::inverse::fit_internal

@@ -19,6 +19,8 @@ void WriteEstimate(io::H5Writer& file, const std::string& group,
   file.WriteAttribute(group, "fixed", e.fixed ? 1.0 : 0.0);
   file.WriteAttribute(group, "decided_by", e.decided_by);
   file.WriteAttribute(group, "note", e.note);
+  file.WriteAttribute(group, "interval_status", inverse::IntervalStatusName(e.interval_status));
+  file.WriteAttribute(group, "interval_reason", e.interval_reason);
 }
 
 void WriteSummaryAttributes(io::H5Writer& file, const std::string& g, const FitRequest& request,
@@ -133,6 +135,9 @@ void WriteProfiles(io::H5Writer& file, const std::string& g, const inverse::FitS
     file.WriteVector(pg + "/chi2", chi2, "1", "best chi^2 with the others re-optimized");
     file.WriteAttribute(pg, "chi2_threshold", p.chi2_threshold);
     file.WriteAttribute(pg, "flat", p.flat ? 1.0 : 0.0);
+    file.WriteAttribute(pg, "status", inverse::IntervalStatusName(p.status));
+    file.WriteAttribute(pg, "status_reason", p.status_reason);
+    file.WriteAttribute(pg, "resolves", p.resolves);
   }
 }
 

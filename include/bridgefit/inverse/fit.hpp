@@ -97,6 +97,19 @@ struct FitData {
   void Validate() const;
 };
 
+// How far a printed 95% interval can be trusted (docs/FIT.md "Profiles you
+// can trust"). Anything but kReliable comes with a reason and a warning; an
+// end that cannot be trusted is printed as NaN (open), never at the optimum.
+enum class IntervalStatus {
+  kReliable,             // a smooth profile crossing the threshold (or the Jacobian)
+  kOpen,                 // the profile stays under the threshold to the box edge (flat)
+  kEndsOnBound,          // the optimum sits on the box edge: the box, not the data, ends it
+  kUnreliableZeroWidth,  // an end at the optimum even after finer bisection and re-solves
+  kUnreliableNonSmooth,  // chi^2 jumps, or the profile is not monotone, or finds a lower chi^2
+};
+// "reliable", "open", "ends_on_bound", "unreliable_zero_width", "unreliable_non_smooth"
+const char* IntervalStatusName(IntervalStatus status);
+
 struct ParameterEstimate {
   double value = NAN;        // NaN when only a bound is known
   double ci95_low = NAN;
@@ -106,6 +119,9 @@ struct ParameterEstimate {
   bool fixed = false;
   std::string decided_by;    // e.g. "ceres-lm + reduced", "PHYSICS 7 bound"
   std::string note;
+  IntervalStatus interval_status = IntervalStatus::kReliable;
+  std::string interval_reason;  // empty when reliable: why the interval cannot be trusted
+  bool interval_reliable() const { return interval_status == IntervalStatus::kReliable; }
 };
 
 struct ProfilePoint {
@@ -119,6 +135,10 @@ struct Profile {
   std::vector<ProfilePoint> points;
   double chi2_threshold = 3.84;  // Delta chi^2 of a 95% interval (scaled when weights unknown)
   bool flat = false;             // never rises past the threshold on one side
+  // The worse of the two sides' checks, with its reason (empty when reliable).
+  IntervalStatus status = IntervalStatus::kReliable;
+  std::string status_reason;
+  int resolves = 0;              // profile points re-solved with more starts
 };
 
 struct StartResult {

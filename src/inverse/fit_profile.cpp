@@ -1,0 +1,305 @@
+// Stage 3 of FitBridgingLaw: profile likelihoods and the ends of their 95%
+// intervals, with the checks that make an interval trustworthy (docs/FIT.md
+// "Profiles you can trust"): a chi^2 that jumps at an end is bisected down to
+// the jump and the far side re-solved from more starts; a profile that comes
+// back under the threshold past a jump is followed (the interval widened);
+// an end at the optimum (zero width), an optimum on the box edge, a profile
+// that falls going outward or finds a lower chi^2 than the optimum are
+// reported with their reason, never printed as a confident interval.
+
+#include <algorithm>
+#include <cmath>
+#include <initializer_list>
+
+#include <fmt/format.h>
+
+#include "fit_impl.hpp"
+
+namespace bridgefit::inverse::fit_internal {
+namespace {
+
+constexpr double kFirstStep = 0.004;      // box coordinates
+constexpr int kBisections = 5;            // the coarse bisection of every end
+constexpr int kExtraBisections = 24;      // at most, near a jump or at the optimum
+constexpr double kMinBracket = 1e-9;      // box coordinates: the finest bisection
+constexpr double kJumpFactor = 4.0;       // Delta chi^2 past a smooth crossing stays below 4x the threshold
+constexpr double kOnBound = 1e-3;         // box coordinates: an optimum this close to the edge is on it
+constexpr double kZeroWidth = 1e-4;       // relative: an end this close to the value prints as the value
+constexpr int kResolveStarts = 4;         // extra starts of a re-solved profile point
+constexpr int kResolveEvaluations = 200;  // per start
+
+int Severity(IntervalStatus s) {
+  switch (s) {
+    case IntervalStatus::kReliable: return 0;
+    case IntervalStatus::kOpen: return 1;
+    case IntervalStatus::kEndsOnBound: return 2;
+    case IntervalStatus::kUnreliableNonSmooth: return 3;
+    case IntervalStatus::kUnreliableZeroWidth: return 4;
+  }
+  return 0;
+}
+
+// The profile of one parameter: chi^2 with the parameter pinned at a box
+// coordinate and the others re-optimized, and the search for its ends.
+class ProfileSearch {
+ public:
+  ProfileSearch(const ForwardModel& model, const laws::LawShape& shape, const FitData& data,
+                const FitOptions& options, int k, const LocalResult& best,
+                const std::vector<double>& full, double threshold, Profile& profile)
+      : objective_(model, shape, data, options), options_(options), k_(k),
+        index_(objective_.free()[k]), best_(best), full_(full), threshold_(threshold),
+        profile_(profile), warm_(best.x) {}
+
+  const Objective& objective() const { return objective_; }
+
+  ProfileEdge Edge(double direction) {
+    const double x0 = best_.x[k_];
+    const bool up = direction > 0;
+    if (up ? x0 >= 1.0 - kOnBound : x0 <= kOnBound)
+      return {NAN, IntervalStatus::kEndsOnBound,
+              fmt::format("the optimum sits on the box's {} edge ({:.4g}): the box, not the data, "
+                          "ends the interval there; widen --bounds",
+                          up ? "upper" : "lower", up ? options_.upper[index_] : options_.lower[index_])};
+    warm_ = best_.x;
+    double in = x0;
+    std::string jump;
+    for (int round = 0; round < 4; ++round) {
+      const Bracket b = StepOut(direction, in);
+      if (b.open) {
+        if (jump.empty()) return {NAN, IntervalStatus::kOpen, ""};
+        return {NAN, IntervalStatus::kUnreliableNonSmooth,
+                jump + "; past it the profile comes back under the threshold and stays there to the box edge"};
+      }
+      if (!IsJump(b)) {
+        if (!jump.empty())
+          return {b.lo, IntervalStatus::kUnreliableNonSmooth,
+                  jump + "; past it the profile comes back under the threshold: the interval is "
+                         "widened to its last crossing"};
+        if (b.lo == x0)
+          return {NAN, IntervalStatus::kUnreliableZeroWidth,
+                  fmt::format("the profile crosses the threshold within {:.2g} (box) of the optimum "
+                              "even after {} bisections", kMinBracket, kBisections + kExtraBisections)};
+        return {b.lo, IntervalStatus::kReliable, ""};
+      }
+      // A jump: the far side re-solved from more starts (a profile point may
+      // have stopped in a poor local minimum).
+      if (Inside(Resolve(b.hi))) {
+        in = b.hi;
+        continue;
+      }
+      if (jump.empty()) jump = JumpText(b);
+      // Does the profile come back under the threshold further out?
+      double p = b.hi, step = kFirstStep, back = NAN;
+      while (true) {
+        const double q = std::clamp(p + direction * step, 0.0, 1.0);
+        if (q == p) break;
+        if (Inside(Chi2(q))) {
+          back = q;
+          break;
+        }
+        p = q;
+        step *= 2.0;
+      }
+      if (std::isnan(back)) {
+        const double end = FromBox(index_, b.lo, options_);
+        const bool zero = std::abs(end - full_[index_]) <= kZeroWidth * std::abs(full_[index_]);
+        return {NAN, zero ? IntervalStatus::kUnreliableZeroWidth : IntervalStatus::kUnreliableNonSmooth,
+                jump + (zero ? ", next to the optimum (a zero-width side)" : "") +
+                    ", and stays above it out to the box edge, also re-solved from " +
+                    std::to_string(kResolveStarts + 2) +
+                    " starts: the forward model is not smooth there; no interval end printed"};
+      }
+      in = back;
+    }
+    return {NAN, IntervalStatus::kUnreliableNonSmooth,
+            (jump.empty() ? std::string("the profile chi^2 jumps at every end found, and each re-solve "
+                                        "from more starts moved it further out (4 rounds)")
+                          : jump + " repeatedly") +
+                "; no interval end printed"};
+  }
+
+  // A profile that falls going away from the optimum, or finds a lower
+  // chi^2 than the optimum's.
+  ProfileEdge Monotonicity() const {
+    const double v0 = full_[index_];
+    const double lower_tol = std::max(0.1 * threshold_, 1e-9 * best_.chi2);
+    for (const ProfilePoint& p : profile_.points)
+      if (p.ok && p.chi2 < best_.chi2 - lower_tol)
+        return {NAN, IntervalStatus::kUnreliableNonSmooth,
+                fmt::format("the profile finds chi^2 {:.5g} at {:.5g}, below the optimum's {:.5g}: "
+                            "the fit stopped in a local minimum (rerun with more --starts)",
+                            p.chi2, p.value, best_.chi2)};
+    for (double direction : {-1.0, 1.0}) {
+      std::vector<const ProfilePoint*> side;
+      for (const ProfilePoint& p : profile_.points)
+        if (p.ok && (p.value - v0) * direction > 0) side.push_back(&p);
+      std::sort(side.begin(), side.end(), [&](const ProfilePoint* a, const ProfilePoint* b) {
+        return (a->value - v0) * direction < (b->value - v0) * direction;
+      });
+      const ProfilePoint* highest = nullptr;
+      for (const ProfilePoint* p : side) {
+        if (highest && p->chi2 < highest->chi2 - 0.5 * threshold_)
+          return {NAN, IntervalStatus::kUnreliableNonSmooth,
+                  fmt::format("the profile is not monotone: chi^2 falls from {:.5g} at {:.5g} to "
+                              "{:.5g} at {:.5g} going away from the optimum",
+                              highest->chi2, highest->value, p->chi2, p->value)};
+        if (!highest || p->chi2 > highest->chi2) highest = p;
+      }
+    }
+    return {};
+  }
+
+  int resolves() const { return resolves_; }
+
+ private:
+  struct Bracket {
+    double lo = NAN, hi = NAN;  // last inside, first outside (box coordinates)
+    double chi2_lo = NAN, chi2_hi = NAN;
+    bool open = false;          // inside up to the box edge
+  };
+
+  bool Inside(double chi2) const { return chi2 < kFailedCost && chi2 - best_.chi2 <= threshold_; }
+
+  double Chi2(double x) { return Solve(x, {warm_}, 80); }
+
+  // Profile chi^2 at x from the given starts; the point is recorded.
+  double Solve(double x, const std::vector<std::vector<double>>& starts, int evaluations) {
+    const double value = FromBox(index_, x, options_);
+    std::vector<double> at = full_;
+    at[index_] = value;
+    double chi2 = kFailedCost;
+    if (objective_.free().size() == 1) {
+      chi2 = objective_.Chi2(at);
+    } else {
+      for (const std::vector<double>& x0 : starts) {
+        // The pinned coordinate stays in the vector; its value is overridden.
+        const LocalResult r =
+            MinimizeNlopt(objective_, Optimizer::kBobyqa, x0, evaluations, index_, value, 1e-4);
+        if (r.chi2 < chi2) {
+          chi2 = r.chi2;
+          at = objective_.Expand(r.x.data(), index_, value);
+          if (Inside(chi2)) warm_ = r.x;
+        }
+      }
+    }
+    profile_.points.push_back({value, chi2, chi2 < kFailedCost, {at[0], at[1], at[2]}});
+    return chi2;
+  }
+
+  // The profile point at x again, from the warm start, the optimum and a
+  // Latin-hypercube design; the best is kept.
+  double Resolve(double x) {
+    if (objective_.free().size() == 1) return Chi2(x);
+    ++resolves_;
+    std::vector<std::vector<double>> starts = {warm_, best_.x};
+    const auto design = LatinHypercube(kResolveStarts, static_cast<int>(best_.x.size()),
+                                       options_.seed + 7919u * static_cast<unsigned>(resolves_));
+    starts.insert(starts.end(), design.begin(), design.end());
+    return Solve(x, starts, kResolveEvaluations);
+  }
+
+  // Steps out from `in` (inside) until the profile leaves the 95% region,
+  // then bisects; near a jump, or while the inside end is still the
+  // optimum, the bisection goes on down to kMinBracket.
+  Bracket StepOut(double direction, double in) {
+    const double x0 = best_.x[k_];
+    double step = kFirstStep, chi2_in = best_.chi2;
+    while (true) {
+      const double out = std::clamp(in + direction * step, 0.0, 1.0);
+      if (out == in) return {.open = true};
+      const double c = Chi2(out);
+      if (!Inside(c)) {
+        Bracket b{in, out, chi2_in, c, false};
+        for (int i = 0; i < kBisections + kExtraBisections; ++i) {
+          const bool fine = i >= kBisections;
+          if (fine && !((b.chi2_hi - best_.chi2 > kJumpFactor * threshold_ || b.lo == x0) &&
+                        std::abs(b.hi - b.lo) > kMinBracket))
+            break;
+          const double mid = 0.5 * (b.lo + b.hi);
+          const double cm = Chi2(mid);
+          if (Inside(cm)) {
+            b.lo = mid;
+            b.chi2_lo = cm;
+          } else {
+            b.hi = mid;
+            b.chi2_hi = cm;
+          }
+        }
+        return b;
+      }
+      in = out;
+      chi2_in = c;
+      step *= 2.0;
+    }
+  }
+
+  bool IsJump(const Bracket& b) const {
+    return b.chi2_hi >= kFailedCost || b.chi2_hi - best_.chi2 > kJumpFactor * threshold_;
+  }
+
+  std::string JumpText(const Bracket& b) const {
+    const double lo = FromBox(index_, b.lo, options_), hi = FromBox(index_, b.hi, options_);
+    if (b.chi2_hi >= kFailedCost)
+      return fmt::format("the forward runs fail between {:.6g} and {:.6g} (chi^2 {:.5g} inside)", lo,
+                         hi, b.chi2_lo);
+    return fmt::format("the profile chi^2 jumps from {:.5g} to {:.5g} between {:.6g} and {:.6g} "
+                       "(threshold {:.5g} above the optimum's {:.5g})",
+                       b.chi2_lo, b.chi2_hi, lo, hi, threshold_, best_.chi2);
+  }
+
+  const Objective objective_;
+  const FitOptions& options_;
+  const int k_, index_;
+  const LocalResult& best_;
+  const std::vector<double>& full_;
+  const double threshold_;
+  Profile& profile_;
+  std::vector<double> warm_;  // the nearest point solved inside the interval
+  int resolves_ = 0;
+};
+
+}  // namespace
+
+std::vector<ProfileRun> RunProfiles(const ForwardModel& model, const laws::LawShape& shape,
+                                    const FitData& data, const FitOptions& options,
+                                    const std::vector<int>& ks, const LocalResult& best,
+                                    const std::vector<double>& full, double threshold,
+                                    bool lower_side) {
+  std::vector<ProfileRun> runs;
+  for (int k : ks) runs.push_back({.k = k});
+  const int profile_threads = options.threads > 0 ? options.threads : 2;
+  // The profiles are independent: they run side by side, each with its own
+  // objective (and counters).
+#pragma omp parallel for num_threads(profile_threads) schedule(dynamic) \
+    if (runs.size() > 1 && profile_threads > 1)
+  for (std::size_t q = 0; q < runs.size(); ++q) {
+    ProfileRun& run = runs[q];
+    Profile& profile = run.profile;
+    ProfileSearch search(model, shape, data, options, run.k, best, full, threshold, profile);
+    const int index = search.objective().free()[run.k];
+    profile.parameter = index;
+    profile.chi2_threshold = threshold;
+    run.low = lower_side ? search.Edge(-1.0) : ProfileEdge{.x = 0.0};
+    run.high = search.Edge(+1.0);
+    profile.points.push_back({full[index], best.chi2, true, {full[0], full[1], full[2]}});
+    std::sort(profile.points.begin(), profile.points.end(),
+              [](const ProfilePoint& a, const ProfilePoint& b) { return a.value < b.value; });
+    profile.flat = run.low.status == IntervalStatus::kOpen || run.high.status == IntervalStatus::kOpen;
+    // The worse side's status; a smooth-looking pair of ends is still
+    // checked for a profile that falls outward or beats the optimum.
+    const ProfileEdge shape_check = search.Monotonicity();
+    for (const ProfileEdge* e : std::initializer_list<const ProfileEdge*>{&run.low, &run.high, &shape_check}) {
+      if (Severity(e->status) > Severity(profile.status)) profile.status = e->status;
+      if (!e->reason.empty()) {
+        const char* side = e == &run.low ? "below: " : e == &run.high ? "above: " : "";
+        profile.status_reason += (profile.status_reason.empty() ? "" : "; ") + std::string(side) + e->reason;
+      }
+    }
+    profile.resolves = search.resolves();
+    run.evaluations = search.objective().evaluations();
+    run.failures = search.objective().failures();
+  }
+  return runs;
+}
+
+}  // namespace bridgefit::inverse::fit_internal
