@@ -68,6 +68,23 @@ struct SubsetRows {
 
 // Reference rows: straight from the node maps at an integer centre,
 // otherwise interpolated into the workspace.
+// The end-of-iteration test shared by both warp orders: a diverged warp ends as
+// kNoConvergence, a converged one as kOk or kLowCorrelation (by its ZNCC).
+// Returns false while the iteration should go on.
+bool IterationEnds(double norm, const Params& p, double zncc, const CorrelationOptions& opt,
+                   PointResult* out) {
+  if (!std::isfinite(norm) || std::abs(p[0]) > 1e5 || std::abs(p[6]) > 1e5) {
+    out->status = PointStatus::kNoConvergence;
+    return true;
+  }
+  out->zncc = zncc;
+  if (norm < opt.convergence_px) {
+    out->status = out->zncc >= opt.min_zncc ? PointStatus::kOk : PointStatus::kLowCorrelation;
+    return true;
+  }
+  return false;
+}
+
 SubsetRows ReferenceRows(const ReferenceView& ref, double xc, double yc, int M, Workspace& ws) {
   const int side = 2 * M + 1;
   if (ref.nodes && !ref.nodes->empty() && xc == std::floor(xc) && yc == std::floor(yc)) {
@@ -254,15 +271,7 @@ PointResult SolveFirstOrder(const ReferenceView& ref, const InterpolatedImage& d
     ComposeInverse(p, dp, false);
     const double norm = IncrementNorm(dp, M, false);
     clock.Lap(&ws.times.update);
-    if (!std::isfinite(norm) || std::abs(p[0]) > 1e5 || std::abs(p[6]) > 1e5) {
-      out.status = PointStatus::kNoConvergence;
-      return out;
-    }
-    out.zncc = zncc;
-    if (norm < opt.convergence_px) {
-      out.status = out.zncc >= opt.min_zncc ? PointStatus::kOk : PointStatus::kLowCorrelation;
-      return out;
-    }
+    if (IterationEnds(norm, p, zncc, opt, &out)) return out;
   }
   out.status = PointStatus::kNoConvergence;  // never reported valid
   return out;
@@ -369,15 +378,7 @@ PointResult SolveSecondOrder(const ReferenceView& ref, const InterpolatedImage& 
     ComposeInverse(p, dp, true);
     const double norm = IncrementNorm(dp, M, true);
     clock.Lap(&ws.times.update);
-    if (!std::isfinite(norm) || std::abs(p[0]) > 1e5 || std::abs(p[6]) > 1e5) {
-      out.status = PointStatus::kNoConvergence;
-      return out;
-    }
-    out.zncc = zncc;
-    if (norm < opt.convergence_px) {
-      out.status = out.zncc >= opt.min_zncc ? PointStatus::kOk : PointStatus::kLowCorrelation;
-      return out;
-    }
+    if (IterationEnds(norm, p, zncc, opt, &out)) return out;
   }
   out.status = PointStatus::kNoConvergence;
   return out;
