@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "../cli/cli_helpers.hpp"
 #include "bridgefit/campaign/campaign.hpp"
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/io/campaign_manifest.hpp"
@@ -186,6 +187,25 @@ TEST(Campaign, IdenticalSpecimensGiveTheSingleFitAndAnUnreadableOneFailsAlone) {
   EXPECT_EQ(a.rfind("A,", 0), 0u) << a;
   EXPECT_EQ(broken.rfind("broken,failed,", 0), 0u) << broken;
   EXPECT_TRUE(fs::exists(dir.path / "out" / "statistics.csv"));
+}
+
+}  // namespace
+}  // namespace bridgefit::campaign
+
+namespace bridgefit::campaign {
+namespace {
+
+// The CLI's own job: a manifest fault exits 1 before any fit, with the
+// manifest line, and writes nothing.
+TEST(CampaignCli, ManifestFaultExitsOneNamingTheLineAndWritesNothing) {
+  WorkDir dir;
+  const fs::path m = dir.Write(
+      "c.toml", std::string(kHead) + "[[specimen]]\nname = \"B\"\nrecord = \"gone.csv\"\n");
+  const auto r = testing::RunCli("campaign " + m.string() + " --out " + (dir.path / "out").string());
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("c.toml:11"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("gone.csv"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir.path / "out"));
 }
 
 }  // namespace
