@@ -69,7 +69,23 @@ struct Stopped {
   std::string err;
 };
 
-// Starts `bridgefit args...`, sends `signal_number` after `delay`, waits.
+// True once `pid` blocks SIGINT and SIGTERM: its interrupt watcher is up
+// (core/interrupt.hpp blocks both in every thread). Linux: /proc/PID/status.
+bool WatcherInstalled(pid_t pid) {
+  std::ifstream status("/proc/" + std::to_string(pid) + "/status");
+  std::string line;
+  while (std::getline(status, line)) {
+    if (line.rfind("SigBlk:", 0) != 0) continue;
+    const unsigned long long mask = std::stoull(line.substr(7), nullptr, 16);
+    const unsigned long long want = (1ull << (SIGINT - 1)) | (1ull << (SIGTERM - 1));
+    return (mask & want) == want;
+  }
+  return false;
+}
+
+// Starts `bridgefit args...`, waits until its interrupt watcher is installed
+// (a fixed delay from the fork raced the start-up on a loaded machine), then
+// `delay` more, sends `signal_number` and waits.
 Stopped RunAndSignal(const std::vector<std::string>& args, int signal_number,
                      std::chrono::milliseconds delay, const fs::path& err_path) {
   std::vector<char*> argv;
@@ -86,6 +102,15 @@ Stopped RunAndSignal(const std::vector<std::string>& args, int signal_number,
     dup2(null, STDOUT_FILENO);
     execv(argv[0], argv.data());
     _exit(127);
+  }
+  const auto started = std::chrono::steady_clock::now();
+  while (!WatcherInstalled(pid) && std::chrono::steady_clock::now() - started < std::chrono::seconds(30)) {
+    int ignored = 0;
+    if (waitpid(pid, &ignored, WNOHANG) == pid) {
+      ADD_FAILURE() << "the command ended before its interrupt watcher was seen";
+      return {};
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
   std::this_thread::sleep_for(delay);
   Stopped result;
@@ -123,7 +148,7 @@ void ExpectStoppedCleanly(int signal_number, int expected_exit, const char* name
   const fs::path err_path =
       fs::temp_directory_path() / ("bf_sigint_err_" + std::to_string(getpid()) + ".txt");
   const Stopped s = RunAndSignal(LongFit(dir / "fit.h5"), signal_number,
-                                 std::chrono::milliseconds(800), err_path);
+                                 std::chrono::milliseconds(300), err_path);
   EXPECT_EQ(s.exit_code, expected_exit) << s.err;
   EXPECT_LT(s.stop_s, 1.0) << "stopped " << s.stop_s << " s after the signal";
   EXPECT_NE(s.err.find(std::string("interrupted by ") + name), std::string::npos) << s.err;
