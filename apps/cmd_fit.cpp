@@ -19,7 +19,7 @@
 #include "bridgefit/pipeline/fit.hpp"
 #include "bridgefit/pipeline/fit_file.hpp"
 #include "bridgefit/pipeline/rcurve_file.hpp"
-#include "bridgefit/report/report.hpp"
+#include "bridgefit/pipeline/report_file.hpp"
 #include "command.hpp"
 
 namespace bridgefit::cli {
@@ -186,7 +186,7 @@ class FitCommand final : public Command {
       report::ReportOptions report_options;
       report_options.title = "bridgefit fit: " + input_;
       try {
-        const report::ReportSummary written = report::WriteFitReport(fit_file, report_dir_, report_options);
+        const report::ReportSummary written = pipeline::WriteFitReport(fit_file, report_dir_, report_options);
         if (out_h5_.empty()) std::filesystem::remove(fit_file);
         if (!common.quiet) std::cerr << "report: " << written.index_html.string() << "\n";
       } catch (...) {

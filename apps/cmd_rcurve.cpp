@@ -13,7 +13,6 @@
 
 #include <fmt/format.h>
 
-#include "bridgefit/core/atomic_file.hpp"
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/core/units.hpp"
 #include "bridgefit/experiment/rcurve.hpp"
@@ -21,6 +20,7 @@
 #include "bridgefit/io/hdf5.hpp"
 #include "bridgefit/io/scene_file.hpp"
 #include "command.hpp"
+#include "bridgefit/pipeline/dic_file.hpp"
 #include "bridgefit/pipeline/rcurve_file.hpp"
 
 namespace bridgefit::cli {
@@ -138,15 +138,9 @@ class RcurveCommand final : public Command {
     std::vector<std::string> frame_notes;
     if (!crack_from_.empty()) {
       // `bridgefit dic --csv`: one row per frame, its image and crack length.
-      const io::CsvTable frames = io::ReadCsvTable(crack_from_);
-      for (const char* column : {"image", "crack_length"})
-        if (frames.Find(column) < 0)
-          throw Error(ErrorKind::kInput, "the crack-length file lacks a column",
-                      {.file = crack_from_, .field = column,
-                       .expected = "the CSV of `bridgefit dic --csv` (image, crack_length [mm])"});
-      record = experiment::CrackLengthFromFrames(
-          record, frames.TextColumn("image"), frames.ColumnSi("crack_length", Dimension::Length()),
-          crack_from_, &frame_notes);
+      const pipeline::DicCrackLengths frames = pipeline::ReadDicCrackLengths(crack_from_);
+      record = experiment::CrackLengthFromFrames(record, frames.image, frames.crack_length,
+                                                 crack_from_, &frame_notes);
     }
     experiment::RCurveResult result = experiment::ComputeRCurve(record, options);
     result.notes.insert(result.notes.begin(), frame_notes.begin(), frame_notes.end());
@@ -157,20 +151,7 @@ class RcurveCommand final : public Command {
       pipeline::WriteReductionH5(file, record, result, options, scene_);
       file.Commit();
     }
-    if (!csv_.empty()) {
-      std::string text =
-          "crack_length [mm], R [J/m^2], R_uncertainty [J/m^2], crack_growth [mm], load [N], "
-          "displacement [mm], R_expanded_uncertainty [J/m^2]\n";
-      // CSV R curves carry one standard uncertainty (what `fit` reads);
-      // the expanded one (coverage factor k) is the last column.
-      for (std::size_t i = 0; i < result.curve.size(); ++i)
-        text += fmt::format("{:.8g}, {:.8g}, {:.8g}, {:.8g}, {:.8g}, {:.8g}, {:.8g}\n",
-                            result.curve.crack_length[i] * 1e3, result.curve.R[i],
-                            result.curve.R_uncertainty[i] / options.coverage_factor,
-                            result.crack_growth[i] * 1e3, result.load[i],
-                            result.displacement[i] * 1e3, result.curve.R_uncertainty[i]);
-      WriteTextFileAtomic(csv_, text);
-    }
+    if (!csv_.empty()) pipeline::WriteRCurveCsv(csv_, result, options);
 
     if (common.json) {
       nlohmann::json out;

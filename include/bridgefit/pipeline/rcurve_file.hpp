@@ -36,4 +36,10 @@ void WriteReductionH5(io::H5Writer& file, const ExperimentRecord& record,
                       const experiment::RCurveResult& result,
                       const experiment::RCurveOptions& options, const std::string& scene_path);
 
+// `bridgefit rcurve --csv`: the R curve with one standard uncertainty (what
+// ReadRCurveFile reads), crack growth, load, displacement and the expanded
+// uncertainty (coverage factor k) last; lengths in mm. Atomic.
+void WriteRCurveCsv(const std::string& path, const experiment::RCurveResult& result,
+                    const experiment::RCurveOptions& options);
+
 }  // namespace bridgefit::pipeline
