@@ -1,6 +1,8 @@
 // What a report shows, read from files (the report itself takes values).
 #include "bridgefit/pipeline/report_file.hpp"
 
+#include <unistd.h>
+
 #include <cmath>
 
 #include "bridgefit/core/error.hpp"
@@ -100,6 +102,29 @@ report::ReportSummary WriteFitReport(const std::filesystem::path& fit_h5,
   report::ReportSummary summary = report::WriteFitReport(input, out_dir, options);
   summary.wall_s = watch.Seconds();
   return summary;
+}
+
+std::optional<report::ReportSummary> WriteFitOutputs(const FitRequest& request, const FitRun& run,
+                                                     const std::string& fit_h5,
+                                                     const std::filesystem::path& report_dir,
+                                                     const report::ReportOptions& options) {
+  // The report reads the fit file: without one named it goes to a temporary file.
+  const std::string fit_file =
+      !fit_h5.empty() ? fit_h5
+      : report_dir.empty()
+          ? std::string()
+          : (std::filesystem::temp_directory_path() /
+             ("bridgefit-fit-" + std::to_string(::getpid()) + ".h5")).string();
+  if (!fit_file.empty()) WriteFitFile(fit_file, request, run);
+  if (report_dir.empty()) return std::nullopt;
+  try {
+    report::ReportSummary written = WriteFitReport(fit_file, report_dir, options);
+    if (fit_h5.empty()) std::filesystem::remove(fit_file);
+    return written;
+  } catch (...) {
+    if (fit_h5.empty()) std::filesystem::remove(fit_file);
+    throw;
+  }
 }
 
 }  // namespace bridgefit::pipeline

@@ -7,7 +7,10 @@
 //   pipeline::WriteFitReport("fit.h5", "out/mdf_ct", {})
 
 #include <filesystem>
+#include <optional>
+#include <string>
 
+#include "bridgefit/pipeline/fit.hpp"
 #include "bridgefit/report/report.hpp"
 #include "bridgefit/report/report_input.hpp"
 
@@ -21,5 +24,14 @@ report::ReportInput ReadReportInput(const std::filesystem::path& fit_h5,
 report::ReportSummary WriteFitReport(const std::filesystem::path& fit_h5,
                                      const std::filesystem::path& out_dir,
                                      const report::ReportOptions& options = {});
+
+// A run's files (`bridgefit fit --out F --report DIR`): the fit file at
+// `fit_h5` (atomic) and, with `report_dir`, its report, read back from the
+// fit file (a temporary one, removed after, when `fit_h5` is empty).
+// Returns the report's summary when one was written.
+std::optional<report::ReportSummary> WriteFitOutputs(const FitRequest& request, const FitRun& run,
+                                                     const std::string& fit_h5,
+                                                     const std::filesystem::path& report_dir,
+                                                     const report::ReportOptions& options);
 
 }  // namespace bridgefit::pipeline
