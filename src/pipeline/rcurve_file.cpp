@@ -52,6 +52,18 @@ RCurve ReadRCurveFile(const std::string& path) {
   return curve;
 }
 
+RCurveFileRecord ReadRCurveFileRecord(const std::string& path) {
+  RCurveFileRecord out;
+  if (!IsHdf5Path(path)) return out;
+  const io::H5Reader reader(path);
+  if (reader.Exists("/experiment/load")) out.record = io::ReadExperimentH5(reader, "/experiment");
+  if (reader.Exists("/rcurve/figures") &&
+      reader.HasAttribute("/rcurve/figures", "initial_compliance_m_per_N"))
+    out.initial_compliance =
+        reader.ReadNumberAttribute("/rcurve/figures", "initial_compliance_m_per_N");
+  return out;
+}
+
 std::vector<std::pair<std::string, int>> DroppedRowList(const ExperimentRecord& record,
                                                         const experiment::RCurveResult& result) {
   std::vector<std::pair<std::string, int>> list;

@@ -5,6 +5,8 @@
 //   /rcurve      the reduction: R curve, its rows, dropped rows, noise
 //                levels, /rcurve/figures and the specimen
 
+#include <cmath>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -25,6 +27,15 @@ ExperimentRecord ReadRecordFile(const std::string& path, const std::string& colu
 // An R curve from CSV ('crack_length [mm], R [J/m^2][, R_uncertainty [J/m^2]]')
 // or from the /rcurve group of an rcurve.h5.
 RCurve ReadRCurveFile(const std::string& path);
+
+// What an rcurve.h5 holds besides the curve: the record behind it
+// (/experiment, when present) and its initial compliance C0 [m/N]
+// (/rcurve/figures; NaN when absent). Nothing for a CSV.
+struct RCurveFileRecord {
+  std::optional<ExperimentRecord> record;
+  double initial_compliance = NAN;
+};
+RCurveFileRecord ReadRCurveFileRecord(const std::string& path);
 
 // Rows that gave no R point: import cleaning (io), then the reduction's reasons.
 std::vector<std::pair<std::string, int>> DroppedRowList(const ExperimentRecord& record,
