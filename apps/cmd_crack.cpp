@@ -12,6 +12,7 @@
 #include "bridgefit/dic/fields.hpp"
 #include "bridgefit/dic/sequence.hpp"
 #include "command.hpp"
+#include "bridgefit/pipeline/dic_file.hpp"
 #include "dic_output.hpp"
 
 namespace bridgefit::cli {
@@ -90,8 +91,8 @@ class CrackCommand final : public Command {
         dic::AnalyzeCrackFields(files, opt, /*auto_defaults=*/false);
     dic::CrackSequenceOptions used = opt;
     used.scale_m_per_px = m_per_unit;
-    if (!csv_.empty()) WriteDicCsv(csv_, result);
-    if (!out_.empty()) WriteDicH5(out_, result, used);
+    if (!csv_.empty()) pipeline::WriteDicCsv(csv_, result);
+    if (!out_.empty()) pipeline::WriteDicH5(out_, result, used);
     PrintDicResult(result, used, common.json, first.unit);
     return 0;
   }

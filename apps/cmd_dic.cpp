@@ -16,6 +16,7 @@
 #include "bridgefit/dic/sequence.hpp"
 #include "bridgefit/io/hdf5.hpp"
 #include "command.hpp"
+#include "bridgefit/pipeline/dic_file.hpp"
 #include "dic_output.hpp"
 
 namespace bridgefit::cli {
@@ -159,8 +160,8 @@ class DicCommand final : public Command {
                   {.file = paths.front().string()});
     const dic::CrackSequenceResult result = dic::AnalyzeCrackSequence(paths, opt);
 
-    if (!csv_.empty()) WriteDicCsv(csv_, result);
-    if (!out_.empty()) WriteDicH5(out_, result, opt);
+    if (!csv_.empty()) pipeline::WriteDicCsv(csv_, result);
+    if (!out_.empty()) pipeline::WriteDicH5(out_, result, opt);
     PrintDicResult(result, opt, common.json);
     return 0;
   }

@@ -7,20 +7,18 @@
 //   bridgefit fit data_samples/mdf_ct/record_exact.csv --scene data_samples/mdf_ct/scene.toml
 //       --rcurve-method energy --out fit.h5 --report report
 
-#include <filesystem>
 #include <iostream>
 #include <sstream>
-#include <unistd.h>
 
 #include <fmt/format.h>
 
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/io/scene_file.hpp"
 #include "bridgefit/pipeline/fit.hpp"
-#include "bridgefit/pipeline/fit_file.hpp"
 #include "bridgefit/pipeline/rcurve_file.hpp"
-#include "bridgefit/report/report.hpp"
+#include "bridgefit/pipeline/report_file.hpp"
 #include "command.hpp"
+#include "rcurve_flags.hpp"
 
 namespace bridgefit::cli {
 namespace {
@@ -54,10 +52,8 @@ std::vector<std::pair<std::string, std::string>> SplitAssignments(const std::str
 }
 
 // The `bridgefit rcurve` options that `bridgefit fit RECORD` takes.
-struct ReductionFlags {
-  std::string method = "energy", min_increment, max_crack_length, columns, units;
-  std::string load_noise, displacement_noise, crack_noise;
-  int smooth_rows = 0;
+struct ReductionFlags : RCurveFlags {
+  std::string columns, units;
 };
 
 nlohmann::json EstimateJson(const inverse::ParameterEstimate& e) {
@@ -174,26 +170,10 @@ class FitCommand final : public Command {
     if (run.input.reduction)
       for (const std::string& warning : run.input.reduction->warnings)
         std::cerr << "warning: " << warning << "\n";
-    // The report reads the fit file: without --out it goes to a temporary file.
-    const std::string fit_file =
-        !out_h5_.empty() ? out_h5_
-        : report_dir_.empty()
-            ? std::string()
-            : (std::filesystem::temp_directory_path() /
-               ("bridgefit-fit-" + std::to_string(::getpid()) + ".h5")).string();
-    if (!fit_file.empty()) pipeline::WriteFitFile(fit_file, request, run);
-    if (!report_dir_.empty()) {
-      report::ReportOptions report_options;
-      report_options.title = "bridgefit fit: " + input_;
-      try {
-        const report::ReportSummary written = report::WriteFitReport(fit_file, report_dir_, report_options);
-        if (out_h5_.empty()) std::filesystem::remove(fit_file);
-        if (!common.quiet) std::cerr << "report: " << written.index_html.string() << "\n";
-      } catch (...) {
-        if (out_h5_.empty()) std::filesystem::remove(fit_file);
-        throw;
-      }
-    }
+    report::ReportOptions report_options;
+    report_options.title = "bridgefit fit: " + input_;
+    const auto written = pipeline::WriteFitOutputs(request, run, out_h5_, report_dir_, report_options);
+    if (written && !common.quiet) std::cerr << "report: " << written->index_html.string() << "\n";
     if (run.comparison.empty()) {
       WarnUnreliableIntervals(run.summary, run.summary.law);
     } else {
@@ -219,7 +199,7 @@ class FitCommand final : public Command {
     request.units = reduction_.units;
     for (const CLI::Option* option : reduction_options_)
       if (option->count() > 0) request.reduction_given = true;
-    request.reduction = ReductionOptions();
+    ApplyRCurveFlags(reduction_, "rcurve-", request.reduction);
     request.model = pipeline::ParseModelChoice(model_);
     if (model_ == "mpm" || model_ == "auto")
       request.mpm_cell = ParseOptionQuantity(mpm_cell_, Dimension::Length(), "--mpm-cell");
@@ -240,30 +220,6 @@ class FitCommand final : public Command {
     request.calibration = inverse::ParseComplianceCalibrationMode(calibrate_compliance_);
     request.fit = FitOptions(common);
     return request;
-  }
-
-  experiment::RCurveOptions ReductionOptions() const {
-    experiment::RCurveOptions options;
-    try {
-      options.method = experiment::ParseRMethod(reduction_.method);
-    } catch (const Error& e) {
-      throw Error(ErrorKind::kUsage, e.message(),
-                  {.field = "--rcurve-method", .value = reduction_.method,
-                   .expected = e.context().expected});
-    }
-    if (!reduction_.min_increment.empty())
-      options.min_crack_increment = ParseOptionQuantity(reduction_.min_increment, Dimension::Length(),
-                                                        "--rcurve-min-increment");
-    options.max_crack_length = ParseOptionQuantity(reduction_.max_crack_length, Dimension::Length(),
-                                                   "--rcurve-max-crack-length");
-    options.smoothing_half_window = reduction_.smooth_rows;
-    options.load_noise =
-        ParseOptionQuantity(reduction_.load_noise, Dimension::Force(), "--rcurve-load-noise");
-    options.displacement_noise = ParseOptionQuantity(
-        reduction_.displacement_noise, Dimension::Length(), "--rcurve-displacement-noise");
-    options.crack_length_noise =
-        ParseOptionQuantity(reduction_.crack_noise, Dimension::Length(), "--rcurve-crack-noise");
-    return options;
   }
 
   inverse::FitOptions FitOptions(const CommonOptions& common) const {

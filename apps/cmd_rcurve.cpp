@@ -13,7 +13,6 @@
 
 #include <fmt/format.h>
 
-#include "bridgefit/core/atomic_file.hpp"
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/core/units.hpp"
 #include "bridgefit/experiment/rcurve.hpp"
@@ -21,19 +20,12 @@
 #include "bridgefit/io/hdf5.hpp"
 #include "bridgefit/io/scene_file.hpp"
 #include "command.hpp"
+#include "rcurve_flags.hpp"
+#include "bridgefit/pipeline/dic_file.hpp"
 #include "bridgefit/pipeline/rcurve_file.hpp"
 
 namespace bridgefit::cli {
 namespace {
-
-double Quantity(const std::string& text, const Dimension& dimension, const char* option) {
-  if (text.empty()) return NAN;
-  try {
-    return ParseQuantity(text, dimension);
-  } catch (const Error& e) {
-    throw Error(ErrorKind::kUsage, e.message(), e.context()).WithContext({.field = option});
-  }
-}
 
 class RcurveCommand final : public Command {
  public:
@@ -45,7 +37,7 @@ class RcurveCommand final : public Command {
     sub.add_option("record", record_, "Test record: CSV (units in the header or --units) or HDF5")
         ->required();
     sub.add_option("--scene", scene_, "Scene TOML with [specimen] and [material]");
-    sub.add_option("--method", method_, "energy|mbt|cc|lefm|equivalent")->default_val("energy");
+    sub.add_option("--method", flags_.method, "energy|mbt|cc|lefm|equivalent")->default_val("energy");
     sub.add_option("--columns", columns_,
                    "Column mapping, e.g. time=Time,displacement=Disp,load=Force,crack_length=CrackExt");
     sub.add_option("--units", units_, "Unit mapping, e.g. displacement=mm,load=N,crack_length=mm");
@@ -66,14 +58,14 @@ class RcurveCommand final : public Command {
     sub.add_option("--g13", g13_, "DCB transverse shear modulus G13 (orthotropic scenes)");
     sub.add_option("--plane", plane_, "stress|strain (CT LEFM)");
     // Reduction settings.
-    sub.add_option("--load-noise", load_noise_, "Load noise, 1 sigma (default: estimated)");
-    sub.add_option("--displacement-noise", displacement_noise_, "Displacement noise, 1 sigma");
-    sub.add_option("--crack-noise", crack_noise_, "Crack-length noise, 1 sigma");
-    sub.add_option("--min-increment", min_increment_, "Energy method: smallest crack increment");
-    sub.add_option("--smooth", smooth_rows_,
+    sub.add_option("--load-noise", flags_.load_noise, "Load noise, 1 sigma (default: estimated)");
+    sub.add_option("--displacement-noise", flags_.displacement_noise, "Displacement noise, 1 sigma");
+    sub.add_option("--crack-noise", flags_.crack_noise, "Crack-length noise, 1 sigma");
+    sub.add_option("--min-increment", flags_.min_increment, "Energy method: smallest crack increment");
+    sub.add_option("--smooth", flags_.smooth_rows,
                    "Energy method: local quadratic fits over 2 N + 1 rows before the balance (0: none)")
         ->default_val(0);
-    sub.add_option("--max-crack-length", max_crack_, "Validity limit (default CT 0.9 W, DCB L - 4h)");
+    sub.add_option("--max-crack-length", flags_.max_crack_length, "Validity limit (default CT 0.9 W, DCB L - 4h)");
     sub.add_flag("--large-displacement", large_displacement_,
                  "DCB mbt/cc: ASTM D5528 large-displacement (F) and load-block (N) corrections");
     sub.add_option("--block-offset", block_offset_,
@@ -101,7 +93,7 @@ class RcurveCommand final : public Command {
 
   int Run(const CommonOptions& common) override {
     experiment::RCurveOptions options;
-    options.method = experiment::ParseRMethod(method_);
+    ApplyRCurveFlags(flags_, "", options);
     if (!scene_.empty()) {
       const Scene scene = io::ReadSceneFile(scene_);
       options.specimen = scene.specimen;
@@ -111,21 +103,14 @@ class RcurveCommand final : public Command {
                   {.field = "--scene", .expected = "--scene SCENE.toml or --type ct|dcb with sizes"});
     }
     ApplySpecimenOptions(options);
-    options.load_noise = Quantity(load_noise_, Dimension::Force(), "--load-noise");
-    options.displacement_noise = Quantity(displacement_noise_, Dimension::Length(), "--displacement-noise");
-    options.crack_length_noise = Quantity(crack_noise_, Dimension::Length(), "--crack-noise");
-    if (!min_increment_.empty())
-      options.min_crack_increment = Quantity(min_increment_, Dimension::Length(), "--min-increment");
-    options.max_crack_length = Quantity(max_crack_, Dimension::Length(), "--max-crack-length");
     options.coverage_factor = coverage_;
     options.cleaning = cleaning_;
-    options.smoothing_half_window = smooth_rows_;
     options.large_displacement_correction = large_displacement_;
     if (!block_offset_.empty())
-      options.load_block_offset = Quantity(block_offset_, Dimension::Length(), "--block-offset");
+      options.load_block_offset = ParseOptionQuantity(block_offset_, Dimension::Length(), "--block-offset");
     if (!block_half_length_.empty())
       options.load_block_half_length =
-          Quantity(block_half_length_, Dimension::Length(), "--block-half-length");
+          ParseOptionQuantity(block_half_length_, Dimension::Length(), "--block-half-length");
     if ((!block_offset_.empty() || !block_half_length_.empty()) && !large_displacement_)
       throw Error(ErrorKind::kUsage,
                   "the load-block sizes only act with the large-displacement correction",
@@ -138,15 +123,9 @@ class RcurveCommand final : public Command {
     std::vector<std::string> frame_notes;
     if (!crack_from_.empty()) {
       // `bridgefit dic --csv`: one row per frame, its image and crack length.
-      const io::CsvTable frames = io::ReadCsvTable(crack_from_);
-      for (const char* column : {"image", "crack_length"})
-        if (frames.Find(column) < 0)
-          throw Error(ErrorKind::kInput, "the crack-length file lacks a column",
-                      {.file = crack_from_, .field = column,
-                       .expected = "the CSV of `bridgefit dic --csv` (image, crack_length [mm])"});
-      record = experiment::CrackLengthFromFrames(
-          record, frames.TextColumn("image"), frames.ColumnSi("crack_length", Dimension::Length()),
-          crack_from_, &frame_notes);
+      const pipeline::DicCrackLengths frames = pipeline::ReadDicCrackLengths(crack_from_);
+      record = experiment::CrackLengthFromFrames(record, frames.image, frames.crack_length,
+                                                 crack_from_, &frame_notes);
     }
     experiment::RCurveResult result = experiment::ComputeRCurve(record, options);
     result.notes.insert(result.notes.begin(), frame_notes.begin(), frame_notes.end());
@@ -157,20 +136,7 @@ class RcurveCommand final : public Command {
       pipeline::WriteReductionH5(file, record, result, options, scene_);
       file.Commit();
     }
-    if (!csv_.empty()) {
-      std::string text =
-          "crack_length [mm], R [J/m^2], R_uncertainty [J/m^2], crack_growth [mm], load [N], "
-          "displacement [mm], R_expanded_uncertainty [J/m^2]\n";
-      // CSV R curves carry one standard uncertainty (what `fit` reads);
-      // the expanded one (coverage factor k) is the last column.
-      for (std::size_t i = 0; i < result.curve.size(); ++i)
-        text += fmt::format("{:.8g}, {:.8g}, {:.8g}, {:.8g}, {:.8g}, {:.8g}, {:.8g}\n",
-                            result.curve.crack_length[i] * 1e3, result.curve.R[i],
-                            result.curve.R_uncertainty[i] / options.coverage_factor,
-                            result.crack_growth[i] * 1e3, result.load[i],
-                            result.displacement[i] * 1e3, result.curve.R_uncertainty[i]);
-      WriteTextFileAtomic(csv_, text);
-    }
+    if (!csv_.empty()) pipeline::WriteRCurveCsv(csv_, result, options);
 
     if (common.json) {
       nlohmann::json out;
@@ -257,7 +223,7 @@ class RcurveCommand final : public Command {
                     {.field = "--type", .value = type_, .expected = "ct or dcb"});
     }
     auto set = [](double& target, const std::string& text, const char* option) {
-      const double v = Quantity(text, Dimension::Length(), option);
+      const double v = ParseOptionQuantity(text, Dimension::Length(), option);
       if (std::isfinite(v)) target = v;
     };
     set(o.specimen.width, width_, "--width");
@@ -265,13 +231,13 @@ class RcurveCommand final : public Command {
     set(o.specimen.thickness, thickness_, "--thickness");
     set(o.specimen.length, length_, "--length");
     set(o.specimen.notch, notch_, "--notch");
-    const double E = Quantity(modulus_, Dimension::Stress(), "--modulus");
+    const double E = ParseOptionQuantity(modulus_, Dimension::Stress(), "--modulus");
     if (std::isfinite(E)) {
       if (o.material.orthotropic) o.material.E1 = E;
       else o.material.E = E;
     }
     if (std::isfinite(nu_)) o.material.nu = nu_;
-    const double G13 = Quantity(g13_, Dimension::Stress(), "--g13");
+    const double G13 = ParseOptionQuantity(g13_, Dimension::Stress(), "--g13");
     if (std::isfinite(G13)) o.material.G13 = G13;
     if (!plane_.empty()) {
       if (plane_ == "stress") o.specimen.plane = PlaneCondition::kPlaneStress;
@@ -282,14 +248,13 @@ class RcurveCommand final : public Command {
     }
   }
 
-  std::string record_, scene_, method_ = "energy", columns_, units_, out_, csv_, crack_from_;
+  std::string record_, scene_, columns_, units_, out_, csv_, crack_from_;
   std::string type_, width_, height_, thickness_, length_, notch_, modulus_, g13_, plane_;
-  std::string load_noise_, displacement_noise_, crack_noise_, min_increment_, max_crack_;
   std::string block_offset_, block_half_length_;
   bool large_displacement_ = false;
   double nu_ = NAN;
   double coverage_ = 2.0;
-  int smooth_rows_ = 0;
+  RCurveFlags flags_;
   experiment::CleaningOptions cleaning_;
 };
 

@@ -9,7 +9,7 @@
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/io/csv.hpp"
 
-#include "bridgefit/report/report.hpp"
+#include "bridgefit/pipeline/report_file.hpp"
 #include "command.hpp"
 
 namespace bridgefit::cli {
@@ -68,7 +68,7 @@ class ReportCommand final : public Command {
         options_.reference.units[name] = item.substr(eq + 1);
       }
     }
-    const report::ReportSummary s = report::WriteFitReport(fit_, out_, options_);
+    const report::ReportSummary s = pipeline::WriteFitReport(fit_, out_, options_);
     if (common.json) {
       PrintJson({{"index_html", s.index_html.string()},
                  {"figures", s.figures},

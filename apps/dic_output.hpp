@@ -1,7 +1,6 @@
 #pragma once
-// Output of `bridgefit dic` and `bridgefit crack` (the same per-frame table,
-// JSON object, CSV and HDF5 /dic layout; docs/DIC.md). Kept as functions so
-// the HDF5 writer can move into a library.
+// Printed output of `bridgefit dic` and `bridgefit crack` (the same per-frame
+// table and JSON object; docs/DIC.md). Their files: pipeline/dic_file.hpp.
 
 #include <string>
 
@@ -13,8 +12,5 @@ namespace bridgefit::cli {
 // the *_px values ("px" for images; the fields' unit for `crack`).
 void PrintDicResult(const dic::CrackSequenceResult& result, const dic::CrackSequenceOptions& opt,
                     bool json, const std::string& field_unit = "px");
-void WriteDicCsv(const std::string& path, const dic::CrackSequenceResult& result);
-void WriteDicH5(const std::string& path, const dic::CrackSequenceResult& result,
-                const dic::CrackSequenceOptions& opt);
 
 }  // namespace bridgefit::cli

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <optional>
 #include <random>
 
 #include <fmt/format.h>
@@ -63,30 +64,27 @@ void ApplyProfile(const ProfileRun& run, bool lower_side, const FitOptions& opti
   }
 }
 
-}  // namespace
+// What the stages of one fit share.
+struct FitContext {
+  const ForwardModel& model;
+  const laws::LawShape& shape;
+  const FitData& data;
+  const FitOptions& options;
+  const Objective& objective;
+  const std::vector<int>& free;  // the free parameters' indices
+  int n_free, m;                 // free parameters, data points
+  bool weighted, load_fit;
+};
 
-FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape,
-                          const FitData& data, const FitOptions& options) {
-  std::string why;
-  if (!options.IsValid(&why)) throw Error(ErrorKind::kUsage, "invalid fit options: " + why);
-  data.Validate();
-  const Stopwatch clock;
-  const Objective objective(model, shape, data, options);
-  const std::vector<int>& free = objective.free();
-  const int n_free = static_cast<int>(free.size());
-  const int m = static_cast<int>(data.size());
-  const bool weighted = data.weighted();
-  const bool load_fit = data.target == FitTarget::kLoad;
-
-  FitSummary s;
-  s.target = data.target;
-  s.model = model.Name();
-  s.optimizer = OptimizerName(options.optimizer);
-  s.law = std::string(laws::LawFamilyName(shape.family));
-  s.data_points = m;
+// Stage 1: multi-start local searches from a Latin-hypercube design (one
+// start for the global optimizers); every start into s.starts.
+LocalResult MultiStartSearch(const FitContext& c, FitSummary& s) {
+  const FitOptions& options = c.options;
+  const Objective& objective = c.objective;
+  const std::vector<int>& free = c.free;
+  const int n_free = c.n_free;
+  const bool load_fit = c.load_fit;
   Progress progress("fit", static_cast<size_t>(options.starts), options.progress);
-
-  // 1. Multi-start local searches from a Latin-hypercube design.
   const bool global = options.optimizer == Optimizer::kDirect || options.optimizer == Optimizer::kCrs2;
   const int starts = global ? 1 : options.starts;
   auto design = LatinHypercube(starts, n_free, options.seed);
@@ -114,59 +112,66 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
     progress.Update(static_cast<size_t>(k + 1));
   }
   progress.Finish();
-  s.converged = best.converged && best.chi2 < kFailedCost;
-  s.stop_reason = best.stop_reason;
-  if (best.chi2 >= kFailedCost) {
-    s.evaluations = objective.evaluations();
-    s.failed_evaluations = objective.failures();
-    s.wall_s = clock.Seconds();
-    s.converged = false;
-    s.stop_reason = "every forward run failed: " + objective.last_failure();
-    s.verdict = "fit failed: no parameter set gave a valid forward run";
-    return s;
-  }
+  return best;
+}
 
-  std::vector<double> full = objective.Expand(best.x.data());
-  for (int i = 0; i < kParameterCount; ++i) s.best_parameters[i] = full[i];
-  std::vector<double> residuals(m);
-  ForwardPrediction prediction;
-  objective.Residuals(full, residuals.data(), &prediction);
-
-  // Outliers: residuals beyond the threshold in robust standard deviations.
-  if (options.outlier_threshold > 0.0) {
-    std::vector<double> magnitude(m);
-    for (int i = 0; i < m; ++i) magnitude[i] = std::abs(residuals[i]);
-    std::vector<double> sorted = magnitude;
-    std::nth_element(sorted.begin(), sorted.begin() + m / 2, sorted.end());
-    const double robust_sd = 1.4826 * sorted[m / 2];
-    const double limit = options.outlier_threshold * std::max(robust_sd, weighted ? 1.0 : 1e-300);
-    std::vector<int> keep;
-    std::vector<double> removed_a, removed_R;
-    for (int i = 0; i < m; ++i) {
-      if (magnitude[i] <= limit) {
-        keep.push_back(i);
-      } else if (load_fit) {
-        removed_a.push_back(data.displacement[i]);
-        removed_R.push_back(data.load[i]);
-      } else {
-        removed_a.push_back(data.crack_length[i]);
-        removed_R.push_back(data.R[i]);
-      }
-    }
-    if (!removed_a.empty() && removed_a.size() * 5 <= static_cast<size_t>(m)) {
-      FitOptions again = options;
-      again.outlier_threshold = 0.0;
-      FitSummary refit = FitBridgingLaw(model, shape, data.Subset(keep), again);
-      refit.outlier_crack_lengths = removed_a;
-      refit.outlier_R = removed_R;
-      refit.evaluations += objective.evaluations();
-      refit.failed_evaluations += objective.failures();
-      refit.wall_s = clock.Seconds();
-      refit.verdict += fmt::format("; {} outlier(s) removed (residual > {:g} robust SD)",
-                                   removed_a.size(), options.outlier_threshold);
-      return refit;
+// Stage 2: residuals beyond the threshold in robust standard deviations are
+// outliers; with at most a fifth of the points among them, the fit is re-run
+// without them (its summary lists them). nullopt: no refit.
+std::optional<FitSummary> RefitWithoutOutliers(const FitContext& c, const std::vector<double>& residuals,
+                                               const Stopwatch& clock) {
+  const ForwardModel& model = c.model;
+  const laws::LawShape& shape = c.shape;
+  const FitData& data = c.data;
+  const FitOptions& options = c.options;
+  const Objective& objective = c.objective;
+  const int m = c.m;
+  const bool weighted = c.weighted;
+  const bool load_fit = c.load_fit;
+  std::vector<double> magnitude(m);
+  for (int i = 0; i < m; ++i) magnitude[i] = std::abs(residuals[i]);
+  std::vector<double> sorted = magnitude;
+  std::nth_element(sorted.begin(), sorted.begin() + m / 2, sorted.end());
+  const double robust_sd = 1.4826 * sorted[m / 2];
+  const double limit = options.outlier_threshold * std::max(robust_sd, weighted ? 1.0 : 1e-300);
+  std::vector<int> keep;
+  std::vector<double> removed_a, removed_R;
+  for (int i = 0; i < m; ++i) {
+    if (magnitude[i] <= limit) {
+      keep.push_back(i);
+    } else if (load_fit) {
+      removed_a.push_back(data.displacement[i]);
+      removed_R.push_back(data.load[i]);
+    } else {
+      removed_a.push_back(data.crack_length[i]);
+      removed_R.push_back(data.R[i]);
     }
   }
+  if (!removed_a.empty() && removed_a.size() * 5 <= static_cast<size_t>(m)) {
+    FitOptions again = options;
+    again.outlier_threshold = 0.0;
+    FitSummary refit = FitBridgingLaw(model, shape, data.Subset(keep), again);
+    refit.outlier_crack_lengths = removed_a;
+    refit.outlier_R = removed_R;
+    refit.evaluations += objective.evaluations();
+    refit.failed_evaluations += objective.failures();
+    refit.wall_s = clock.Seconds();
+    refit.verdict += fmt::format("; {} outlier(s) removed (residual > {:g} robust SD)",
+                                 removed_a.size(), options.outlier_threshold);
+    return refit;
+  }
+  return std::nullopt;
+}
+
+// Stage 3: the optimum's curves and residuals into the summary. Returns the
+// noise scale s^2 of the intervals and tests.
+double RecordOptimum(const FitContext& c, const LocalResult& best, const ForwardPrediction& prediction,
+                     FitSummary& s) {
+  const FitData& data = c.data;
+  const int n_free = c.n_free;
+  const int m = c.m;
+  const bool weighted = c.weighted;
+  const bool load_fit = c.load_fit;
   s.chi2 = best.chi2;
   s.fitted_crack_length = load_fit ? prediction.crack_length_physical : data.crack_length;
   s.fitted_R = load_fit ? prediction.R_physical : prediction.R;
@@ -188,9 +193,17 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
   // record): the intervals and tests are widened by it (Birge ratio), never
   // narrowed below what the uncertainties give.
   s.reduced_chi2 = best.chi2 / dof;
-  const double scale2 = weighted ? std::max(1.0, s.reduced_chi2) : std::max(s.reduced_chi2, 1e-300);
+  return weighted ? std::max(1.0, s.reduced_chi2) : std::max(s.reduced_chi2, 1e-300);
+}
 
-  // 2. Covariance from the Jacobian: C = s^2 (J^T J)^-1.
+// Stage 4: covariance from the Jacobian, C = s^2 (J^T J)^-1: every
+// parameter's value and a first interval.
+void JacobianIntervals(const FitContext& c, const std::vector<double>& full, double scale2,
+                       FitSummary& s) {
+  const FitOptions& options = c.options;
+  const Objective& objective = c.objective;
+  const std::vector<int>& free = c.free;
+  const int n_free = c.n_free;
   Eigen::MatrixXd jacobian;
   Eigen::MatrixXd covariance = Eigen::MatrixXd::Constant(n_free, n_free, NAN);
   if (PhysicalJacobian(objective, full, &jacobian)) {
@@ -213,141 +226,167 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
     e.identified = std::isfinite(sd);
     e.note = std::isfinite(sd) ? "CI from the Jacobian covariance" : "singular Jacobian";
   }
+}
 
-  // 3. Profile likelihood per free parameter: the others re-optimized. The
-  //    95% interval edges are found by stepping out from the optimum in the
-  //    box coordinate until Delta chi^2 > threshold, then bisecting.
-  const double threshold = 3.84 * scale2;
-  {
-    // J_B's profile decides identifiability (steady state in the window):
-    // it always runs; the others only when asked for. Without full profiles
-    // only J_B's upper side is needed; its lower limit stays the Jacobian one.
-    std::vector<int> ks;
-    for (int k = 0; k < n_free; ++k)
-      if (options.profile_likelihood || free[k] == kJB) ks.push_back(k);
-    const bool lower_side = options.profile_likelihood;
-    std::vector<ProfileRun> runs =
-        RunProfiles(model, shape, data, options, ks, best, full, threshold, lower_side);
-    for (ProfileRun& run : runs) {
-      objective.AddCounts(run.evaluations, run.failures);
-      ApplyProfile(run, lower_side, options, EstimateOf(s, free[run.k]));
-      s.profiles.push_back(std::move(run.profile));
-    }
+// Stage 5: profile likelihood per free parameter, the others re-optimized:
+// the 95% interval edges are found by stepping out from the optimum in the
+// box coordinate until Delta chi^2 > threshold, then bisecting.
+void ProfileIntervals(const FitContext& c, const LocalResult& best, const std::vector<double>& full,
+                      double threshold, FitSummary& s) {
+  const ForwardModel& model = c.model;
+  const laws::LawShape& shape = c.shape;
+  const FitData& data = c.data;
+  const FitOptions& options = c.options;
+  const Objective& objective = c.objective;
+  const std::vector<int>& free = c.free;
+  const int n_free = c.n_free;
+  // J_B's profile decides identifiability (steady state in the window):
+  // it always runs; the others only when asked for. Without full profiles
+  // only J_B's upper side is needed; its lower limit stays the Jacobian one.
+  std::vector<int> ks;
+  for (int k = 0; k < n_free; ++k)
+    if (options.profile_likelihood || free[k] == kJB) ks.push_back(k);
+  const bool lower_side = options.profile_likelihood;
+  std::vector<ProfileRun> runs =
+      RunProfiles(model, shape, data, options, ks, best, full, threshold, lower_side);
+  for (ProfileRun& run : runs) {
+    objective.AddCounts(run.evaluations, run.failures);
+    ApplyProfile(run, lower_side, options, EstimateOf(s, free[run.k]));
+    s.profiles.push_back(std::move(run.profile));
   }
+}
 
-  // 4. Bridging detected? Likelihood ratio of the flat model R = J_tip,c.
-  if (!options.fixed[kJB]) {
-    std::vector<double> flat = full;
-    flat[kJB] = 0.0;
-    double flat_chi2 = kFailedCost;
-    // Best constant: the weighted mean of R (sum of weights sw kept for its
-    // interval). A load-displacement record: J_tip,c re-optimized alone.
-    double sw = 0.0, swr = 0.0;
-    bool flat_converged = true;  // the weighted mean is closed-form
-    std::string flat_stop_reason = "closed form";
+// Stage 6: bridging detected? Likelihood ratio of the flat model R = J_tip,c,
+// and the bridging the law adds inside the data against the models' R
+// accuracy. True when none is detected: `s` then holds the flat model.
+bool RecordNoBridging(const FitContext& c, const LocalResult& best, const std::vector<double>& full,
+                      const ForwardPrediction& prediction, double scale2, FitSummary& s) {
+  const ForwardModel& model = c.model;
+  const laws::LawShape& shape = c.shape;
+  const FitData& data = c.data;
+  const FitOptions& options = c.options;
+  const Objective& objective = c.objective;
+  const int m = c.m;
+  const bool weighted = c.weighted;
+  const bool load_fit = c.load_fit;
+  if (options.fixed[kJB]) return false;
+  std::vector<double> flat = full;
+  flat[kJB] = 0.0;
+  double flat_chi2 = kFailedCost;
+  // Best constant: the weighted mean of R (sum of weights sw kept for its
+  // interval). A load-displacement record: J_tip,c re-optimized alone.
+  double sw = 0.0, swr = 0.0;
+  bool flat_converged = true;  // the weighted mean is closed-form
+  std::string flat_stop_reason = "closed form";
+  if (load_fit) {
+    if (!options.fixed[kJTipC]) {
+      FitOptions only_tip = options;
+      only_tip.fixed = {true, true, false};
+      only_tip.fixed_value = {full[kSigmaC], 0.0, 0.0};
+      const Objective tip_only(model, shape, data, only_tip);
+      // From the better of the bridged optimum's J_tip,c and the given start's.
+      std::vector<double> x0{ToBox(kJTipC, full[kJTipC], options)};
+      if (std::isfinite(options.initial[kJTipC])) {
+        const std::vector<double> other{ToBox(kJTipC, options.initial[kJTipC], options)};
+        if (tip_only.Chi2(tip_only.Expand(other.data())) < tip_only.Chi2(tip_only.Expand(x0.data())))
+          x0 = other;
+      }
+      const LocalResult r = MinimizeNlopt(tip_only, Optimizer::kNelderMead, x0, 80);
+      objective.AddCounts(tip_only.evaluations(), tip_only.failures());
+      flat = tip_only.Expand(r.x.data());
+      flat_converged = r.converged;
+      flat_stop_reason = r.stop_reason;
+      // One-parameter curvature for the interval: sw = d2chi2/dJ^2 / 2.
+      const double J = flat[kJTipC], h = 1e-3 * J;
+      std::vector<double> up = flat, down = flat;
+      up[kJTipC] = J + h;
+      down[kJTipC] = J - h;
+      const double c0 = objective.Chi2(flat), cp = objective.Chi2(up), cm = objective.Chi2(down);
+      sw = (cp - 2 * c0 + cm) / (2 * h * h);
+    }
+  } else {
+    for (int i = 0; i < m; ++i) {
+      const double w = weighted ? 1.0 / std::pow(data.R_uncertainty[i], 2) : 1.0;
+      sw += w;
+      swr += w * data.R[i];
+    }
+    if (!options.fixed[kJTipC]) flat[kJTipC] = swr / sw;
+  }
+  flat_chi2 = objective.Chi2(flat);
+  const double statistic = (flat_chi2 - best.chi2) / scale2;
+  // Bridging below the models' own R accuracy is not reported either: the
+  // smaller of J_B and the rise of the fitted R inside the data window (a
+  // weak, long zone may hold a large J_B yet add little R before the end).
+  const std::vector<double>& fitted_R = load_fit ? prediction.R_physical : prediction.R;
+  double rise = 0.0;
+  for (double r : fitted_R) rise = std::max(rise, r - full[kJTipC]);
+  const double bridging_seen = std::min(full[kJB], rise);
+  const bool below_resolution =
+      flat_chi2 < kFailedCost && bridging_seen < options.min_bridging_fraction * full[kJTipC];
+  if ((flat_chi2 < kFailedCost && statistic < 5.99) || below_resolution) {
+    s.bridging_detected = false;
+    s.verdict =
+        statistic < 0.0
+            ? fmt::format("no bridging detected: a flat R curve fits better than the best "
+                          "bridged law found (chi^2 {:.4g} against {:.4g})",
+                          flat_chi2, best.chi2)
+        : statistic < 5.99
+            ? fmt::format("no bridging detected: a flat R curve fits as well (likelihood-ratio "
+                          "statistic {:.2f} < 5.99, 2 parameters at 95%)", statistic)
+            : fmt::format("no bridging detected: the best law adds {:.3g} J/m^2 to R in the "
+                          "data (J_B = {:.3g} J/m^2), below {:g}% of J_tip,c, the forward "
+                          "models' R accuracy (likelihood-ratio statistic {:.2f})",
+                          bridging_seen, full[kJB], 100 * options.min_bridging_fraction,
+                          statistic);
+    // The answer is the flat model: its convergence is the fit's.
+    s.converged = flat_converged;
+    s.stop_reason = "flat model (J_B = 0): " + flat_stop_reason;
+    s.J_B = {.value = 0.0, .identified = true,
+             .decided_by = statistic < 5.99 ? "likelihood-ratio test" : "model R accuracy",
+             .note = "J_B consistent with 0"};
+    s.sigma_c = {.decided_by = "likelihood-ratio test", .note = "no bridging detected"};
+    s.delta_c = {.decided_by = "likelihood-ratio test", .note = "no bridging detected"};
+    if (!options.fixed[kJTipC]) {
+      const double flat_reduced = flat_chi2 / std::max(1, m - 1);
+      const double flat_scale2 = weighted ? std::max(1.0, flat_reduced) : flat_reduced;
+      const double sd = sw > 0.0 ? std::sqrt(flat_scale2 / sw) : NAN;
+      s.J_tip_c = {.value = flat[kJTipC], .ci95_low = flat[kJTipC] - 1.96 * sd,
+                   .ci95_high = flat[kJTipC] + 1.96 * sd, .identified = std::isfinite(sd),
+                   .decided_by = load_fit ? "load-displacement fit without bridging"
+                                          : "weighted mean (flat R curve)",
+                   .note = "no bridging"};
+    }
+    s.rms_residual = 0.0;
     if (load_fit) {
-      if (!options.fixed[kJTipC]) {
-        FitOptions only_tip = options;
-        only_tip.fixed = {true, true, false};
-        only_tip.fixed_value = {full[kSigmaC], 0.0, 0.0};
-        const Objective tip_only(model, shape, data, only_tip);
-        // From the better of the bridged optimum's J_tip,c and the given start's.
-        std::vector<double> x0{ToBox(kJTipC, full[kJTipC], options)};
-        if (std::isfinite(options.initial[kJTipC])) {
-          const std::vector<double> other{ToBox(kJTipC, options.initial[kJTipC], options)};
-          if (tip_only.Chi2(tip_only.Expand(other.data())) < tip_only.Chi2(tip_only.Expand(x0.data())))
-            x0 = other;
-        }
-        const LocalResult r = MinimizeNlopt(tip_only, Optimizer::kNelderMead, x0, 80);
-        objective.AddCounts(tip_only.evaluations(), tip_only.failures());
-        flat = tip_only.Expand(r.x.data());
-        flat_converged = r.converged;
-        flat_stop_reason = r.stop_reason;
-        // One-parameter curvature for the interval: sw = d2chi2/dJ^2 / 2.
-        const double J = flat[kJTipC], h = 1e-3 * J;
-        std::vector<double> up = flat, down = flat;
-        up[kJTipC] = J + h;
-        down[kJTipC] = J - h;
-        const double c0 = objective.Chi2(flat), cp = objective.Chi2(up), cm = objective.Chi2(down);
-        sw = (cp - 2 * c0 + cm) / (2 * h * h);
-      }
+      std::vector<double> r(m);
+      ForwardPrediction at_flat;
+      objective.Residuals(flat, r.data(), &at_flat);
+      s.fitted_crack_length = at_flat.crack_length_physical;
+      s.fitted_R = at_flat.R_physical;
+      s.fitted_load = at_flat.load;
+      for (int i = 0; i < m && i < static_cast<int>(at_flat.load.size()); ++i)
+        s.rms_residual += std::pow(at_flat.load[i] - data.load[i], 2);
     } else {
-      for (int i = 0; i < m; ++i) {
-        const double w = weighted ? 1.0 / std::pow(data.R_uncertainty[i], 2) : 1.0;
-        sw += w;
-        swr += w * data.R[i];
-      }
-      if (!options.fixed[kJTipC]) flat[kJTipC] = swr / sw;
+      s.fitted_R.assign(m, flat[kJTipC]);
+      for (int i = 0; i < m; ++i) s.rms_residual += std::pow(flat[kJTipC] - data.R[i], 2);
     }
-    flat_chi2 = objective.Chi2(flat);
-    const double statistic = (flat_chi2 - best.chi2) / scale2;
-    // Bridging below the models' own R accuracy is not reported either: the
-    // smaller of J_B and the rise of the fitted R inside the data window (a
-    // weak, long zone may hold a large J_B yet add little R before the end).
-    const std::vector<double>& fitted_R = load_fit ? prediction.R_physical : prediction.R;
-    double rise = 0.0;
-    for (double r : fitted_R) rise = std::max(rise, r - full[kJTipC]);
-    const double bridging_seen = std::min(full[kJB], rise);
-    const bool below_resolution =
-        flat_chi2 < kFailedCost && bridging_seen < options.min_bridging_fraction * full[kJTipC];
-    if ((flat_chi2 < kFailedCost && statistic < 5.99) || below_resolution) {
-      s.bridging_detected = false;
-      s.verdict =
-          statistic < 0.0
-              ? fmt::format("no bridging detected: a flat R curve fits better than the best "
-                            "bridged law found (chi^2 {:.4g} against {:.4g})",
-                            flat_chi2, best.chi2)
-          : statistic < 5.99
-              ? fmt::format("no bridging detected: a flat R curve fits as well (likelihood-ratio "
-                            "statistic {:.2f} < 5.99, 2 parameters at 95%)", statistic)
-              : fmt::format("no bridging detected: the best law adds {:.3g} J/m^2 to R in the "
-                            "data (J_B = {:.3g} J/m^2), below {:g}% of J_tip,c, the forward "
-                            "models' R accuracy (likelihood-ratio statistic {:.2f})",
-                            bridging_seen, full[kJB], 100 * options.min_bridging_fraction,
-                            statistic);
-      // The answer is the flat model: its convergence is the fit's.
-      s.converged = flat_converged;
-      s.stop_reason = "flat model (J_B = 0): " + flat_stop_reason;
-      s.J_B = {.value = 0.0, .identified = true,
-               .decided_by = statistic < 5.99 ? "likelihood-ratio test" : "model R accuracy",
-               .note = "J_B consistent with 0"};
-      s.sigma_c = {.decided_by = "likelihood-ratio test", .note = "no bridging detected"};
-      s.delta_c = {.decided_by = "likelihood-ratio test", .note = "no bridging detected"};
-      if (!options.fixed[kJTipC]) {
-        const double flat_reduced = flat_chi2 / std::max(1, m - 1);
-        const double flat_scale2 = weighted ? std::max(1.0, flat_reduced) : flat_reduced;
-        const double sd = sw > 0.0 ? std::sqrt(flat_scale2 / sw) : NAN;
-        s.J_tip_c = {.value = flat[kJTipC], .ci95_low = flat[kJTipC] - 1.96 * sd,
-                     .ci95_high = flat[kJTipC] + 1.96 * sd, .identified = std::isfinite(sd),
-                     .decided_by = load_fit ? "load-displacement fit without bridging"
-                                            : "weighted mean (flat R curve)",
-                     .note = "no bridging"};
-      }
-      s.rms_residual = 0.0;
-      if (load_fit) {
-        std::vector<double> r(m);
-        ForwardPrediction at_flat;
-        objective.Residuals(flat, r.data(), &at_flat);
-        s.fitted_crack_length = at_flat.crack_length_physical;
-        s.fitted_R = at_flat.R_physical;
-        s.fitted_load = at_flat.load;
-        for (int i = 0; i < m && i < static_cast<int>(at_flat.load.size()); ++i)
-          s.rms_residual += std::pow(at_flat.load[i] - data.load[i], 2);
-      } else {
-        s.fitted_R.assign(m, flat[kJTipC]);
-        for (int i = 0; i < m; ++i) s.rms_residual += std::pow(flat[kJTipC] - data.R[i], 2);
-      }
-      s.rms_residual = std::sqrt(s.rms_residual / m);
-      s.chi2 = flat_chi2;
-      s.evaluations = objective.evaluations();
-      s.failed_evaluations = objective.failures();
-      s.wall_s = clock.Seconds();
-      return s;
-    }
+    s.rms_residual = std::sqrt(s.rms_residual / m);
+    s.chi2 = flat_chi2;
+    return true;
   }
+  return false;
+}
 
-  // 5. Steady state in the data? The fitted model must reach it inside the
-  //    data window, with the J_B profile bounded above.
+// Stage 7: steady state in the data? The fitted model must reach it inside
+// the data window, with the J_B profile bounded above; delta_c from J_B and
+// sigma_c, and the PHYSICS 7 bounds when it is not reached.
+void SteadyStateAndBounds(const FitContext& c, const LocalResult& best, const std::vector<double>& full,
+                          const ForwardPrediction& prediction, double threshold, FitSummary& s) {
+  const laws::LawShape& shape = c.shape;
+  const FitData& data = c.data;
+  const FitOptions& options = c.options;
+  const Objective& objective = c.objective;
+  const int m = c.m;
   // The data's axis may be an equivalent crack length (R kind as-data): the
   // model's physical crack length and R behind each point then decide.
   // A record's last row need not hold its longest crack (an unloading tail):
@@ -426,10 +465,57 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
                                   s.steady_state_crack_length * 1e3)
                     : "J_B fixed by the user";
   }
-  s.evaluations = objective.evaluations();
-  s.failed_evaluations = objective.failures();
-  s.wall_s = clock.Seconds();
-  return s;
+}
+
+}  // namespace
+
+FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape,
+                          const FitData& data, const FitOptions& options) {
+  std::string why;
+  if (!options.IsValid(&why)) throw Error(ErrorKind::kUsage, "invalid fit options: " + why);
+  data.Validate();
+  const Stopwatch clock;
+  const Objective objective(model, shape, data, options);
+  const FitContext c{model, shape, data, options, objective, objective.free(),
+                     static_cast<int>(objective.free().size()), static_cast<int>(data.size()),
+                     data.weighted(), data.target == FitTarget::kLoad};
+
+  FitSummary s;
+  s.target = data.target;
+  s.model = model.Name();
+  s.optimizer = OptimizerName(options.optimizer);
+  s.law = std::string(laws::LawFamilyName(shape.family));
+  s.data_points = c.m;
+  auto finish = [&]() {
+    s.evaluations = objective.evaluations();
+    s.failed_evaluations = objective.failures();
+    s.wall_s = clock.Seconds();
+    return s;
+  };
+
+  const LocalResult best = MultiStartSearch(c, s);
+  s.converged = best.converged && best.chi2 < kFailedCost;
+  s.stop_reason = best.stop_reason;
+  if (best.chi2 >= kFailedCost) {
+    s.converged = false;
+    s.stop_reason = "every forward run failed: " + objective.last_failure();
+    s.verdict = "fit failed: no parameter set gave a valid forward run";
+    return finish();
+  }
+  const std::vector<double> full = objective.Expand(best.x.data());
+  for (int i = 0; i < kParameterCount; ++i) s.best_parameters[i] = full[i];
+  std::vector<double> residuals(c.m);
+  ForwardPrediction prediction;
+  objective.Residuals(full, residuals.data(), &prediction);
+
+  if (std::optional<FitSummary> refit = RefitWithoutOutliers(c, residuals, clock)) return *refit;
+  const double scale2 = RecordOptimum(c, best, prediction, s);
+  JacobianIntervals(c, full, scale2, s);
+  const double threshold = 3.84 * scale2;
+  ProfileIntervals(c, best, full, threshold, s);
+  if (RecordNoBridging(c, best, full, prediction, scale2, s)) return finish();
+  SteadyStateAndBounds(c, best, full, prediction, threshold, s);
+  return finish();
 }
 
 std::vector<LawComparison> CompareLawFamilies(const ForwardModel& model,

@@ -255,180 +255,259 @@ bool SolveZoneDense(const Eigen::MatrixXd& F, const Eigen::VectorXd& Fg, const E
   return true;
 }
 
+namespace {
+
 // Growth with the stiffness form of (1): S_ff u + b(u) = g p, solved by
 // (chord) Newton on (u, p) with the LDL^T factor of S_ff + diag(b') kept
 // across crack lengths (bordering, rank-one updates where a slope changed),
 // O(t^2) per crack length instead of a dense O(k^3) factorization.
+// The state carried across crack lengths and, per tip node t, the step's
+// quantities; the stages of a step are the member functions:
+//   BeginStep -> Solve (SolveZoneDense | SolveUnbridged | SolveChordNewton)
+//   -> Record -> Border.
+class BorderedGrowth {
+ public:
+  BorderedGrowth(const CrackPlaneModel& m, const laws::BridgingLaw* law, double J_tip_c,
+                 const ReducedOptions& options, int& newton_total)
+      : m_(m), law_(law), J_tip_c_(J_tip_c), options_(options), newton_total_(newton_total),
+        n_(m.size()), h_(m.resolution), S_(m.stiffness.data(), n_, n_), g_(m.load.data(), n_),
+        tip_traction_(law ? law->Traction(0.0) : 0.0), delta_max_(n_, 0.0), broken_(n_, 0),
+        elastic_(n_), tangent_(n_), slope_(Eigen::VectorXd::Zero(n_)), work_(n_), work2_(n_),
+        u_(Eigen::VectorXd::Zero(n_)), b_(n_), db_(n_), r_u_(n_), a_(n_), x1_(n_), x2_(n_),
+        trial_u_(n_), trial_r_(n_), trial_a_(n_),
+        force_scale_(S_.diagonal().cwiseAbs().maxCoeff()),
+        // The flexibility of the free nodes too (bordering, O(t^2) per crack
+        // length) for crack lengths whose bridged zone is short: there the
+        // dense zone solve (O(k^3)) is cheaper than O(t^2) iterations on all
+        // free nodes.
+        F_(Eigen::MatrixXd::Zero(n_, n_)), v_(n_), Fg_(n_) {
+    elastic_.Border(S_.col(0), S_(0, 0), work_);
+    tangent_.Border(S_.col(0), S_(0, 0), work_);
+    F_(0, 0) = 1.0 / S_(0, 0);
+  }
+
+  // The equilibrium with the tip at node t: false when Newton did not
+  // converge or the load is not positive.
+  bool Solve(int t) {
+    BeginStep(t);
+    const Eigen::Ref<const Eigen::VectorXd> s_t = S_.col(t).head(t);
+    v_.head(t).noalias() = F_.topLeftCorner(t, t) * s_t;
+    const int zone_size = law_ ? t - z0_ : 0;
+    const bool dense_zone = options_.solver == ReducedOptions::Solver::kHybrid && zone_size > 0 &&
+                            p_ > 0.0 && std::pow(zone_size, 3) < 6.0 * t * t;
+    bool converged = false;
+    if (dense_zone) {
+      Fg_.head(t).noalias() = F_.topLeftCorner(t, t) * g_.head(t);
+      const double alpha = v_.head(t).dot(g_.head(t)) - g_[t];
+      converged = SolveZoneDense(F_, Fg_, v_, phi_, alpha, F_(t - 1, t - 1), tip_force_, z0_, t, h_,
+                                 *law_, delta_max_, J_tip_c_, options_, u_, p_, newton_total_);
+    } else if (!law_) {
+      converged = SolveUnbridged();
+    } else {
+      converged = SolveChordNewton();
+    }
+    return converged && p_ > 0.0;
+  }
+
+  // The converged point: opening history and the R-curve point of tip t.
+  void Record(SimulationResult& result) {
+    const int t = t_;
+    const Eigen::Ref<const Eigen::VectorXd> s_t = S_.col(t).head(t);
+    Slopes(u_);
+    const double R_t = s_t.dot(u_.head(t)) - g_[t] * p_ + tip_force_;
+    const double J_tip = CentredTipEnergy(R_t, phi_, u_[t - 1], psi_, h_);
+    RecordPoint(m_, law_, J_tip_c_, t, u_, p_, J_tip, delta_max_, broken_, result);
+  }
+
+  // Node t joins the free nodes (flexibility, elastic and tangent factors)
+  // shut; its slope is the envelope's at zero opening.
+  void Border() {
+    const int t = t_;
+    BorderFlexibility(F_, v_, phi_, t);
+    elastic_.Border(S_.col(t), S_(t, t), work_);
+    double slope_t = 0.0;
+    if (law_) slope_t = 2.0 * FaceLength(t) * BridgingTraction(*law_, 0.0, 0.0).slope;
+    tangent_.Border(S_.col(t), S_(t, t) + slope_t, work_);
+    slope_[t] = slope_t;
+    u_[t] = 0.0;
+  }
+
+ private:
+  double FaceLength(int r) const { return r == 1 ? 0.5 * h_ : h_; }
+
+  // The tip node's flexibility terms and the first node of the bridged zone.
+  void BeginStep(int t) {
+    t_ = t;
+    phi_ = 1.0 / elastic_.Preview(S_.col(t), S_(t, t), work_);
+    psi_ = 1.0 / elastic_.pivot(t - 1);
+    tip_force_ = law_ ? tip_traction_ * FaceLength(t) : 0.0;
+    z0_ = 1;
+    while (z0_ < t && broken_[z0_]) ++z0_;
+  }
+
+  // Slopes b'_j at the current state.
+  void Slopes(const Eigen::VectorXd& x_u) {
+    const int t = t_;
+    b_.head(t).setZero();
+    db_.head(t).setZero();
+    if (!law_) return;
+    for (int r = z0_; r < t; ++r) {
+      const TractionSlope ts = BridgingTraction(*law_, 2.0 * x_u[r], delta_max_[r]);
+      b_[r] = FaceLength(r) * ts.sigma;
+      db_[r] = 2.0 * FaceLength(r) * ts.slope;
+    }
+  }
+
+  // Refreshes the tangent factor where the slopes moved; true when any did.
+  bool Refresh(double tolerance) {
+    bool changed = false;
+    for (int r = 1; r < t_; ++r) {
+      const double target = (law_ && r >= z0_) ? db_[r] : 0.0;
+      if (std::abs(target - slope_[r]) > tolerance * S_(r, r)) {
+        tangent_.AddToDiagonal(r, target - slope_[r], work2_);
+        slope_[r] = target;
+        changed = true;
+      }
+    }
+    return changed;
+  }
+
+  // Residuals: r_u = S u + b - g p (force), r_G = sqrt(J_tip / J_c) - 1, and
+  // the gradient a = d r_G / d u, e = d r_G / d p.
+  void Evaluate(const Eigen::VectorXd& x_u, double x_p, Eigen::VectorXd& ru, Eigen::VectorXd& grad,
+                double& rg, double& de) {
+    const int t = t_;
+    const Eigen::Ref<const Eigen::VectorXd> s_t = S_.col(t).head(t);
+    Slopes(x_u);
+    ru.head(t).noalias() = S_.topLeftCorner(t, t).selfadjointView<Eigen::Lower>() * x_u.head(t);
+    ru.head(t) += b_.head(t) - g_.head(t) * x_p;
+    const double reaction = s_t.dot(x_u.head(t)) - g_[t] * x_p + tip_force_;
+    const double G = CentredTipEnergy(reaction, phi_, x_u[t - 1], psi_, h_);
+    const double sqrtG = std::sqrt(std::max(G, 1e-300));
+    rg = sqrtG / std::sqrt(J_tip_c_) - 1.0;
+    const double scale = 1.0 / (2.0 * sqrtG * std::sqrt(J_tip_c_) * h_);
+    grad.head(t) = (scale * reaction * phi_) * s_t;
+    grad[t - 1] += scale * x_u[t - 1] / psi_;
+    de = -scale * reaction * phi_ * g_[t];
+  }
+
+  double Norm(const Eigen::VectorXd& ru, const Eigen::VectorXd& x_u, double rg) const {
+    const int t = t_;
+    const double u_scale = std::max(x_u.head(t).cwiseAbs().maxCoeff(), 1e-12);
+    return std::max(ru.head(t).cwiseAbs().maxCoeff() / (force_scale_ * u_scale), std::abs(rg));
+  }
+
+  // No law: linear in p, u = p S^-1 g, J_tip quadratic in p.
+  bool SolveUnbridged() {
+    const int t = t_;
+    const Eigen::Ref<const Eigen::VectorXd> s_t = S_.col(t).head(t);
+    x2_.head(t) = g_.head(t);
+    tangent_.Solve(x2_.head(t));
+    const double R1 = s_t.dot(x2_.head(t)) - g_[t];
+    const double A = R1 * R1 * phi_ + x2_[t - 1] * x2_[t - 1] / psi_;
+    p_ = std::sqrt(2.0 * h_ * J_tip_c_ / A);
+    u_.head(t) = p_ * x2_.head(t);
+    return std::isfinite(p_);
+  }
+
+  // Chord Newton on (u, p) with a backtracking line search; the first step
+  // starts from the unbridged LEFM load.
+  bool SolveChordNewton() {
+    const int t = t_;
+    const Eigen::Ref<const Eigen::VectorXd> s_t = S_.col(t).head(t);
+    if (t == 1) p_ = 0.0;
+    if (p_ <= 0.0) {
+      x2_.head(t) = g_.head(t);
+      elastic_.Solve(x2_.head(t));
+      const double R1 = s_t.dot(x2_.head(t)) - g_[t];
+      p_ = std::sqrt(2.0 * h_ * J_tip_c_ / (R1 * R1 * phi_ + x2_[t - 1] * x2_[t - 1] / psi_));
+    }
+    Slopes(u_);
+    Refresh(1e-9);
+    x2_.head(t) = g_.head(t);
+    tangent_.Solve(x2_.head(t));
+    double r_G = 0.0, e = 0.0;
+    Evaluate(u_, p_, r_u_, a_, r_G, e);
+    double current = Norm(r_u_, u_, r_G);
+    double previous = INFINITY;
+    bool converged = false;
+    for (int it = 0; it < options_.max_newton_iterations; ++it) {
+      ++newton_total_;
+      if (current < options_.tolerance) {
+        converged = true;
+        break;
+      }
+      if (current > 0.25 * previous && Refresh(1e-9)) {
+        x2_.head(t) = g_.head(t);
+        tangent_.Solve(x2_.head(t));
+      }
+      previous = current;
+      // [K -g; a^T e] [du; dp] = -[r_u; r_G] by block elimination.
+      x1_.head(t) = r_u_.head(t);
+      tangent_.Solve(x1_.head(t));
+      const double dp = (-r_G + a_.head(t).dot(x1_.head(t))) / (a_.head(t).dot(x2_.head(t)) + e);
+      double lambda = 1.0, trial = INFINITY, trial_p = p_, trial_rg = 0.0, trial_e = 0.0;
+      for (int ls = 0; ls < 30; ++ls, lambda *= 0.5) {
+        trial_u_.head(t) = u_.head(t) + lambda * (x2_.head(t) * dp - x1_.head(t));
+        trial_p = p_ + lambda * dp;
+        Evaluate(trial_u_, trial_p, trial_r_, trial_a_, trial_rg, trial_e);
+        trial = Norm(trial_r_, trial_u_, trial_rg);
+        if (trial < current * (1.0 - 1e-4 * lambda) || trial < options_.tolerance) break;
+      }
+      u_.head(t) = trial_u_.head(t);
+      p_ = trial_p;
+      r_u_.head(t) = trial_r_.head(t);
+      a_.head(t) = trial_a_.head(t);
+      r_G = trial_rg;
+      e = trial_e;
+      current = trial;
+    }
+    if (!converged && current < options_.tolerance) converged = true;
+    return converged;
+  }
+
+  const CrackPlaneModel& m_;
+  const laws::BridgingLaw* law_;
+  const double J_tip_c_;
+  const ReducedOptions& options_;
+  int& newton_total_;
+  const int n_;
+  const double h_;
+  const Eigen::Map<const Eigen::MatrixXd> S_;
+  const Eigen::Map<const Eigen::VectorXd> g_;
+  const double tip_traction_;
+  std::vector<double> delta_max_;
+  std::vector<char> broken_;
+  GrowingLdlt elastic_, tangent_;
+  Eigen::VectorXd slope_;  // b' held in `tangent_`
+  Eigen::VectorXd work_, work2_;
+  Eigen::VectorXd u_, b_, db_, r_u_, a_, x1_, x2_, trial_u_, trial_r_, trial_a_;
+  double p_ = 0.0;
+  const double force_scale_;
+  Eigen::MatrixXd F_;
+  Eigen::VectorXd v_, Fg_;
+  // The step: tip node, its flexibility terms, tip force, first zone node.
+  int t_ = 0, z0_ = 1;
+  double phi_ = NAN, psi_ = NAN, tip_force_ = 0.0;
+};
+
+}  // namespace
+
 void GrowBordered(const CrackPlaneModel& m, const laws::BridgingLaw* law, double J_tip_c,
                   const ReducedOptions& options, SimulationResult& result, int& newton_total) {
   const int n = m.size();
-  const double h = m.resolution;
-  const Eigen::Map<const Eigen::MatrixXd> S(m.stiffness.data(), n, n);
-  const Eigen::Map<const Eigen::VectorXd> g(m.load.data(), n);
-  auto face_length = [&](int r) { return r == 1 ? 0.5 * h : h; };
-  const double tip_traction = law ? law->Traction(0.0) : 0.0;
-  std::vector<double> delta_max(n, 0.0);
-  std::vector<char> broken(n, 0);
-  GrowingLdlt elastic(n), tangent(n);
-  Eigen::VectorXd slope = Eigen::VectorXd::Zero(n);  // b' held in `tangent`
-  Eigen::VectorXd work(n), work2(n);
-  elastic.Border(S.col(0), S(0, 0), work);
-  tangent.Border(S.col(0), S(0, 0), work);
-  Eigen::VectorXd u = Eigen::VectorXd::Zero(n), b(n), db(n), r_u(n), a(n), x1(n), x2(n);
-  Eigen::VectorXd trial_u(n), trial_r(n), trial_a(n);
-  double p = 0.0;
-  const double force_scale = S.diagonal().cwiseAbs().maxCoeff();
-  // The flexibility of the free nodes too (bordering, O(t^2) per crack length)
-  // for crack lengths whose bridged zone is short: there the dense zone solve
-  // (O(k^3)) is cheaper than O(t^2) iterations on all free nodes.
-  Eigen::MatrixXd F = Eigen::MatrixXd::Zero(n, n);
-  F(0, 0) = 1.0 / S(0, 0);
-  Eigen::VectorXd v(n), Fg(n);
+  BorderedGrowth growth(m, law, J_tip_c, options, newton_total);
   Progress progress("reduced model", static_cast<size_t>(n - 1), options.progress);
-
   for (int t = 1; t < n; ++t) {
-    const Eigen::Ref<const Eigen::VectorXd> s_t = S.col(t).head(t);
-    const double phi = 1.0 / elastic.Preview(S.col(t), S(t, t), work);
-    const double psi = 1.0 / elastic.pivot(t - 1);
-    const double tip_force = law ? tip_traction * face_length(t) : 0.0;
-    int z0 = 1;
-    while (z0 < t && broken[z0]) ++z0;
-
-    // Slopes b'_j at the current state; refresh the factor where they moved.
-    auto slopes = [&](const Eigen::VectorXd& x_u) {
-      b.head(t).setZero();
-      db.head(t).setZero();
-      if (!law) return;
-      for (int r = z0; r < t; ++r) {
-        const TractionSlope ts = BridgingTraction(*law, 2.0 * x_u[r], delta_max[r]);
-        b[r] = face_length(r) * ts.sigma;
-        db[r] = 2.0 * face_length(r) * ts.slope;
-      }
-    };
-    auto refresh = [&](double tolerance) {
-      bool changed = false;
-      for (int r = 1; r < t; ++r) {
-        const double target = (law && r >= z0) ? db[r] : 0.0;
-        if (std::abs(target - slope[r]) > tolerance * S(r, r)) {
-          tangent.AddToDiagonal(r, target - slope[r], work2);
-          slope[r] = target;
-          changed = true;
-        }
-      }
-      return changed;
-    };
-    // Residuals: r_u = S u + b - g p (force), r_G = sqrt(J_tip / J_c) - 1, and
-    // the gradient a = d r_G / d u, e = d r_G / d p.
-    double reaction = 0.0, G = 0.0, e = 0.0, r_G = 0.0;
-    auto evaluate = [&](const Eigen::VectorXd& x_u, double x_p, Eigen::VectorXd& ru,
-                        Eigen::VectorXd& grad, double& rg, double& de) {
-      slopes(x_u);
-      ru.head(t).noalias() = S.topLeftCorner(t, t).selfadjointView<Eigen::Lower>() * x_u.head(t);
-      ru.head(t) += b.head(t) - g.head(t) * x_p;
-      reaction = s_t.dot(x_u.head(t)) - g[t] * x_p + tip_force;
-      G = CentredTipEnergy(reaction, phi, x_u[t - 1], psi, h);
-      const double sqrtG = std::sqrt(std::max(G, 1e-300));
-      rg = sqrtG / std::sqrt(J_tip_c) - 1.0;
-      const double scale = 1.0 / (2.0 * sqrtG * std::sqrt(J_tip_c) * h);
-      grad.head(t) = (scale * reaction * phi) * s_t;
-      grad[t - 1] += scale * x_u[t - 1] / psi;
-      de = -scale * reaction * phi * g[t];
-    };
-    auto norm = [&](const Eigen::VectorXd& ru, const Eigen::VectorXd& x_u, double rg) {
-      const double u_scale = std::max(x_u.head(t).cwiseAbs().maxCoeff(), 1e-12);
-      return std::max(ru.head(t).cwiseAbs().maxCoeff() / (force_scale * u_scale), std::abs(rg));
-    };
-
-    v.head(t).noalias() = F.topLeftCorner(t, t) * s_t;
-    const int zone_size = law ? t - z0 : 0;
-    const bool dense_zone = options.solver == ReducedOptions::Solver::kHybrid && zone_size > 0 &&
-                            p > 0.0 && std::pow(zone_size, 3) < 6.0 * t * t;
-    bool converged = false;
-    if (dense_zone) {
-      Fg.head(t).noalias() = F.topLeftCorner(t, t) * g.head(t);
-      const double alpha = v.head(t).dot(g.head(t)) - g[t];
-      converged = SolveZoneDense(F, Fg, v, phi, alpha, F(t - 1, t - 1), tip_force, z0, t, h, *law,
-                                 delta_max, J_tip_c, options, u, p, newton_total);
-    } else if (!law) {
-      // Linear in p: u = p S^-1 g, J_tip quadratic in p.
-      x2.head(t) = g.head(t);
-      tangent.Solve(x2.head(t));
-      const double R1 = s_t.dot(x2.head(t)) - g[t];
-      const double A = R1 * R1 * phi + x2[t - 1] * x2[t - 1] / psi;
-      p = std::sqrt(2.0 * h * J_tip_c / A);
-      u.head(t) = p * x2.head(t);
-      converged = std::isfinite(p);
-    } else {
-      if (t == 1) p = 0.0;
-      if (p <= 0.0) {
-        // First step: the unbridged LEFM load.
-        x2.head(t) = g.head(t);
-        elastic.Solve(x2.head(t));
-        const double R1 = s_t.dot(x2.head(t)) - g[t];
-        p = std::sqrt(2.0 * h * J_tip_c / (R1 * R1 * phi + x2[t - 1] * x2[t - 1] / psi));
-      }
-      slopes(u);
-      refresh(1e-9);
-      x2.head(t) = g.head(t);
-      tangent.Solve(x2.head(t));
-      evaluate(u, p, r_u, a, r_G, e);
-      double current = norm(r_u, u, r_G);
-      double previous = INFINITY;
-      for (int it = 0; it < options.max_newton_iterations; ++it) {
-        ++newton_total;
-        if (current < options.tolerance) {
-          converged = true;
-          break;
-        }
-        if (current > 0.25 * previous && refresh(1e-9)) {
-          x2.head(t) = g.head(t);
-          tangent.Solve(x2.head(t));
-        }
-        previous = current;
-        // [K -g; a^T e] [du; dp] = -[r_u; r_G] by block elimination.
-        x1.head(t) = r_u.head(t);
-        tangent.Solve(x1.head(t));
-        const double dp = (-r_G + a.head(t).dot(x1.head(t))) / (a.head(t).dot(x2.head(t)) + e);
-        double lambda = 1.0, trial = INFINITY, trial_p = p, trial_rg = 0.0, trial_e = 0.0;
-        for (int ls = 0; ls < 30; ++ls, lambda *= 0.5) {
-          trial_u.head(t) = u.head(t) + lambda * (x2.head(t) * dp - x1.head(t));
-          trial_p = p + lambda * dp;
-          evaluate(trial_u, trial_p, trial_r, trial_a, trial_rg, trial_e);
-          trial = norm(trial_r, trial_u, trial_rg);
-          if (trial < current * (1.0 - 1e-4 * lambda) || trial < options.tolerance) break;
-        }
-        u.head(t) = trial_u.head(t);
-        p = trial_p;
-        r_u.head(t) = trial_r.head(t);
-        a.head(t) = trial_a.head(t);
-        r_G = trial_rg;
-        e = trial_e;
-        current = trial;
-      }
-      if (!converged && current < options.tolerance) converged = true;
-    }
-    if (!converged || !(p > 0.0)) {
+    if (!growth.Solve(t)) {
       result.status = RunStatus::kNotConverged;
       result.message = fmt::format("Newton did not converge at crack length {:.6g} mm",
                                    m.CrackLength(t) * 1e3);
       break;
     }
-    slopes(u);
-    const double R_t = s_t.dot(u.head(t)) - g[t] * p + tip_force;
-    const double J_tip = CentredTipEnergy(R_t, phi, u[t - 1], psi, h);
-    RecordPoint(m, law, J_tip_c, t, u, p, J_tip, delta_max, broken, result);
+    growth.Record(result);
     progress.Update(static_cast<size_t>(t));
-
-    if (t + 1 < n) {
-      BorderFlexibility(F, v, phi, t);
-      elastic.Border(S.col(t), S(t, t), work);
-      // Node t joins shut; its slope is the envelope's at zero opening.
-      double slope_t = 0.0;
-      if (law) slope_t = 2.0 * face_length(t) * BridgingTraction(*law, 0.0, 0.0).slope;
-      tangent.Border(S.col(t), S(t, t) + slope_t, work);
-      slope[t] = slope_t;
-      u[t] = 0.0;
-    }
+    if (t + 1 < n) growth.Border();
   }
   progress.Finish();
 }

@@ -2,8 +2,10 @@
 
 #include <cmath>
 
+#include "bridgefit/core/error.hpp"
 #include "bridgefit/io/hdf5.hpp"
 #include "bridgefit/pipeline/rcurve_file.hpp"
+#include "h5_read.hpp"
 
 namespace bridgefit::pipeline {
 namespace {
@@ -164,6 +166,89 @@ void WriteFitFile(const std::string& path, const FitRequest& request, const FitR
   WriteModelCheck(file, g, run);
   WriteProfiles(file, g, run.summary);
   file.Commit();
+}
+
+// The reader of /fit (the report's view of it): what WriteFitFile wrote.
+using detail::NumberAttr;
+using detail::StringAttr;
+using detail::VectorOrEmpty;
+
+report::FitView ReadFitView(const std::filesystem::path& path) {
+  if (!std::filesystem::exists(path))
+    throw Error(ErrorKind::kInput, "the fit file does not exist",
+                {.file = path.string(), .expected = "an HDF5 file from 'bridgefit fit --out'"});
+  const io::H5Reader r(path);
+  if (!r.Exists("/fit"))
+    throw Error(ErrorKind::kInput, "the file has no /fit group",
+                {.file = path.string(), .field = "/fit",
+                 .expected = "an HDF5 file from 'bridgefit fit --out'"});
+  report::FitView f;
+  f.source = path.filename().string();
+  const std::string g = "/fit";
+  f.model = StringAttr(r, g, "model");
+  f.optimizer = StringAttr(r, g, "optimizer");
+  f.law = StringAttr(r, g, "law");
+  f.verdict = StringAttr(r, g, "verdict");
+  f.r_kind = StringAttr(r, g, "r_kind");
+  f.scene = StringAttr(r, g, "scene");
+  f.stop_reason = StringAttr(r, g, "stop_reason");
+  f.converged = NumberAttr(r, g, "converged");
+  f.steady = NumberAttr(r, g, "steady_state_reached");
+  f.bridging = NumberAttr(r, g, "bridging_detected");
+  f.rms = NumberAttr(r, g, "rms_residual_J_per_m2");
+  f.reduced_chi2 = NumberAttr(r, g, "reduced_chi2");
+  f.fit_to = StringAttr(r, g, "fit_to");
+  if (r.Exists(g + "/load_displacement")) {
+    const std::string ld = g + "/load_displacement";
+    f.rms_load = NumberAttr(r, g, "rms_residual_N");
+    f.fit_d = VectorOrEmpty(r, ld + "/displacement");
+    f.data_P = VectorOrEmpty(r, ld + "/load");
+    f.fit_P = VectorOrEmpty(r, ld + "/fitted_load");
+    f.out_d = VectorOrEmpty(r, ld + "/outlier_displacement");
+    f.out_P = VectorOrEmpty(r, ld + "/outlier_load");
+    if (f.fit_P.size() != f.fit_d.size() || f.data_P.size() != f.fit_d.size()) f.fit_P.clear();
+  }
+  f.wall_s = NumberAttr(r, g, "wall_s");
+  f.evaluations = NumberAttr(r, g, "evaluations");
+  f.a = VectorOrEmpty(r, g + "/crack_length");
+  f.R = VectorOrEmpty(r, g + "/R");
+  if (f.a.empty() && r.Exists("/rcurve/crack_length")) {
+    f.a = r.ReadVector("/rcurve/crack_length");
+    f.R = VectorOrEmpty(r, "/rcurve/R");
+  }
+  if (f.a.empty() || f.a.size() != f.R.size())
+    throw Error(ErrorKind::kInput, "the fit file holds no R curve",
+                {.file = path.string(), .field = "/fit/crack_length, /fit/R"});
+  f.fit_a = VectorOrEmpty(r, g + "/fitted_crack_length");
+  f.fit_R = VectorOrEmpty(r, g + "/fitted_R");
+  if (f.fit_R.size() != f.fit_a.size()) f.fit_R.clear();
+  f.out_a = VectorOrEmpty(r, g + "/outlier_crack_length");
+  f.out_R = VectorOrEmpty(r, g + "/outlier_R");
+  for (const char* name : {"sigma_c", "J_B", "delta_c", "J_tip_c"}) {
+    report::Estimate e;
+    e.name = name;
+    const std::string pg = g + "/parameters/" + name;
+    if (r.Exists(pg)) {
+      e.present = true;
+      e.units = StringAttr(r, pg, "units");
+      e.value = NumberAttr(r, pg, "value");
+      e.ci_low = NumberAttr(r, pg, "ci95_low");
+      e.ci_high = NumberAttr(r, pg, "ci95_high");
+      e.lower_bound = NumberAttr(r, pg, "lower_bound");
+      e.identified = NumberAttr(r, pg, "identified") == 1.0;
+      e.fixed = NumberAttr(r, pg, "fixed") == 1.0;
+      e.decided_by = StringAttr(r, pg, "decided_by");
+      e.note = StringAttr(r, pg, "note");
+    }
+    f.estimates.push_back(e);
+    const std::string prof = g + "/profiles/" + name;
+    if (r.Exists(prof + "/value") && r.Exists(prof + "/chi2")) {
+      report::Profile p{name, r.ReadVector(prof + "/value"), r.ReadVector(prof + "/chi2"),
+                NumberAttr(r, prof, "chi2_threshold"), NumberAttr(r, prof, "flat") == 1.0};
+      if (p.value.size() == p.chi2.size() && p.value.size() >= 2) f.profiles.push_back(p);
+    }
+  }
+  return f;
 }
 
 }  // namespace bridgefit::pipeline

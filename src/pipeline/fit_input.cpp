@@ -61,13 +61,9 @@ void ReadRCurveInput(const FitRequest& request, FitInput& input) {
   }
   const std::string& path = request.input_path;
   input.curve = ReadRCurveFile(path);
-  if (!IsHdf5Path(path)) return;
-  const io::H5Reader reader(path);
-  if (reader.Exists("/experiment/load")) input.record = io::ReadExperimentH5(reader, "/experiment");
-  if (reader.Exists("/rcurve/figures") &&
-      reader.HasAttribute("/rcurve/figures", "initial_compliance_m_per_N"))
-    input.initial_compliance =
-        reader.ReadNumberAttribute("/rcurve/figures", "initial_compliance_m_per_N");
+  RCurveFileRecord behind = ReadRCurveFileRecord(path);
+  input.record = std::move(behind.record);
+  input.initial_compliance = behind.initial_compliance;
 }
 
 // Only the compliance-based reductions infer the crack length (CT lefm and

@@ -28,25 +28,16 @@ inverse::SimulationForwardModel::Reducer ModelRecordReducer(
   return [options](const SimulationResult& sim) {
     constexpr int kLoading = 20;
     inverse::SimulationForwardModel::Reduced out;
-    if (sim.points.empty()) return out;
-    ExperimentRecord record;
+    if (sim.points.size() < 2) return out;
+    // The model's path as a record (core's RecordAlongPath), one growth row
+    // per model point, rows numbered as time.
+    const int points = static_cast<int>(sim.points.size());
+    ExperimentRecord record = RecordAlongPath(sim, kLoading, points);
     record.source = "model record (" + sim.model + ")";
-    const SimulationPoint& first = sim.points.front();
-    for (int i = 0; i < kLoading; ++i) {
-      const double f = static_cast<double>(i) / kLoading;
-      record.time.push_back(i);
-      record.load.push_back(f * first.load);
-      record.displacement.push_back(f * first.displacement);
-      record.crack_length.push_back(first.crack_length);
-    }
+    for (std::size_t row = 0; row < record.size(); ++row) record.time.push_back(static_cast<double>(row));
     // The initiation point with its crack grown by 1 um, so the reduction
     // has a point at initiation (the data's first growth rows).
-    for (std::size_t k = 0; k < sim.points.size(); ++k) {
-      record.time.push_back(kLoading + static_cast<double>(k));
-      record.load.push_back(sim.points[k].load);
-      record.displacement.push_back(sim.points[k].displacement);
-      record.crack_length.push_back(sim.points[k].crack_length + (k == 0 ? 1e-6 : 0.0));
-    }
+    record.crack_length[kLoading] += 1e-6;
     const experiment::RCurveResult r = experiment::ComputeRCurve(record, options);
     for (std::size_t i = 0; i < r.curve.size(); ++i) {
       out.crack_length.push_back(r.curve.crack_length[i]);

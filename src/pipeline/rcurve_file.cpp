@@ -2,6 +2,9 @@
 
 #include <cmath>
 
+#include <fmt/format.h>
+
+#include "bridgefit/core/atomic_file.hpp"
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/io/csv.hpp"
 
@@ -47,6 +50,18 @@ RCurve ReadRCurveFile(const std::string& path) {
                   {.file = path, .expected = "a crack length and an R in every row"});
   curve.Validate();
   return curve;
+}
+
+RCurveFileRecord ReadRCurveFileRecord(const std::string& path) {
+  RCurveFileRecord out;
+  if (!IsHdf5Path(path)) return out;
+  const io::H5Reader reader(path);
+  if (reader.Exists("/experiment/load")) out.record = io::ReadExperimentH5(reader, "/experiment");
+  if (reader.Exists("/rcurve/figures") &&
+      reader.HasAttribute("/rcurve/figures", "initial_compliance_m_per_N"))
+    out.initial_compliance =
+        reader.ReadNumberAttribute("/rcurve/figures", "initial_compliance_m_per_N");
+  return out;
 }
 
 std::vector<std::pair<std::string, int>> DroppedRowList(const ExperimentRecord& record,
@@ -96,6 +111,22 @@ void WriteReductionH5(io::H5Writer& file, const ExperimentRecord& record,
   file.WriteAttribute("/rcurve", "specimen_length_m", options.specimen.length);
   file.WriteAttribute("/rcurve", "crack_front_width_m", options.specimen.CrackFrontWidth());
   if (!scene_path.empty()) file.WriteAttribute("/rcurve", "scene", scene_path);
+}
+
+void WriteRCurveCsv(const std::string& path, const experiment::RCurveResult& result,
+                  const experiment::RCurveOptions& options) {
+  std::string text =
+      "crack_length [mm], R [J/m^2], R_uncertainty [J/m^2], crack_growth [mm], load [N], "
+      "displacement [mm], R_expanded_uncertainty [J/m^2]\n";
+  // CSV R curves carry one standard uncertainty (what `fit` reads);
+  // the expanded one (coverage factor k) is the last column.
+  for (std::size_t i = 0; i < result.curve.size(); ++i)
+    text += fmt::format("{:.8g}, {:.8g}, {:.8g}, {:.8g}, {:.8g}, {:.8g}, {:.8g}\n",
+                        result.curve.crack_length[i] * 1e3, result.curve.R[i],
+                        result.curve.R_uncertainty[i] / options.coverage_factor,
+                        result.crack_growth[i] * 1e3, result.load[i],
+                        result.displacement[i] * 1e3, result.curve.R_uncertainty[i]);
+  WriteTextFileAtomic(path, text);
 }
 
 }  // namespace bridgefit::pipeline

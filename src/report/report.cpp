@@ -1,6 +1,5 @@
-// HTML report of a fit (include/bridgefit/report/report.hpp). Stages:
-// ReadReportInput (report_input.cpp, the only file access to the inputs) ->
-// the figures (figures_*.cpp) -> RunGnuplot -> PageHtml (page.cpp) -> Publish.
+// HTML report of a fit (include/bridgefit/report/report.hpp). Stages: the
+// input is a value (read by pipeline/report_file) -> the figures (figures_*.cpp) -> RunGnuplot -> PageHtml (page.cpp) -> Publish.
 #include "bridgefit/report/report.hpp"
 
 #include <unistd.h>
@@ -114,12 +113,12 @@ void RunGnuplot(const detail::FigureSet& set, const std::string& gnuplot) {
 
 }  // namespace
 
-ReportSummary WriteFitReport(const fs::path& fit_h5, const fs::path& out_dir, const ReportOptions& options) {
+ReportSummary WriteFitReport(const ReportInput& input, const fs::path& out_dir, const ReportOptions& options) {
   std::string why;
   if (!options.IsValid(&why)) throw Error(ErrorKind::kUsage, why, {.field = "report options"});
   if (out_dir.empty()) throw Error(ErrorKind::kUsage, "the output folder is empty", {.field = "--out"});
   Stopwatch watch;
-  const detail::ReportInput input = detail::ReadReportInput(fit_h5, options);
+  const fs::path& fit_h5 = input.fit_path;
   StagingFolder staging(out_dir);
   const detail::FigureSet set = BuildFigures(input, staging.path, options);
   RunGnuplot(set, options.gnuplot);

@@ -1,7 +1,7 @@
-// `bridgefit fit --model auto`: the reduced fit is checked with the MPM growth
-// model at its benchmark cell (2.5 mm) and corrected by output space mapping
-// when the two differ by more than --model-tolerance (issue 7). Data: the MDF
-// sample's noise-free record (truth sigma_c = 0.45 MPa).
+// `bridgefit fit --model auto`: the CLI's job (issue 16): the model_check
+// JSON and the --model-tolerance usage error. The check itself (the reduced
+// fit checked with MPM at 2.5 mm, corrected by output space mapping beyond
+// the tolerance) is tested as a library call: tests/pipeline/model_auto_test.cpp.
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
@@ -20,40 +20,24 @@ const std::string kFit = "fit '" + kSample + "record_exact.csv' --scene '" + kSa
                          "0.01um --rcurve-crack-noise 0.001mm --law linear --resolution 1mm "
                          "--no-profile --json --quiet --model auto";
 
-TEST(FitModelAuto, TheMpmCheckAcceptsTheReducedFitWithinTolerance) {
+// The JSON of --model auto (the check's figures: tests/pipeline/model_auto_test.cpp).
+TEST(FitModelAuto, TheJsonCarriesTheModelCheck) {
   const auto r = RunCli(kFit);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const nlohmann::json j = nlohmann::json::parse(r.out);
   const nlohmann::json& c = j["model_check"];
-  std::printf("%s\n", c["outcome"].get<std::string>().c_str());
+  ASSERT_TRUE(c.is_object());
+  EXPECT_TRUE(c["outcome"].is_string());
+  EXPECT_EQ(c["cheap_model"], "reduced");
   EXPECT_EQ(c["accurate_model"], "mpm");
-  EXPECT_TRUE(c["accurate_ok"].get<bool>());
-  EXPECT_FALSE(c["corrected"].get<bool>());
-  EXPECT_EQ(c["accurate_runs"], 1);
-  EXPECT_LT(c["discrepancy_at_cheap_optimum"].get<double>(), 0.03);
-  EXPECT_GT(c["accurate_s"].get<double>(), 0.0);
+  EXPECT_TRUE(c["accurate_ok"].is_boolean());
+  EXPECT_TRUE(c["corrected"].is_boolean());
+  EXPECT_TRUE(c["accurate_runs"].is_number_integer());
+  EXPECT_TRUE(c["discrepancy_at_cheap_optimum"].is_number());
+  EXPECT_TRUE(c["accurate_s"].is_number());
+  EXPECT_DOUBLE_EQ(c["tolerance"].get<double>(), 0.03);
+  EXPECT_DOUBLE_EQ(c["mpm_cell_m"].get<double>(), 2.5e-3);
   EXPECT_EQ(j["model"], "reduced");
-  EXPECT_NE(j["sigma_c_Pa"]["decided_by"].get<std::string>().find("checked by mpm"),
-            std::string::npos);
-  EXPECT_NEAR(j["sigma_c_Pa"]["value"].get<double>(), 0.45e6, 0.05 * 0.45e6);
-}
-
-TEST(FitModelAuto, ATightToleranceCorrectsTheFitTowardTheMpmModel) {
-  const auto r = RunCli(kFit + " --model-tolerance 0.002");
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  const nlohmann::json j = nlohmann::json::parse(r.out);
-  const nlohmann::json& c = j["model_check"];
-  std::printf("%s\n", c["outcome"].get<std::string>().c_str());
-  EXPECT_TRUE(c["corrected"].get<bool>());
-  EXPECT_GE(c["accurate_runs"].get<int>(), 2);
-  EXPECT_LE(c["accurate_runs"].get<int>(), 5);
-  // The mapped model matches the MPM at the last iterate far better than the
-  // reduced one did at its optimum.
-  EXPECT_LT(c["discrepancy_final"].get<double>(), c["discrepancy_at_cheap_optimum"].get<double>());
-  EXPECT_NE(j["sigma_c_Pa"]["decided_by"].get<std::string>().find("corrected to mpm"),
-            std::string::npos);
-  // MPM at 2.5 mm is within about 1% of the converged R here: sigma_c stays near the truth.
-  EXPECT_NEAR(j["sigma_c_Pa"]["value"].get<double>(), 0.45e6, 0.05 * 0.45e6);
 }
 
 TEST(FitModelAuto, AToleranceOutsideZeroToOneIsAUsageError) {

@@ -1,7 +1,10 @@
-// `bridgefit fit RECORD`: a load-displacement record with crack length is
-// reduced in-process (issue 7). Oracle: the two-step route
-// `bridgefit rcurve RECORD --out rc.h5` then `bridgefit fit rc.h5` with the
-// same options gives the same fit, number for number.
+// `bridgefit fit RECORD`: the CLI's own job (issue 16): flags, exit codes,
+// JSON shape, no half-written output. The workflow's numbers are tested as
+// library calls in tests/pipeline (record -> R curve -> fit, each calibration
+// mode, as-data, the equivalent-crack start, bad input). Oracle kept here:
+// the --rcurve-* flags of `fit` reduce the record as the same flags of
+// `rcurve` do (`bridgefit rcurve RECORD --out rc.h5` then `bridgefit fit
+// rc.h5` gives the same fit, number for number).
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -49,7 +52,7 @@ std::string NoiseOptions(const std::string& prefix) {
 }
 const char* kFitOptions = "--law linear --resolution 1mm --no-profile --json --quiet";
 
-TEST(FitRecord, EqualsRcurveThenFitAndStoresTheRecord) {
+TEST(FitRecord, RcurveFlagsReduceAsRcurveDoesAndOutWritesTheFit) {
   const WorkDir work;
   const fs::path record = kSample / "record_exact.csv", scene = kSample / "scene.toml";
   const fs::path rcurve_h5 = work.path / "rc.h5", fit_h5 = work.path / "fit.h5";
@@ -85,24 +88,14 @@ TEST(FitRecord, EqualsRcurveThenFitAndStoresTheRecord) {
     }
   EXPECT_TRUE(direct["sigma_c_Pa"]["value"].is_number());
 
-  // Which reduction was used: JSON and fit.h5.
+  // Which reduction was used: the JSON.
   EXPECT_EQ(direct["data"]["kind"], "record");
   EXPECT_EQ(direct["data"]["rcurve_method"], "energy");
   EXPECT_TRUE(direct["data"]["reduced_in_process"].get<bool>());
   EXPECT_EQ(two_step["data"]["kind"], "rcurve");
   EXPECT_FALSE(two_step["data"]["reduced_in_process"].get<bool>());
-  const io::H5Reader fit(fit_h5), rc(rcurve_h5);
-  EXPECT_EQ(fit.ReadStringAttribute("/fit", "input_kind"), "record");
-  EXPECT_EQ(fit.ReadStringAttribute("/fit", "rcurve_method"), "energy");
-  // The record (load, displacement, crack length) and the R curve, as rcurve --out has them.
-  const ExperimentRecord stored = io::ReadExperimentH5(fit), reference = io::ReadExperimentH5(rc);
-  ASSERT_TRUE(stored.has_crack_length());
-  EXPECT_EQ(stored.size(), reference.size());
-  EXPECT_EQ(stored.load, reference.load);
-  EXPECT_EQ(stored.displacement, reference.displacement);
-  EXPECT_EQ(stored.crack_length, reference.crack_length);
-  EXPECT_EQ(fit.ReadVector("/rcurve/R"), rc.ReadVector("/rcurve/R"));
-  EXPECT_EQ(fit.ReadStrings("/rcurve/dropped_reasons"), rc.ReadStrings("/rcurve/dropped_reasons"));
+  // --out wrote the fit file (its content: PipelineFit.FitFromTheRcurveFile...).
+  EXPECT_TRUE(io::H5Reader(fit_h5).Exists("/fit/parameters/sigma_c"));
 }
 
 TEST(FitRecord, ReportShowsTheRecordsLoadDisplacement) {
@@ -166,29 +159,7 @@ TEST(FitRecord, InputsThatAreNeitherOrMisusedAreRefused) {
   EXPECT_NE(r.err.find("x, y"), std::string::npos) << r.err;
 }
 
-// --r-kind as-data: the model's own record reduced by the data's method. With
-// the energy method that reduction reproduces the model's R_energy, so the fit
-// must land where --r-kind energy does (oracle: the energy route).
-TEST(FitRecord, AsDataWithTheEnergyMethodMatchesTheEnergyKind) {
-  const fs::path record = kSample / "record_exact.csv", scene = kSample / "scene.toml";
-  const std::string base = "fit " + Quote(record) + " --scene " + Quote(scene) + " " +
-                           NoiseOptions("rcurve-") + " " + kFitOptions;
-  const auto energy = RunCli(base + " --r-kind energy");
-  const auto as_data = RunCli(base + " --r-kind as-data");
-  ASSERT_EQ(energy.exit_code, 0) << energy.err;
-  ASSERT_EQ(as_data.exit_code, 0) << as_data.err;
-  const nlohmann::json e = nlohmann::json::parse(energy.out), a = nlohmann::json::parse(as_data.out);
-  EXPECT_EQ(a["r_kind"], "as-data");
-  EXPECT_NEAR(a["sigma_c_Pa"]["value"].get<double>() / e["sigma_c_Pa"]["value"].get<double>(), 1.0,
-              0.01);
-  EXPECT_NEAR(a["J_tip_c_J_per_m2"]["value"].get<double>() /
-                  e["J_tip_c_J_per_m2"]["value"].get<double>(),
-              1.0, 0.005);
-  // Steady state is not reached: J_B stays a lower bound, below the truth.
-  EXPECT_FALSE(a["J_B_J_per_m2"]["identified"].get<bool>());
-  EXPECT_LT(a["J_B_J_per_m2"]["lower_bound"].get<double>(), 500.0);
-}
-
+// --r-kind as-data against the energy kind: PipelineFit.AsDataWithTheEnergyMethodMatchesTheEnergyKind.
 TEST(FitRecord, AsDataNeedsARecordInput) {
   const WorkDir work;
   const fs::path rcurve_h5 = work.path / "rc.h5";
@@ -202,12 +173,11 @@ TEST(FitRecord, AsDataNeedsARecordInput) {
   EXPECT_NE(r.err.find("as-data"), std::string::npos) << r.err;
 }
 
-// --fit-to load-displacement --calibrate-compliance on a record 10% stiffer
-// than the scene (displacement x 0.9): the moduli are scaled by about 1/0.9
-// (the 1 mm model is 0.4-0.8% stiffer than the 0.5 mm one that made the
-// record on the loading branch: the refined factor lands about 1% below
-// 1/0.9). Without the flag nothing is calibrated. An R-curve input cannot be
-// fitted as a record.
+// --fit-to load-displacement --calibrate-compliance (the flag alone: the
+// initial slope, refined) on a record 10% stiffer than the scene: the JSON
+// carries the calibration (its factors: PipelineLoadFit.EachCalibrationMode
+// OnAStifferRecord); without the flag it is null. An R-curve input cannot be
+// fitted as a record: exit 2 naming --fit-to.
 TEST(FitRecord, LoadDisplacementFitCalibratesTheCompliance) {
   const WorkDir work;
   const fs::path record = work.path / "stiff.csv", scene = kSample / "scene.toml";
@@ -234,10 +204,14 @@ TEST(FitRecord, LoadDisplacementFitCalibratesTheCompliance) {
   const nlohmann::json j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["fit_to"], "load-displacement");
   ASSERT_TRUE(j["compliance_calibration"].is_object());
-  EXPECT_NEAR(j["compliance_calibration"]["modulus_factor"].get<double>(), 1.0 / 0.9, 0.015 / 0.9);
-  EXPECT_NEAR(j["compliance_calibration"]["modulus_factor_initial_slope"].get<double>(), 1.0 / 0.9,
-              0.015 / 0.9);
-  EXPECT_TRUE(j["converged"].get<bool>()) << j["stop_reason"];
+  EXPECT_EQ(j["compliance_calibration"]["mode"], "initial");
+  EXPECT_TRUE(j["compliance_calibration"]["modulus_factor"].is_number());
+  EXPECT_TRUE(j["compliance_calibration"]["modulus_factor_initial_slope"].is_number());
+  EXPECT_TRUE(j["compliance_calibration"]["series_compliance_m_per_N"].is_number());
+  EXPECT_TRUE(j["compliance_calibration"]["along_crack"].is_null());
+  EXPECT_TRUE(j["start_from_r_curve_fit"]["sigma_c_Pa"].is_number());
+  EXPECT_TRUE(j["rms_residual_N"].is_number());
+  EXPECT_TRUE(j["converged"].is_boolean());
   r = RunCli(base);
   ASSERT_EQ(r.exit_code == 0 || r.exit_code == 1, true) << r.err;
   EXPECT_TRUE(nlohmann::json::parse(r.out)["compliance_calibration"].is_null());
@@ -250,11 +224,10 @@ TEST(FitRecord, LoadDisplacementFitCalibratesTheCompliance) {
   EXPECT_NE(r.err.find("--fit-to"), std::string::npos) << r.err;
 }
 
-// No crack-length readings at all: the R curve that starts the fit comes from
-// the compliance (equivalent crack), the load-displacement rows decide. The
-// sample's noisy record without its crack_length column: sigma_c within 5%,
-// J_B and delta_c lower bounds below the truth.
-TEST(FitRecord, LoadDisplacementFitNeedsNoCrackLength) {
+// No crack-length readings and the energy method: exit 1, the way out named
+// (--rcurve-method equivalent; that route's numbers:
+// PipelineLoadFit.WithoutCrackLengthTheEquivalentCrackStartsTheFit).
+TEST(FitRecord, LoadDisplacementFitWithoutCrackLengthNamesTheWayOut) {
   const WorkDir work;
   const fs::path record = work.path / "no_crack.csv";
   WithoutCrackLength(kSample / "record.csv", record);
@@ -262,26 +235,13 @@ TEST(FitRecord, LoadDisplacementFitNeedsNoCrackLength) {
                   " --fit-to load-displacement --law linear --resolution 1mm --json --quiet");
   EXPECT_EQ(r.exit_code, 1);  // the energy method needs crack lengths: said, with the way out
   EXPECT_NE(r.err.find("--rcurve-method equivalent"), std::string::npos) << r.err;
-  r = RunCli("fit " + Quote(record) + " --scene " + Quote(kSample / "scene.toml") +
-             " --rcurve-method equivalent --fit-to load-displacement --law linear --resolution 1mm "
-             "--json --quiet");
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  const nlohmann::json j = nlohmann::json::parse(r.out);
-  EXPECT_NEAR(j["sigma_c_Pa"]["value"].get<double>(), 0.45e6, 0.05 * 0.45e6);
-  EXPECT_FALSE(j["J_B_J_per_m2"]["identified"].get<bool>());
-  EXPECT_LT(j["J_B_J_per_m2"]["lower_bound"].get<double>(), 500.0);
-  EXPECT_LT(j["delta_c_m"]["lower_bound"].get<double>(), 2 * 500.0 / 0.45e6);
 }
 
-// --calibrate-compliance=crack: the sample's noisy record made 10% stiffer
-// (displacement x 0.9) with a series spring of 9e-5 mm/N (about a fifth of
-// its initial compliance) added, fitted from the unchanged scene. The
-// compliance at the measured crack lengths separates the two: the moduli
-// scaled by about 1/0.9 (the 1 mm model is 0.4-0.8% stiffer than the 0.5 mm
-// one that made the record), the spring found, and sigma_c within 5% of the
-// truth, J_B and delta_c lower bounds. The initial slope alone cannot
-// separate them (its factor is about 1/1.1). Without crack lengths, or with
-// an unknown mode, the calibration is refused.
+// --calibrate-compliance=crack on the sample's noisy record made 10% stiffer
+// with a series spring added: the JSON carries the along-crack calibration
+// (its numbers: PipelineLoadFit.AlongTheCrackSeparatesModulusAndSeriesSpring).
+// Without crack lengths, with an unknown mode, or without
+// --fit-to load-displacement, the flag is refused (exit 2, named).
 TEST(FitRecord, CompliancesAlongTheCrackSeparateModulusAndSeriesSpring) {
   const WorkDir work;
   const fs::path record = work.path / "sprung.csv", scene = kSample / "scene.toml";
@@ -311,14 +271,14 @@ TEST(FitRecord, CompliancesAlongTheCrackSeparateModulusAndSeriesSpring) {
   const nlohmann::json& c = j["compliance_calibration"];
   ASSERT_TRUE(c.is_object());
   EXPECT_EQ(c["mode"], "crack");
-  EXPECT_NEAR(c["modulus_factor"].get<double>(), 1.0 / 0.9, 0.01 / 0.9);
-  EXPECT_NEAR(c["series_compliance_m_per_N"].get<double>(), 1e-3 * kSeries, 0.05e-3 * kSeries);
-  EXPECT_NEAR(c["modulus_factor_initial_slope"].get<double>(), 1.0 / 1.1, 0.02 / 1.1);
-  EXPECT_GT(c["along_crack"]["rows"].get<int>(), 300);
-  EXPECT_LT(c["along_crack"]["rms_relative"].get<double>(), 0.03);
-  EXPECT_NEAR(j["sigma_c_Pa"]["value"].get<double>(), 0.45e6, 0.05 * 0.45e6);
-  EXPECT_FALSE(j["J_B_J_per_m2"]["identified"].get<bool>());
-  EXPECT_LT(j["J_B_J_per_m2"]["lower_bound"].get<double>(), 500.0);
+  EXPECT_TRUE(c["modulus_factor"].is_number());
+  EXPECT_TRUE(c["series_compliance_m_per_N"].is_number());
+  EXPECT_TRUE(c["modulus_factor_initial_slope"].is_number());
+  ASSERT_TRUE(c["along_crack"].is_object());
+  EXPECT_TRUE(c["along_crack"]["rows"].is_number_integer());
+  EXPECT_TRUE(c["along_crack"]["rms_relative"].is_number());
+  EXPECT_TRUE(c["along_crack"]["rounds"].is_number_integer());
+  EXPECT_TRUE(j["J_B_J_per_m2"]["lower_bound"].is_number());
 
   const fs::path no_crack = work.path / "no_crack.csv";
   WithoutCrackLength(record, no_crack);

@@ -8,8 +8,12 @@
 // 0.5 mm one that made the records: the factors land about 1% below 1/0.9).
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <string>
 #include <memory>
 
 #include "bridgefit/inverse/compliance_calibration.hpp"
@@ -138,6 +142,39 @@ TEST(PipelineLoadFit, AlongTheCrackSeparatesModulusAndSeriesSpring) {
   EXPECT_NEAR(run.summary.sigma_c.value, 0.45e6, 0.05 * 0.45e6);
   EXPECT_FALSE(run.summary.J_B.identified);
   EXPECT_LT(run.summary.J_B.lower_bound, 500.0);
+}
+
+// No crack-length readings at all: the R curve that starts the fit comes from
+// the compliance (equivalent crack), the load-displacement rows decide. The
+// sample's noisy record without its crack_length column: sigma_c within 5%,
+// J_B and delta_c lower bounds below the truth (moved from the CLI test
+// FitRecord.LoadDisplacementFitNeedsNoCrackLength, issue 16).
+TEST(PipelineLoadFit, WithoutCrackLengthTheEquivalentCrackStartsTheFit) {
+  const fs::path dir = fs::temp_directory_path() / ("bf_pipeline_nocrack_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const fs::path record = dir / "no_crack.csv";
+  {
+    // The first three columns (time, load, displacement).
+    std::ifstream in(kSample / "record.csv");
+    std::ofstream out(record);
+    std::string line;
+    while (std::getline(in, line)) {
+      const std::size_t second = line.find(',', line.find(',') + 1);
+      out << line.substr(0, line.find(',', second + 1)) << "\n";
+    }
+  }
+  FitRequest request = LoadFitRequest(ExperimentRecord());
+  request.record.reset();
+  request.input_path = record.string();
+  request.reduction.method = experiment::RMethod::kEquivalentCrack;
+  request.reduction_given = true;
+  request.fit.profile_likelihood = true;  // as `bridgefit fit` runs by default
+  const FitRun run = RunFit(request);
+  fs::remove_all(dir);
+  EXPECT_NEAR(run.summary.sigma_c.value, 0.45e6, 0.05 * 0.45e6);
+  EXPECT_FALSE(run.summary.J_B.identified);
+  EXPECT_LT(run.summary.J_B.lower_bound, 500.0);
+  EXPECT_LT(run.summary.delta_c.lower_bound, 2 * 500.0 / 0.45e6);
 }
 
 }  // namespace

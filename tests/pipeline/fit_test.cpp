@@ -17,6 +17,7 @@
 #include "bridgefit/pipeline/fit.hpp"
 #include "bridgefit/pipeline/fit_file.hpp"
 #include "bridgefit/pipeline/rcurve_file.hpp"
+#include "bridgefit/report/report_input.hpp"
 
 namespace bridgefit::pipeline {
 namespace {
@@ -102,6 +103,69 @@ TEST(PipelineFit, RecordReducedInTheRunEqualsTheTwoStepRouteAndTheFileHoldsIt) {
   EXPECT_DOUBLE_EQ(file.ReadNumberAttribute("/fit/parameters/sigma_c", "value"),
                    direct.summary.sigma_c.value);
   EXPECT_EQ(file.ReadStringAttribute("/fit/parameters/sigma_c", "units"), "Pa");
+}
+
+// The two-step route through the file `bridgefit rcurve --out` writes
+// (WriteReductionH5): the fit from rc.h5 is the record's, and the record
+// run's fit file holds the record and the R curve as rc.h5 has them; the
+// /fit reader gives back what the writer was given (moved from the CLI test
+// FitRecord.EqualsRcurveThenFitAndStoresTheRecord, issue 16).
+TEST(PipelineFit, FitFromTheRcurveFileEqualsTheRecordRunAndTheFitFileHoldsIt) {
+  const FitRequest request = RecordRequest();
+  const FitRun direct = RunFit(request);
+  experiment::RCurveOptions reduction = request.reduction;
+  reduction.specimen = request.scene.specimen;
+  reduction.material = request.scene.material;
+  const ExperimentRecord record = ReadRecordFile(request.input_path, "", "");
+  const experiment::RCurveResult reduced = experiment::ComputeRCurve(record, reduction);
+  const WorkDir work;
+  const fs::path rcurve_h5 = work.path / "rc.h5", fit_h5 = work.path / "fit.h5";
+  {
+    io::H5Writer file(rcurve_h5.string());
+    WriteReductionH5(file, record, reduced, reduction, request.scene_path);
+    file.Commit();
+  }
+  FitRequest two_step = request;
+  two_step.input_path = rcurve_h5.string();
+  two_step.reduction_given = false;
+  const FitRun from_file = RunFit(two_step);
+  ASSERT_TRUE(from_file.summary.bridging_detected);
+  EXPECT_FALSE(from_file.input.from_record);
+  EXPECT_EQ(direct.summary.bridging_detected, from_file.summary.bridging_detected);
+  EXPECT_EQ(direct.summary.data_points, from_file.summary.data_points);
+  EXPECT_EQ(direct.summary.evaluations, from_file.summary.evaluations);
+  EXPECT_EQ(direct.summary.verdict, from_file.summary.verdict);
+  EXPECT_DOUBLE_EQ(direct.RResidualRms(), from_file.RResidualRms());
+  ExpectSameEstimate(direct.summary.sigma_c, from_file.summary.sigma_c, "sigma_c");
+  ExpectSameEstimate(direct.summary.J_B, from_file.summary.J_B, "J_B");
+  ExpectSameEstimate(direct.summary.delta_c, from_file.summary.delta_c, "delta_c");
+  ExpectSameEstimate(direct.summary.J_tip_c, from_file.summary.J_tip_c, "J_tip_c");
+  EXPECT_EQ(direct.input.curve.method, "energy");
+
+  WriteFitFile(fit_h5.string(), request, direct);
+  const io::H5Reader fit(fit_h5.string()), rc(rcurve_h5.string());
+  EXPECT_EQ(fit.ReadStringAttribute("/fit", "input_kind"), "record");
+  EXPECT_EQ(fit.ReadStringAttribute("/fit", "rcurve_method"), "energy");
+  const ExperimentRecord stored = io::ReadExperimentH5(fit), reference = io::ReadExperimentH5(rc);
+  ASSERT_TRUE(stored.has_crack_length());
+  EXPECT_EQ(stored.size(), reference.size());
+  EXPECT_EQ(stored.load, reference.load);
+  EXPECT_EQ(stored.displacement, reference.displacement);
+  EXPECT_EQ(stored.crack_length, reference.crack_length);
+  EXPECT_EQ(fit.ReadVector("/rcurve/R"), rc.ReadVector("/rcurve/R"));
+  EXPECT_EQ(fit.ReadStrings("/rcurve/dropped_reasons"), rc.ReadStrings("/rcurve/dropped_reasons"));
+
+  // The one reader of /fit gives back the run.
+  const report::FitView view = ReadFitView(fit_h5);
+  EXPECT_EQ(view.law, direct.summary.law);
+  EXPECT_EQ(view.verdict, direct.summary.verdict);
+  EXPECT_EQ(view.R, direct.input.curve.R);
+  const report::Estimate* sigma_c = view.Find("sigma_c");
+  ASSERT_NE(sigma_c, nullptr);
+  EXPECT_DOUBLE_EQ(sigma_c->value, direct.summary.sigma_c.value);
+  EXPECT_EQ(sigma_c->units, "Pa");
+  EXPECT_EQ(sigma_c->identified, direct.summary.sigma_c.identified);
+  EXPECT_THROW(ReadFitView(rcurve_h5), Error);  // no /fit group
 }
 
 // R kind as-data: the model's own record reduced by the energy method is the

@@ -1,6 +1,6 @@
 // Report: page, figures and table from a fit file with known content; the
 // page checked in headless Chromium (skipped, with a message, when absent).
-#include "bridgefit/report/report.hpp"
+#include "bridgefit/pipeline/report_file.hpp"
 
 #include <gtest/gtest.h>
 
@@ -187,7 +187,7 @@ fs::path WriteFitFile(const fs::path& dir, bool with_record = false, bool load_f
 TEST(Report, PageFiguresAndTableWithUnits) {
   const fs::path dir = TempDir("page");
   const fs::path fit = WriteFitFile(dir);
-  const report::ReportSummary s = report::WriteFitReport(fit, dir / "report");
+  const report::ReportSummary s = pipeline::WriteFitReport(fit, dir / "report");
   ASSERT_TRUE(fs::exists(dir / "report" / "index.html"));
   EXPECT_EQ(s.index_html, fs::absolute(dir / "report" / "index.html").lexically_normal());
   const std::string html = ReadText(s.index_html);
@@ -216,7 +216,7 @@ TEST(Report, PageFiguresAndTableWithUnits) {
 TEST(Report, ProfileFigureShowsThePrintedIntervals) {
   const fs::path dir = TempDir("profiles");
   const fs::path fit = WriteFitFile(dir);
-  report::WriteFitReport(fit, dir / "report");
+  pipeline::WriteFitReport(fit, dir / "report");
   const report_check::ProfileReadBack check = report_check::CheckProfileFigures(dir / "report", fit);
   EXPECT_EQ(check.profiles, 3);
   EXPECT_EQ(check.ends_checked, 4);  // sigma_c and J_tip,c, both ends
@@ -226,7 +226,7 @@ TEST(Report, ProfileFigureShowsThePrintedIntervals) {
 
 TEST(Report, RecordInTheFitFileGivesLoadAndCrackFigures) {
   const fs::path dir = TempDir("record");
-  const report::ReportSummary s = report::WriteFitReport(WriteFitFile(dir, true), dir / "report");
+  const report::ReportSummary s = pipeline::WriteFitReport(WriteFitFile(dir, true), dir / "report");
   const auto sources = ImageSources(ReadText(s.index_html));
   EXPECT_EQ(sources.size(), 5u);
   for (const char* fig : {"load_displacement.png", "crack_length.png"}) {
@@ -260,7 +260,7 @@ TEST(Report, LawRegionFollowsTheBounds) {
   const double s_hi = h5.ReadNumberAttribute("/fit/parameters/sigma_c", "ci95_high") * 1e-6;
   EXPECT_NEAR(s_lo, 0.43, 0.001);
   EXPECT_NEAR(s_hi, 0.47, 0.001);
-  report::WriteFitReport(fit, dir / "report");
+  pipeline::WriteFitReport(fit, dir / "report");
   std::ifstream in(dir / "report" / "law.dat");
   std::string line;
   std::getline(in, line);
@@ -286,7 +286,7 @@ TEST(Report, FailedGnuplotLeavesTheOldReport) {
   std::ofstream(dir / "report" / "index.html") << "old";
   report::ReportOptions options;
   options.gnuplot = "false";  // exits 1
-  EXPECT_THROW(report::WriteFitReport(fit, dir / "report", options), Error);
+  EXPECT_THROW(pipeline::WriteFitReport(fit, dir / "report", options), Error);
   EXPECT_EQ(ReadText(dir / "report" / "index.html"), "old");
   int leftovers = 0;
   for (const auto& e : fs::directory_iterator(dir))
@@ -297,7 +297,7 @@ TEST(Report, FailedGnuplotLeavesTheOldReport) {
 
 TEST(Report, MissingFitFileIsAnInputError) {
   try {
-    report::WriteFitReport("/nonexistent/fit.h5", TempDir("missing") / "r");
+    pipeline::WriteFitReport("/nonexistent/fit.h5", TempDir("missing") / "r");
     FAIL() << "no error";
   } catch (const Error& e) {
     EXPECT_EQ(e.kind(), ErrorKind::kInput);
@@ -311,7 +311,7 @@ TEST(ReportBrowser, HeadlessChromiumLoadsEveryFigure) {
     GTEST_SKIP() << "chromium not installed: install it (BRIDGEFIT_EXTRA_PACKAGES=chromium bash "
                     "scripts/setup.sh, or apt-get install chromium) to run the browser check";
   const fs::path dir = TempDir("browser");
-  report::WriteFitReport(WriteFitFile(dir), dir / "report");
+  pipeline::WriteFitReport(WriteFitFile(dir), dir / "report");
   const fs::path page = dir / "report" / "index.html";
   EXPECT_EQ(CheckStatus(DumpDom(chromium, page, dir)), "ok");
 
@@ -380,7 +380,7 @@ TEST(Report, DicEvidenceFromTheDicFile) {
   report::ReportOptions options;
   options.dic_h5 = dir / "dic.h5";
   options.images_dir = dir / "images";
-  const report::ReportSummary s = report::WriteFitReport(fit, dir / "report", options);
+  const report::ReportSummary s = pipeline::WriteFitReport(fit, dir / "report", options);
   const std::string html = ReadText(s.index_html);
   const auto sources = ImageSources(html);
   for (const char* fig : {"dic_frame_0000.png", "dic_frame_0001.png", "dic_frame_0002.png", "dic_opening.png"}) {
@@ -416,7 +416,7 @@ TEST(Report, DicEvidenceFromTheDicFile) {
   // Images that cannot be found: the frames are not drawn, the page says why.
   options.images_dir = dir / "nowhere";
   fs::rename(dir / "images", dir / "moved");
-  const report::ReportSummary without = report::WriteFitReport(fit, dir / "report2", options);
+  const report::ReportSummary without = pipeline::WriteFitReport(fit, dir / "report2", options);
   const std::string html2 = ReadText(without.index_html);
   EXPECT_EQ(html2.find("dic_frame_0000.png\""), std::string::npos);
   EXPECT_NE(html2.find("3 of 3 DIC images not found"), std::string::npos);
@@ -429,7 +429,7 @@ TEST(Report, DicEvidenceFromTheDicFile) {
 TEST(Report, MultiplotPanelsHaveExplicitSeparatedMargins) {
   const fs::path dir = TempDir("margins");
   const fs::path fit = WriteFitFile(dir, true, true);  // a load fit: its stacked figure too
-  report::WriteFitReport(fit, dir / "report");
+  pipeline::WriteFitReport(fit, dir / "report");
   std::istringstream gp(ReadText(dir / "report" / "report.gp"));
   struct Box { double l, r, t, b; };
   std::vector<std::vector<Box>> figures;
@@ -468,7 +468,7 @@ TEST(Report, MultiplotPanelsHaveExplicitSeparatedMargins) {
 TEST(Report, OpenEndedProfileDrawnOpen) {
   const fs::path dir = TempDir("open");
   const fs::path fit = WriteFitFile(dir, false, false, true);
-  report::WriteFitReport(fit, dir / "report");
+  pipeline::WriteFitReport(fit, dir / "report");
   const report_check::ProfileReadBack check = report_check::CheckProfileFigures(dir / "report", fit);
   EXPECT_EQ(check.ends_checked, 5);  // sigma_c and J_tip,c both ends, J_B the lower
   for (const std::string& failure : check.failures) ADD_FAILURE() << failure;

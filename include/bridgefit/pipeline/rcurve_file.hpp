@@ -5,6 +5,8 @@
 //   /rcurve      the reduction: R curve, its rows, dropped rows, noise
 //                levels, /rcurve/figures and the specimen
 
+#include <cmath>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -26,6 +28,15 @@ ExperimentRecord ReadRecordFile(const std::string& path, const std::string& colu
 // or from the /rcurve group of an rcurve.h5.
 RCurve ReadRCurveFile(const std::string& path);
 
+// What an rcurve.h5 holds besides the curve: the record behind it
+// (/experiment, when present) and its initial compliance C0 [m/N]
+// (/rcurve/figures; NaN when absent). Nothing for a CSV.
+struct RCurveFileRecord {
+  std::optional<ExperimentRecord> record;
+  double initial_compliance = NAN;
+};
+RCurveFileRecord ReadRCurveFileRecord(const std::string& path);
+
 // Rows that gave no R point: import cleaning (io), then the reduction's reasons.
 std::vector<std::pair<std::string, int>> DroppedRowList(const ExperimentRecord& record,
                                                         const experiment::RCurveResult& result);
@@ -35,5 +46,11 @@ std::vector<std::pair<std::string, int>> DroppedRowList(const ExperimentRecord& 
 void WriteReductionH5(io::H5Writer& file, const ExperimentRecord& record,
                       const experiment::RCurveResult& result,
                       const experiment::RCurveOptions& options, const std::string& scene_path);
+
+// `bridgefit rcurve --csv`: the R curve with one standard uncertainty (what
+// ReadRCurveFile reads), crack growth, load, displacement and the expanded
+// uncertainty (coverage factor k) last; lengths in mm. Atomic.
+void WriteRCurveCsv(const std::string& path, const experiment::RCurveResult& result,
+                    const experiment::RCurveOptions& options);
 
 }  // namespace bridgefit::pipeline

@@ -2,7 +2,8 @@
 // HTML report of a fit: index.html plus PNG figures drawn by gnuplot (run as
 // an external program on a script written next to the figures), built in a
 // temporary folder and renamed onto the output folder when complete.
-//   report::WriteFitReport("fit.h5", "out/mdf_ct", {})
+//   report::WriteFitReport(pipeline::ReadReportInput("fit.h5", {}), "out/mdf_ct", {})
+// (pipeline::WriteFitReport("fit.h5", "out/mdf_ct") does both).
 // Figures: data and fitted R curve with residuals, the bridging law with the
 // region of laws allowed by the CIs / lower bounds, the profile likelihoods as
 // Delta chi^2 with the threshold that defines the printed intervals and their
@@ -17,6 +18,8 @@
 #include <string>
 #include <vector>
 
+#include "bridgefit/report/report_input.hpp"
+
 namespace bridgefit::report {
 
 // A toughness column of a CSV record drawn against the R curve (e.g. the
@@ -30,6 +33,7 @@ struct ReferenceColumn {
   bool enabled() const { return !csv.empty() || !column.empty(); }
 };
 
+// The files named here are read by pipeline::ReadReportInput.
 struct ReportOptions {
   std::string title;                   // page title (default: the fit file name)
   std::filesystem::path record_h5;     // optional: HDF5 with /experiment (bridgefit rcurve --out);
@@ -54,12 +58,12 @@ struct ReportSummary {
   std::string BriefReport() const;
 };
 
-// Reads the fit file (layout in docs/FORMATS.md: /rcurve, /fit) and writes
-// `out_dir`/index.html with its figures. An existing `out_dir` is replaced.
-// Throws bridgefit::Error: kInput for a missing or malformed fit file (or
-// optional input), kRuntime when gnuplot fails (its log is named in the message).
-ReportSummary WriteFitReport(const std::filesystem::path& fit_h5,
-                             const std::filesystem::path& out_dir,
+// Writes `out_dir`/index.html with its figures from `input` (a value: the
+// report opens no fit, record, DIC or scene file; pipeline/report_file.hpp
+// reads them). An existing `out_dir` is replaced. Throws bridgefit::Error:
+// kUsage for bad options, kRuntime when gnuplot fails (its log is named in
+// the message).
+ReportSummary WriteFitReport(const ReportInput& input, const std::filesystem::path& out_dir,
                              const ReportOptions& options = {});
 
 }  // namespace bridgefit::report

@@ -1,0 +1,302 @@
+// The DIC output's one owner (`bridgefit dic`, `bridgefit crack`): the
+// per-frame CSV and the HDF5 /dic group, written and read here (docs/DIC.md).
+#include "bridgefit/pipeline/dic_file.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+#include <fmt/format.h>
+
+#include "bridgefit/core/atomic_file.hpp"
+#include "bridgefit/core/error.hpp"
+#include "bridgefit/core/units.hpp"
+#include "bridgefit/io/csv.hpp"
+#include "bridgefit/io/hdf5.hpp"
+#include "h5_read.hpp"
+
+namespace bridgefit::pipeline {
+namespace {
+
+using detail::NumberAttr;
+using detail::StringAttr;
+using detail::VectorOrEmpty;
+
+// The first existing of: the path as recorded, relative to the DIC file's
+// folder, the file name in `images_dir`, the file name next to the DIC file.
+std::filesystem::path ResolveImage(const std::string& recorded, const std::filesystem::path& dic_file, const std::filesystem::path& images_dir) {
+  if (recorded.empty()) return {};
+  const std::filesystem::path p(recorded);
+  std::vector<std::filesystem::path> candidates{p};
+  if (p.is_relative()) candidates.push_back(dic_file.parent_path() / p);
+  if (!images_dir.empty()) candidates.push_back(images_dir / p.filename());
+  candidates.push_back(dic_file.parent_path() / p.filename());
+  for (const std::filesystem::path& c : candidates) {
+    std::error_code ec;
+    if (std::filesystem::is_regular_file(c, ec)) return c;
+  }
+  return {};
+}
+
+// bridgefit dic --csv: one row per frame.
+void ReadDicCsv(const std::filesystem::path& path, report::DicView& dic, std::vector<std::string>& notes) {
+  const io::CsvTable t = io::ReadCsvTable(path);
+  int col = -1;
+  for (size_t i = 0; i < t.names.size(); ++i)
+    if (t.names[i] == "crack_length" || (col < 0 && t.names[i].find("crack_length") != std::string::npos &&
+                                         t.names[i].find("raw") == std::string::npos))
+      col = static_cast<int>(i);
+  if (col < 0) {
+    notes.push_back("DIC CSV has no crack_length column: " + path.string());
+    return;
+  }
+  const std::vector<double> a = t.ColumnSi(t.names[col], Dimension::Length());
+  if (dic.frames.size() < a.size()) dic.frames.resize(a.size());
+  auto numbers = [&](const char* name) {
+    return t.Find(name) >= 0 ? t.columns[t.Find(name)] : std::vector<double>(a.size(), NAN);
+  };
+  const std::vector<double> tx = numbers("tip_x"), ty = numbers("tip_y"),
+                            valid = numbers("valid_fraction"), disagree = numbers("methods_disagree"),
+                            williams = numbers("tip_williams"), jump = numbers("tip_jump"), sqrt_cod = numbers("tip_sqrt");
+  for (size_t k = 0; k < a.size(); ++k) {
+    report::DicFrame& f = dic.frames[k];
+    f.crack_length = a[k];
+    if (t.Find("image") >= 0) f.image = t.TextColumn("image")[k];
+    if (t.Find("tip_method") >= 0) f.tip_method = t.TextColumn("tip_method")[k];
+    f.tip_x = tx[k];
+    f.tip_y = ty[k];
+    f.valid_fraction = valid[k];
+    f.methods_disagree = disagree[k] == 1.0;
+    f.tip_williams_s = williams[k];
+    f.tip_jump_s = jump[k];
+    f.tip_sqrt_s = sqrt_cod[k];
+  }
+}
+
+// bridgefit dic --out: /dic with the crack line, tips and opening profiles.
+// Tolerant of datasets a later version adds (a crack path: /dic/path_x,
+// /dic/path_y for the sequence, /dic/frame_NNNN/path_x, path_y per frame).
+void ReadDicH5(const std::filesystem::path& path, report::DicView& dic) {
+  const io::H5Reader r(path);
+  if (!r.Exists("/dic/images"))
+    throw Error(ErrorKind::kInput, "the DIC file has no /dic/images",
+                {.file = path.string(), .field = "/dic/images",
+                 .expected = "an HDF5 file from 'bridgefit dic --out'"});
+  const std::vector<std::string> images = r.ReadStrings("/dic/images");
+  const size_t n = images.size();
+  auto vec = [&](const std::string& name) {
+    std::vector<double> v = VectorOrEmpty(r, "/dic/" + name);
+    v.resize(n, NAN);
+    return v;
+  };
+  const std::vector<double> a = vec("crack_length"), tx = vec("tip_x"), ty = vec("tip_y"),
+                            vf = vec("valid_fraction");
+  const std::vector<std::string> methods =
+      r.Exists("/dic/tip_method") ? r.ReadStrings("/dic/tip_method") : std::vector<std::string>();
+  if (dic.frames.size() < n) dic.frames.resize(n);
+  for (size_t k = 0; k < n; ++k) {
+    report::DicFrame& f = dic.frames[k];
+    f.image = images[k];
+    if (std::isfinite(a[k]) || !std::isfinite(f.crack_length)) f.crack_length = a[k];
+    f.tip_x = tx[k];
+    f.tip_y = ty[k];
+    f.valid_fraction = vf[k];
+    if (k < methods.size()) f.tip_method = methods[k];
+    const std::string g = fmt::format("/dic/frame_{:04d}", k);
+    f.cod_s = VectorOrEmpty(r, g + "/cod_s");
+    f.cod_opening = VectorOrEmpty(r, g + "/cod_opening");
+    if (f.cod_opening.size() != f.cod_s.size()) f.cod_opening.clear();
+    f.path_x = VectorOrEmpty(r, g + "/path_x");
+    f.path_y = VectorOrEmpty(r, g + "/path_y");
+    if (f.path_x.size() != f.path_y.size()) f.path_x.clear(), f.path_y.clear();
+  }
+  const std::string line = StringAttr(r, "/dic", "crack_line_px");
+  if (std::sscanf(line.c_str(), "%lf,%lf,%lf,%lf", &dic.line[0], &dic.line[1], &dic.line[2],
+                  &dic.line[3]) == 4)
+    dic.has_line = true;
+  dic.scale_m_per_px = NumberAttr(r, "/dic", "scale_m_per_px");
+  dic.offset_m = NumberAttr(r, "/dic", "offset_m");
+  dic.fit_radius_px = NumberAttr(r, "/dic", "fit_radius_px");
+  dic.subset_px = NumberAttr(r, "/dic", "subset_px");
+  dic.path_x = VectorOrEmpty(r, "/dic/path_x");
+  dic.path_y = VectorOrEmpty(r, "/dic/path_y");
+  if (dic.path_x.size() != dic.path_y.size()) dic.path_x.clear(), dic.path_y.clear();
+}
+
+// Why a frame is doubtful, "" when it is not (frame 0 is the reference).
+std::string FrameFlag(const report::DicFrame& f, size_t k) {
+  if (k == 0) return "";
+  std::vector<std::string> why;
+  if (!std::isfinite(f.crack_length) || f.tip_method == "none") why.push_back("no tip found");
+  if (f.methods_disagree) {
+    std::string each;
+    for (const auto& [name, s] : {std::pair<const char*, double>{"williams", f.tip_williams_s},
+                                  {"jump", f.tip_jump_s}, {"sqrt", f.tip_sqrt_s}})
+      if (std::isfinite(s)) each += fmt::format("{}{} {:.1f}", each.empty() ? "" : ", ", name, s);
+    why.push_back("tip methods disagree by more than one grid step" +
+                  (each.empty() ? std::string() : " (" + each + " px along the line)"));
+  }
+  if (std::isfinite(f.valid_fraction) && f.valid_fraction < 0.8)
+    why.push_back(fmt::format("{:.0f}% of the points correlated", 100 * f.valid_fraction));
+  std::string text;
+  for (const std::string& w : why) text += (text.empty() ? "" : "; ") + w;
+  return text;
+}
+
+}  // namespace
+
+void WriteDicCsv(const std::string& path, const dic::CrackSequenceResult& r) {
+  std::string text =
+      "frame, image, crack_length [mm], crack_length_raw [mm], uncertainty [mm], crack_length "
+      "[px], tip_x [px], tip_y [px], tip_method, tip_williams [px], tip_jump [px], tip_sqrt [px], "
+      "methods_disagree, valid_fraction, mean_zncc, reference_frame, flags\n";
+  auto num = [](bool ok, double v) {
+    return ok && std::isfinite(v) ? fmt::format("{:.6g}", v) : std::string();
+  };
+  for (size_t k = 0; k < r.frames.size(); ++k) {
+    const auto& f = r.frames[k];
+    const bool t = f.has_length;
+    std::string image = f.image;
+    if (image.find_first_of(",\"") != std::string::npos) {
+      std::string q = "\"";
+      for (char ch : image) q += ch == '"' ? std::string("\"\"") : std::string(1, ch);
+      image = q + "\"";
+    }
+    text += fmt::format(
+        "{}, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}, {:.4f}, {:.4f}, {}, {}\n", k, image,
+        num(t, f.crack_length_m * 1e3), num(t, f.crack_length_raw_m * 1e3),
+        num(t, f.uncertainty_m * 1e3), num(t, f.tip.tip.s_px), num(t, f.tip.tip.x_px),
+        num(t, f.tip.tip.y_px), t ? dic::TipMethodName(f.tip.method) : "",
+        num(f.tip.williams.found, f.tip.williams.s_px), num(f.tip.jump.found, f.tip.jump.s_px),
+        num(f.tip.sqrt_cod.found, f.tip.sqrt_cod.s_px), f.tip.methods_disagree ? 1 : 0,
+        f.valid_fraction, f.correlation.mean_zncc, f.correlation.reference_frame, f.Flags());
+  }
+  WriteTextFileAtomic(path, text);
+}
+
+void WriteDicH5(const std::string& file, const dic::CrackSequenceResult& r,
+                const dic::CrackSequenceOptions& opt) {
+  io::H5Writer h5(file);
+  const size_t n = r.frames.size();
+  std::vector<double> a(n, NAN), a_raw(n, NAN), sig(n, NAN), tx(n, NAN), ty(n, NAN), vf(n),
+      kk(n, NAN), res(n, NAN);
+  std::vector<std::string> images, methods;
+  for (size_t k = 0; k < n; ++k) {
+    const auto& f = r.frames[k];
+    images.push_back(f.image);
+    methods.push_back(f.has_length ? dic::TipMethodName(f.tip.method) : "none");
+    vf[k] = f.valid_fraction;
+    if (f.has_length) {
+      a[k] = f.crack_length_m;
+      a_raw[k] = f.crack_length_raw_m;
+      sig[k] = f.uncertainty_m;
+      tx[k] = f.tip.tip.x_px;
+      ty[k] = f.tip.tip.y_px;
+    }
+    if (f.tip.williams.found) {
+      kk[k] = f.tip.k_over_2mu_sqrt_px * std::sqrt(opt.scale_m_per_px);
+      res[k] = f.tip.williams_residual_px;
+    }
+  }
+  h5.WriteStrings("/dic/images", images);
+  h5.WriteStrings("/dic/tip_method", methods);
+  h5.WriteVector("/dic/crack_length", a, "m", "monotone crack length (NaN: no opening)");
+  h5.WriteVector("/dic/crack_length_raw", a_raw, "m", "per-frame crack length");
+  h5.WriteVector("/dic/crack_length_uncertainty", sig, "m", "one standard deviation");
+  h5.WriteVector("/dic/tip_x", tx, "px", "tip position, reference image");
+  h5.WriteVector("/dic/tip_y", ty, "px", "tip position, reference image");
+  h5.WriteVector("/dic/valid_fraction", vf, "1", "valid points / correlated points");
+  h5.WriteVector("/dic/k_over_2mu", kk, "m^0.5", "Williams K_I / (2 mu)");
+  h5.WriteVector("/dic/williams_residual", res, "px", "RMS residual of the field fit");
+  std::vector<std::string> flags;
+  std::vector<double> path(4 * n, NAN);
+  for (size_t k = 0; k < n; ++k) {
+    flags.push_back(r.frames[k].Flags());
+    const auto& L = r.frames[k].line_used;
+    if (k > 0 && (r.frames[k].path.found || opt.has_line)) {
+      path[4 * k] = L.x0;
+      path[4 * k + 1] = L.y0;
+      path[4 * k + 2] = L.x1;
+      path[4 * k + 3] = L.y1;
+    }
+  }
+  h5.WriteStrings("/dic/flags", flags);
+  h5.WriteMatrix("/dic/crack_path", n, 4, path, "px",
+                 "line the length is measured along: x0, y0 (notch side), x1, y1");
+  const auto& L = opt.tip.line;
+  h5.WriteAttribute("/dic", "crack_line_px", fmt::format("{},{},{},{}", L.x0, L.y0, L.x1, L.y1));
+  h5.WriteAttribute("/dic", "scale_m_per_px", opt.scale_m_per_px);
+  h5.WriteAttribute("/dic", "offset_m", opt.offset_m);
+  h5.WriteAttribute("/dic", "subset_px", static_cast<double>(opt.correlation.subset_size));
+  h5.WriteAttribute("/dic", "step_px", static_cast<double>(opt.correlation.step));
+  // The field-fit window (Williams fit radius around the tip, crack band excluded): the report draws it.
+  h5.WriteAttribute("/dic", "fit_radius_px", opt.tip.fit_radius_px);
+  h5.WriteAttribute("/dic", "band_half_width_px", opt.tip.band_half_width_px);
+  for (size_t k = 1; k < n; ++k) {
+    const auto& f = r.frames[k];
+    const std::string g = fmt::format("/dic/frame_{:04d}", k);
+    h5.WriteVector(g + "/cod_s", f.tip.cod.s_px, "px", "station along the crack line");
+    std::vector<double> open(f.tip.cod.opening_px), slide(f.tip.cod.sliding_px);
+    for (size_t j = 0; j < open.size(); ++j)
+      if (!f.tip.cod.valid[j]) open[j] = slide[j] = NAN;
+    h5.WriteVector(g + "/cod_opening", open, "px", "normal displacement jump");
+    h5.WriteVector(g + "/cod_sliding", slide, "px", "tangential displacement jump");
+    if (!f.field.x.empty()) {
+      const size_t rows = f.field.ny, cols = f.field.nx;
+      std::vector<double> u(f.field.u), v(f.field.v), st(f.field.size());
+      for (size_t i = 0; i < f.field.size(); ++i) {
+        st[i] = static_cast<double>(f.field.status[i]);
+        if (!f.field.ok(i)) u[i] = v[i] = NAN;
+      }
+      h5.WriteMatrix(g + "/x", rows, cols, f.field.x, "px");
+      h5.WriteMatrix(g + "/y", rows, cols, f.field.y, "px");
+      h5.WriteMatrix(g + "/u", rows, cols, u, "px");
+      h5.WriteMatrix(g + "/v", rows, cols, v, "px");
+      h5.WriteMatrix(g + "/zncc", rows, cols, f.field.zncc, "1");
+      h5.WriteMatrix(g + "/status", rows, cols, st, "1",
+                     "0 ok, 1 masked, 2 crack band, 3 out of image, 4 no convergence, 5 low "
+                     "correlation, 6 unreached");
+    }
+  }
+  h5.Commit();
+}
+
+DicCrackLengths ReadDicCrackLengths(const std::string& path) {
+  const io::CsvTable frames = io::ReadCsvTable(path);
+  for (const char* column : {"image", "crack_length"})
+    if (frames.Find(column) < 0)
+      throw Error(ErrorKind::kInput, "the crack-length file lacks a column",
+                  {.file = path, .field = column,
+                   .expected = "the CSV of `bridgefit dic --csv` (image, crack_length [mm])"});
+  return {frames.TextColumn("image"), frames.ColumnSi("crack_length", Dimension::Length())};
+}
+
+report::DicView ReadDicView(const std::filesystem::path& csv, const std::filesystem::path& h5,
+                            const std::filesystem::path& images_dir, std::vector<std::string>& notes) {
+  report::DicView dic;
+  dic.csv = csv;
+  dic.h5 = h5;
+  if (!dic.h5.empty()) {
+    if (!std::filesystem::exists(dic.h5))
+      throw Error(ErrorKind::kInput, "the DIC file does not exist",
+                  {.file = dic.h5.string(), .field = "--dic",
+                   .expected = "an HDF5 file from 'bridgefit dic --out'"});
+    ReadDicH5(dic.h5, dic);
+  }
+  if (!dic.csv.empty()) ReadDicCsv(dic.csv, dic, notes);
+  const std::filesystem::path anchor = dic.h5.empty() ? dic.csv : dic.h5;
+  int missing = 0;
+  for (size_t k = 0; k < dic.frames.size(); ++k) {
+    report::DicFrame& f = dic.frames[k];
+    f.image_file = ResolveImage(f.image, anchor, images_dir);
+    missing += f.image_file.empty();
+    f.flag = FrameFlag(f, k);
+  }
+  if (dic.has_geometry() && missing > 0)
+    notes.push_back(fmt::format("{} of {} DIC images not found (recorded paths, next to {}{}): "
+                                "those frames are not drawn",
+                                missing, dic.frames.size(), anchor.parent_path().string(),
+                                images_dir.empty() ? "; give --images DIR" : ", --images"));
+  return dic;
+}
+
+}  // namespace bridgefit::pipeline
