@@ -89,21 +89,25 @@ CrackSequenceResult AnalyzeCrackFields(const std::vector<std::filesystem::path>&
   if (files.empty()) throw Error(ErrorKind::kInput, "no field files given");
   Stopwatch watch;
   CrackSequenceResult out;
+  // An Ncorr MAT file holds many frames: the count shown is of files.
   Progress progress("crack", files.size(), options.show_progress);
   CrackPathOptions path_opt;
-  std::string unit;
-  for (size_t k = 0; k < files.size(); ++k) {
-    FieldFile file = ReadFieldFile(files[k]);
+  std::string unit, first_name;
+  FieldFrames frames(files);
+  FieldFile file;
+  std::string name;
+  for (size_t k = 0; frames.Next(&file, &name); ++k) {
     if (k == 0) {
       unit = file.unit;
+      first_name = name;
       if (!file.IsPixels()) options.scale_m_per_px = file.m_per_unit;
       if (!(options.scale_m_per_px > 0))
         throw Error(ErrorKind::kUsage, "the fields are in px: a scale is needed",
-                    {.file = files[k].string(), .field = "--scale", .expected = "e.g. '0.05mm/px'"});
+                    {.file = name, .field = "--scale", .expected = "e.g. '0.05mm/px'"});
       if (auto_defaults) {
         const double spacing = PointSpacing(file.field);
         BF_CHECK_INPUT(spacing > 0, "cannot tell the point spacing (fewer than two valid points)",
-                       {.file = files[k].string()});
+                       {.file = name});
         SetFieldDefaults(spacing, band > 0 ? band : 1.5 * spacing, &options);
       }
       std::string why;
@@ -112,19 +116,19 @@ CrackSequenceResult AnalyzeCrackFields(const std::vector<std::filesystem::path>&
       out.points = file.field.size();
     } else if (file.unit != unit) {
       throw Error(ErrorKind::kInput, "field unit differs from the first file's",
-                  {.file = files[k].string(), .field = "unit", .value = file.unit,
-                   .expected = unit + " (as in " + files[0].string() + ")"});
+                  {.file = name, .field = "unit", .value = file.unit,
+                   .expected = unit + " (as in " + first_name + ")"});
     }
     FrameResult r;
-    r.image = files[k].string();
+    r.image = name;
     try {
       LocateCrackInField(file.field, options, path_opt, &r);
     } catch (const Error& e) {
-      throw e.WithContext({.file = files[k].string()});
+      throw e.WithContext({.file = name});
     }
     if (options.keep_fields) r.field = std::move(file.field);
     out.frames.push_back(std::move(r));
-    progress.Update(k + 1);
+    progress.Update(std::min(k + 1, files.size()));
   }
   progress.Finish();
   MakeMonotone(&out.frames);
