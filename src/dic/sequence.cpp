@@ -43,6 +43,7 @@ std::string FrameResult::Flags() const {
   };
   add(path_not_found, "path_not_found");
   add(path_disagrees_with_hint, "path_disagrees_with_line");
+  add(path.found && path.curved, "path_curved");
   add(tip.tip_at_edge, "tip_at_edge");
   add(tip.methods_disagree, "methods_disagree");
   add(tip_beyond_band, "tip_beyond_band");
@@ -71,6 +72,7 @@ void SetGridDefaults(int subset_px, int step_px, CrackSequenceOptions* o) {
   o->path.side_depth_px = std::max(o->tip.side_depth_px, 3.0 * step_px);
   // Where straddling subsets fail, the path is resolved to half a grid step.
   o->path.hint_tolerance_px = std::max(2.0, 0.5 * step_px + 1.0);
+  o->path.curved_rms_px = o->path.hint_tolerance_px;
 }
 
 void SetFieldDefaults(double spacing, double band, CrackSequenceOptions* o) {
@@ -83,6 +85,7 @@ void SetFieldDefaults(double spacing, double band, CrackSequenceOptions* o) {
   o->path.gap_px = band;
   o->path.side_depth_px = 3.0 * spacing;
   o->path.hint_tolerance_px = 1.5 * spacing;
+  o->path.curved_rms_px = 1.5 * spacing;
   o->path.search_half_width_px = std::max(o->path.search_half_width_px, 8.0 * spacing);
 }
 

@@ -49,7 +49,10 @@ struct FrameResult {
   bool tip_beyond_band = false;
   CrackPathResult path;            // find_path only
   CrackLine line_used;             // the line the crack length is measured along
-  std::string Flags() const;       // "tip_at_edge;methods_disagree;..." ("" = none)
+  // "tip_at_edge;methods_disagree;..." ("" = none); path_curved: the straight
+  // path fits the crack points badly (the length along it may be off; see
+  // path.polyline_x/y).
+  std::string Flags() const;
   double crack_length_m = 0;   // monotone in time
   double crack_length_raw_m = 0;  // this frame's own estimate
   double uncertainty_m = 0;

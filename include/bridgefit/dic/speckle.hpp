@@ -6,12 +6,11 @@
 // per pixel (fixed-point iteration); pixels with no material point (an open
 // crack) get the gap intensity.
 
-#include <functional>
-#include <vector>
 #include <cstdint>
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "bridgefit/dic/image.hpp"
 
