@@ -528,7 +528,14 @@ FieldFrames::~FieldFrames() = default;
 bool FieldFrames::Next(FieldFile* frame, std::string* name) {
   while (file_ < files_.size()) {
     const std::filesystem::path& path = files_[file_];
-    if (!mat_ && frame_ == 0 && IsMatFile(path)) mat_ = std::make_unique<NcorrFile>(path);
+    if (!mat_ && frame_ == 0) {
+      if (IsMatFile(path)) {
+        mat_ = std::make_unique<NcorrFile>(path);
+      } else if (Lower(path.extension().string()) == ".mat") {
+        throw Error(ErrorKind::kInput, "not a MATLAB MAT file (no MAT header)",
+                    {.file = path.string(), .expected = "Ncorr's saved analysis (MAT v5, v7 or v7.3)"});
+      }
+    }
     if (mat_) {
       if (frame_ < mat_->Frames()) {
         *frame = mat_->Frame(frame_);

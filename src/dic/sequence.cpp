@@ -53,10 +53,12 @@ std::string FrameResult::Flags() const {
 std::string CrackSequenceResult::BriefReport() const {
   size_t with_tip = 0;
   for (const FrameResult& f : frames) with_tip += f.has_length ? 1 : 0;
-  return fmt::format(
-      "{} frames, {} with a crack tip, {} grid points per frame ({:.0f} correlated on average), "
-      "{:.2f} s, {:.0f} points/s",
-      frames.size(), with_tip, points, mean_correlated_points, wall_s, points_per_s);
+  const std::string correlated =
+      mean_correlated_points > 0
+          ? fmt::format(" ({:.0f} correlated on average)", mean_correlated_points)
+          : "";
+  return fmt::format("{} frames, {} with a crack tip, {} grid points per frame{}, {:.2f} s, {:.0f} points/s",
+                     frames.size(), with_tip, points, correlated, wall_s, points_per_s);
 }
 
 void SetGridDefaults(int subset_px, int step_px, CrackSequenceOptions* o) {

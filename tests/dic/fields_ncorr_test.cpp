@@ -243,6 +243,18 @@ TEST(Ncorr, BadFilesNameFileAndVariable) {
   ExpectNcorrError(dir / "cut73.mat", "");
   std::ofstream(dir / "empty.mat");
   ExpectNcorrError(dir / "empty.mat", "");
+  // A .mat that is no MAT file is not read as text.
+  {
+    FieldFrames frames({dir / "text.mat"});
+    FieldFile f;
+    std::string name;
+    try {
+      frames.Next(&f, &name);
+      ADD_FAILURE() << "text.mat read";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("not a MATLAB MAT file"), std::string::npos) << e.what();
+    }
+  }
   // A MAT file handed to the text reader points to the MAT reader.
   EXPECT_THROW(ReadFieldFile(dir / "ok5.mat"), Error);
   fs::remove_all(dir);
