@@ -1,6 +1,6 @@
 // `bridgefit crack`: crack length from displacement fields exported by other
 // DIC software (plain CSV, GOM Aramis nodemap, DICe solution, DaVis vector
-// text; one frame per file), with the same path search, tip methods and
+// text; one frame per file; Ncorr MAT files with all their frames), with the same path search, tip methods and
 // per-frame output as `bridgefit dic`.
 //   bridgefit crack nodemaps/ --crack-line 0,0,60,0 --offset 20mm --json
 //   bridgefit crack "DICe_solution_*.txt" --scale 0.02mm/px --out crack.h5
@@ -22,12 +22,12 @@ class CrackCommand final : public Command {
  public:
   const char* name() const override { return "crack"; }
   const char* description() const override {
-    return "Crack length from exported DIC displacement fields (CSV, Aramis, DICe, DaVis)";
+    return "Crack length from exported DIC displacement fields (CSV, Aramis, DICe, DaVis, Ncorr MAT)";
   }
   void Register(CLI::App& sub) override {
     sub.add_option("fields", files_,
-                   "Field files: a folder (.txt/.csv/.dat), a glob or files; one frame per file, "
-                   "natural order")
+                   "Field files: a folder (.txt/.csv/.dat/.mat), a glob or files; one frame per "
+                   "text file, every frame of an Ncorr .mat; natural order")
         ->required();
     sub.add_option("--crack-line", crack_line_,
                    "Expected crack x0,y0,x1,y1 in the fields' coordinates (a hint for the path "
@@ -71,13 +71,15 @@ class CrackCommand final : public Command {
     opt.show_progress = !common.quiet;
     const auto files = dic::ExpandFieldArguments(files_);
     // The unit of the fields decides how the threshold and radius read.
-    const dic::FieldFile first = dic::ReadFieldFile(files.front());
+    dic::FieldFile first;
+    std::string first_name;
+    dic::FieldFrames(files).Next(&first, &first_name);
     const double m_per_unit = first.IsPixels() ? opt.scale_m_per_px : first.m_per_unit;
     if (!(m_per_unit > 0))
       throw Error(ErrorKind::kUsage, "the fields are in px: a scale is needed",
-                  {.file = files.front().string(), .field = "--scale", .expected = "e.g. '0.05mm/px'"});
+                  {.file = first_name, .field = "--scale", .expected = "e.g. '0.05mm/px'"});
     const double spacing = dic::PointSpacing(first.field);
-    BF_CHECK_INPUT(spacing > 0, "cannot tell the point spacing", {.file = files.front().string()});
+    BF_CHECK_INPUT(spacing > 0, "cannot tell the point spacing", {.file = first_name});
     dic::SetFieldDefaults(spacing, band_ > 0 ? band_ : 1.5 * spacing, &opt);
     if (fit_radius_ > 0) opt.tip.fit_radius_px = opt.tip.sqrt_window_px = fit_radius_;
     try {

@@ -74,6 +74,8 @@ class DicCommand final : public Command {
     sub.add_option("--min-zncc", min_zncc_, "Minimum ZNCC of a valid point")->default_val(0.8);
     sub.add_option("--search", search_, "Seed search radius in px")->default_val(40);
     sub.add_option("--threads", threads_, "OpenMP threads (0 = all)")->default_val(0);
+    sub.add_flag("--full-field", full_field_,
+                 "Correlate every grid point (default: only the crack band, which follows the tip)");
     sub.add_flag("--no-incremental", no_incremental_,
                  "Never update the reference image along the sequence");
     sub.add_option("--out", out_, "Write results to this HDF5 file");
@@ -128,6 +130,7 @@ class DicCommand final : public Command {
     c.seed_search_radius = search_;
     c.threads = threads_;
     c.incremental = !no_incremental_;
+    opt.full_field = full_field_;
     if (shape_ == "second") c.shape = dic::ShapeFunction::kSecondOrder;
     else if (shape_ != "first")
       throw Error(ErrorKind::kUsage, "unknown shape function",
@@ -173,6 +176,7 @@ class DicCommand final : public Command {
   int subset_ = 31, step_ = 5, search_ = 40, threads_ = 0;
   double min_zncc_ = 0.8, fit_radius_ = 0;
   double path_search_ = 40;
+  bool full_field_ = false;
   bool no_incremental_ = false, fields_ = false, fixed_line_ = false;
 };
 

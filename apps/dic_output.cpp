@@ -23,6 +23,14 @@ nlohmann::json PathJson(const dic::FrameResult& f) {
     j["line_max_offset_px"] = f.path.hint_max_offset_px;
     j["line_angle_deg"] = f.path.hint_angle_deg;
     j["disagrees_with_line"] = f.path.disagrees_with_hint;
+    j["rms_all_points_px"] = f.path.line_rms_all_px;  // fit quality of the straight path
+    j["curved"] = f.path.curved;
+    if (f.path.curved) {
+      j["polyline_px"] = nlohmann::json::array();
+      for (size_t k = 0; k < f.path.polyline_x.size(); ++k)
+        j["polyline_px"].push_back({f.path.polyline_x[k], f.path.polyline_y[k]});
+      j["polyline_rms_px"] = f.path.polyline_rms_px;
+    }
   } else if (!f.path.why_not_found.empty()) {
     j["why_not_found"] = f.path.why_not_found;
   }

@@ -6,3 +6,5 @@ target_compile_definitions(dic_speed PRIVATE BRIDGEFIT_SOURCE_DIR="${PROJECT_SOU
 add_executable(dic_sample15 ${CMAKE_CURRENT_LIST_DIR}/dic_sample15.cpp)
 target_link_libraries(dic_sample15 PRIVATE bf_dic)
 target_compile_definitions(dic_sample15 PRIVATE BRIDGEFIT_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+add_executable(dic_band_frames ${CMAKE_CURRENT_LIST_DIR}/dic_band_frames.cpp)
+target_link_libraries(dic_band_frames PRIVATE bf_dic)

@@ -7,7 +7,7 @@ PACKAGES=(
   build-essential cmake pkg-config
   libeigen3-dev libnlopt-cxx-dev libceres-dev libopencv-dev libhdf5-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  libcli11-dev libtomlplusplus-dev libspdlog-dev libfmt-dev nlohmann-json3-dev
+  libcli11-dev libtomlplusplus-dev libmatio-dev libspdlog-dev libfmt-dev nlohmann-json3-dev
   gnuplot-nox hdf5-tools python3-h5py chromium
 )
 # Optional extras (e.g. chromium for the report test): BRIDGEFIT_EXTRA_PACKAGES="chromium"

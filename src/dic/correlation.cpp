@@ -142,6 +142,21 @@ void Correlator::Impl::BuildGrid(const Image& reference) {
     }
 }
 
+void Correlator::Impl::SetActive(const std::vector<char>& active) {
+  const size_t n = grid.size();
+  if (!active.empty() && active.size() != n)
+    throw Error(ErrorKind::kUsage, "active point list differs from the grid",
+                {.value = std::to_string(active.size()), .expected = std::to_string(n)});
+  for (size_t i = 0; i < n; ++i) {
+    const bool on = static_eligible[i] && (active.empty() || active[i]);
+    eligible[i] = on ? 1 : 0;
+    grid.status[i] = static_eligible[i] && !on ? PointStatus::kMasked : static_status[i];
+  }
+  // Points back in play after a reference update: their motion to the
+  // current reference from known neighbours.
+  FillUnknown(ref_p, ref_known);
+}
+
 void Correlator::Impl::SetReference(const Image& image) {
   ref_image = image;
   ref_interp = detail::InterpolatedImage(ref_image, opt.interpolation);
@@ -366,6 +381,8 @@ Correlator::Correlator(const CorrelationOptions& options, const Image& reference
   m.grid_width = reference.width;
   m.grid_height = reference.height;
   m.BuildGrid(reference);
+  m.static_eligible = m.eligible;
+  m.static_status = m.grid.status;
   m.SetReference(reference);
   m.ref_p.assign(m.grid.size(), detail::Params{});
   m.ref_known.assign(m.grid.size(), 1);
@@ -377,6 +394,7 @@ const DisplacementField& Correlator::Grid() const { return impl_->grid; }
 DisplacementField Correlator::Next(const Image& frame, CorrelationSummary* summary) {
   return impl_->Next(frame, summary);
 }
+void Correlator::SetActive(const std::vector<char>& active) { impl_->SetActive(active); }
 
 DisplacementField CorrelatePair(const Image& reference, const Image& deformed,
                                 const CorrelationOptions& options, CorrelationSummary* summary) {

@@ -18,6 +18,8 @@ struct CorrelatorState {
   CorrelationOptions opt;
   DisplacementField grid;        // positions and static status
   std::vector<char> eligible;    // correlate this point
+  std::vector<char> static_eligible;  // from the grid (ROI, mask, crack band)
+  std::vector<PointStatus> static_status;
   Image ref_image;               // current reference
   detail::InterpolatedImage ref_interp;
   detail::NodeMaps ref_nodes;    // first order: f and grad f at pixel nodes
@@ -63,6 +65,7 @@ struct Correlator::Impl : detail::CorrelatorState {
     return detail::RunPass(*this, def_image, def_interp, guess, has_guess, solves);
   }
   void FillUnknown(std::vector<Params>& p, std::vector<char>& known) const;
+  void SetActive(const std::vector<char>& active);
   DisplacementField Next(const Image& frame, CorrelationSummary* summary);
   static Params Accumulate(const Params& d, const Params& r);
   static Params Increment(const Params& t, const Params& r);

@@ -28,6 +28,7 @@ bool CrackPathOptions::IsValid(std::string* why) const {
     return fail("path relative jump must lie in [0, 1)");
   if (min_stations < 2) return fail("a path needs at least 2 stations");
   if (!(hint_tolerance_px > 0)) return fail("path-hint tolerance must be > 0");
+  if (!(curved_rms_px > 0)) return fail("curved-path RMS threshold must be > 0");
   return true;
 }
 
@@ -35,8 +36,12 @@ std::string CrackPathResult::BriefReport() const {
   if (!found) return "crack path not found: " + why_not_found;
   return fmt::format(
       "crack path ({:.1f},{:.1f})->({:.1f},{:.1f}) px, angle {:.2f} deg, {} points over {:.0f} px, "
-      "RMS {:.2f} px{}",
+      "RMS {:.2f} px (all points {:.2f} px){}{}",
       line.x0, line.y0, line.x1, line.y1, angle_deg, inliers, cracked_length_px, rms_residual_px,
+      line_rms_all_px,
+      curved ? fmt::format(", curved: polyline of {} segments, RMS {:.2f} px", polyline_x.size() - 1,
+                           polyline_rms_px)
+             : "",
       disagrees_with_hint ? fmt::format(", {:.1f} px / {:.2f} deg off the given line",
                                         hint_max_offset_px, hint_angle_deg)
                           : "");
@@ -495,6 +500,30 @@ CrackPathResult FindCrackPath(const DisplacementField& field, const CrackPathOpt
     res.disagrees_with_hint =
         std::abs(a + b * s_first) > std::max(o.hint_tolerance_px, 2 * se(s_first)) ||
         std::abs(a + b * s_last) > std::max(o.hint_tolerance_px, 2 * se(s_last));
+  }
+  // Fit quality of the line over every crack point; a polyline where it is
+  // poor (a kinked or curved crack), its points ordered along the path.
+  {
+    std::vector<std::pair<double, size_t>> order;
+    double ss = 0;
+    for (size_t k = 0; k < res.point_x.size(); ++k) {
+      double s, n;
+      res.line.ToLocal(res.point_x[k], res.point_y[k], &s, &n);
+      order.push_back({s, k});
+      ss += n * n;
+    }
+    res.line_rms_all_px = std::sqrt(ss / std::max<size_t>(1, order.size()));
+    res.curved = res.line_rms_all_px > o.curved_rms_px;
+    if (res.curved) {
+      std::sort(order.begin(), order.end());
+      std::vector<double> xs, ys;
+      for (const auto& [s, k] : order) {
+        xs.push_back(res.point_x[k]);
+        ys.push_back(res.point_y[k]);
+      }
+      FitCrackPolyline(xs, ys, o.curved_rms_px, o.min_stations, &res.polyline_x, &res.polyline_y,
+                       &res.polyline_rms_px);
+    }
   }
   res.found = true;
   return res;

@@ -26,15 +26,42 @@ const char* FieldFormatName(FieldFormat format) {
     case FieldFormat::kAramis: return "aramis";
     case FieldFormat::kDice: return "dice";
     case FieldFormat::kDavis: return "davis";
+    case FieldFormat::kNcorr: return "ncorr";
   }
   return "unknown";
 }
 
 FieldFormat ParseFieldFormat(const std::string& text) {
-  for (FieldFormat f : {FieldFormat::kCsv, FieldFormat::kAramis, FieldFormat::kDice, FieldFormat::kDavis})
+  for (FieldFormat f : {FieldFormat::kCsv, FieldFormat::kAramis, FieldFormat::kDice,
+                        FieldFormat::kDavis, FieldFormat::kNcorr})
     if (text == FieldFormatName(f)) return f;
   throw Error(ErrorKind::kUsage, "unknown field format",
-              {.field = "--format", .value = text, .expected = "csv, aramis, dice or davis"});
+              {.field = "--format", .value = text, .expected = "csv, aramis, dice, davis or ncorr"});
+}
+
+namespace {
+std::string Trim(std::string_view s);
+std::string Lower(std::string s);
+}  // namespace
+
+std::string NormalizeFieldUnit(const std::string& unit, double* m_per_unit) {
+  const std::string l = Lower(Trim(unit));
+  if (l == "px" || l == "pixel" || l == "pixels" || l == "pix") {
+    *m_per_unit = 0;
+    return "px";
+  }
+  std::string u = Trim(unit);
+  if (u == "\xC2\xB5m" || u == "\xCE\xBCm") u = "um";
+  try {
+    const Unit parsed = ParseUnit(u);
+    if (parsed.dimension == Dimension::Length() && parsed.scale > 0) {
+      *m_per_unit = parsed.scale;
+      return u;
+    }
+  } catch (const Error&) {
+  }
+  throw Error(ErrorKind::kInput, "unit is not a length or px",
+              {.value = unit, .expected = "px, pixels, mm, m, um, ..."});
 }
 
 namespace {
@@ -139,29 +166,14 @@ int FindColumn(const std::vector<Column>& cols, std::initializer_list<const char
   return -1;
 }
 
-// "px"/"pixel" -> "px"; a length unit -> itself with metres per unit.
 std::string NormalizeUnit(const std::string& unit, double* m_per_unit, const std::string& name,
                           const std::string& column) {
-  const std::string l = Lower(Trim(unit));
-  if (l == "px" || l == "pixel" || l == "pixels" || l == "pix") {
-    *m_per_unit = 0;
-    return "px";
-  }
-  std::string u = Trim(unit);
-  if (u == "\xC2\xB5m" || u == "\xCE\xBCm") u = "um";
   try {
-    const Unit parsed = ParseUnit(u);
-    if (parsed.dimension == Dimension::Length() && parsed.scale > 0) {
-      *m_per_unit = parsed.scale;
-      return u;
-    }
-  } catch (const Error&) {
+    return NormalizeFieldUnit(unit, m_per_unit);
+  } catch (const Error& e) {
+    throw e.WithContext({.file = name, .field = column});
   }
-  throw Error(ErrorKind::kInput, "unit is not a length or px",
-              {.file = name, .field = column, .value = unit, .expected = "px, mm, m, um, ..."});
 }
-
-DisplacementField EmptyField() { return {}; }
 
 void Push(DisplacementField* f, double x, double y, double u, double v, bool ok) {
   f->x.push_back(x);
@@ -330,6 +342,9 @@ FieldFile ReadFieldText(const std::string& text, const std::string& name) {
     throw Error(ErrorKind::kInput, "field file too large",
                 {.file = name, .value = std::to_string(text.size()) + " bytes",
                  .expected = "at most 1 GiB per frame"});
+  if (text.size() >= 128 && (text.compare(126, 2, "IM") == 0 || text.compare(126, 2, "MI") == 0))
+    throw Error(ErrorKind::kInput, "a MATLAB MAT file is not a text export",
+                {.file = name, .expected = "Ncorr MAT files are read as NcorrFile (bridgefit crack takes them as they are)"});
   if (text.find('\0') != std::string::npos)
     throw Error(ErrorKind::kInput, "binary data in a text field file",
                 {.file = name, .expected = "a CSV, Aramis nodemap, DICe or DaVis text export"});
@@ -358,6 +373,8 @@ FieldFile ReadFieldText(const std::string& text, const std::string& name) {
       const std::string h = Trim(Trim(lines[header]).substr(1));
       return ReadTable(lines, header, ';', h, name, "", format);
     }
+    case FieldFormat::kNcorr:  // binary: refused above
+      break;
     case FieldFormat::kCsv:
       for (size_t i = 0; i < lines.size(); ++i) {
         const std::string t = Trim(lines[i]);
@@ -452,7 +469,7 @@ std::vector<std::filesystem::path> ExpandFieldArguments(const std::vector<std::s
   namespace fs = std::filesystem;
   auto is_field = [](const fs::path& p) {
     const std::string ext = Lower(p.extension().string());
-    return ext == ".txt" || ext == ".csv" || ext == ".dat";
+    return ext == ".txt" || ext == ".csv" || ext == ".dat" || ext == ".mat";
   };
   auto sort_natural = [](std::vector<fs::path>& v) {
     std::sort(v.begin(), v.end(), [](const fs::path& a, const fs::path& b) {
@@ -469,7 +486,7 @@ std::vector<std::filesystem::path> ExpandFieldArguments(const std::vector<std::s
         if (entry.is_regular_file(ec) && is_field(entry.path())) files.push_back(entry.path());
       if (files.empty())
         throw Error(ErrorKind::kInput, "folder holds no field files",
-                    {.file = arg, .expected = ".txt, .csv or .dat exports"});
+                    {.file = arg, .expected = ".txt, .csv or .dat exports or Ncorr .mat files"});
     } else if (arg.find_first_of("*?[") != std::string::npos && !fs::exists(p, ec)) {
       const fs::path folder = p.has_parent_path() ? p.parent_path() : fs::path(".");
       const std::string pattern = p.filename().string();
@@ -488,6 +505,55 @@ std::vector<std::filesystem::path> ExpandFieldArguments(const std::vector<std::s
   }
   if (out.empty()) throw Error(ErrorKind::kInput, "no field files given");
   return out;
+}
+
+}  // namespace bridgefit::dic
+
+namespace bridgefit::dic {
+
+bool IsMatFile(const std::filesystem::path& path) {
+  // A 128-byte header: text, then the version (0x0100 v5, 0x0200 v7.3) and
+  // the endian indicator "IM" (or "MI") in bytes 124-127.
+  std::ifstream in(path, std::ios::binary);
+  char head[128] = {};
+  in.read(head, 128);
+  if (in.gcount() != 128) return false;
+  const std::string tag(head + 126, 2);
+  return tag == "IM" || tag == "MI";
+}
+
+FieldFrames::FieldFrames(std::vector<std::filesystem::path> files) : files_(std::move(files)) {}
+FieldFrames::~FieldFrames() = default;
+
+bool FieldFrames::Next(FieldFile* frame, std::string* name) {
+  while (file_ < files_.size()) {
+    const std::filesystem::path& path = files_[file_];
+    if (!mat_ && frame_ == 0) {
+      if (IsMatFile(path)) {
+        mat_ = std::make_unique<NcorrFile>(path);
+      } else if (Lower(path.extension().string()) == ".mat") {
+        throw Error(ErrorKind::kInput, "not a MATLAB MAT file (no MAT header)",
+                    {.file = path.string(), .expected = "Ncorr's saved analysis (MAT v5, v7 or v7.3)"});
+      }
+    }
+    if (mat_) {
+      if (frame_ < mat_->Frames()) {
+        *frame = mat_->Frame(frame_);
+        *name = mat_->FrameName(frame_);
+        ++frame_;
+        return true;
+      }
+      mat_.reset();
+      frame_ = 0;
+      ++file_;
+      continue;
+    }
+    *frame = ReadFieldFile(path);
+    *name = path.string();
+    ++file_;
+    return true;
+  }
+  return false;
 }
 
 }  // namespace bridgefit::dic

@@ -81,6 +81,9 @@ std::string WriteFieldText(const FieldFile& field, FieldFormat format) {
     case FieldFormat::kAramis: return WriteAramis(field);
     case FieldFormat::kDice: return WriteDice(field);
     case FieldFormat::kDavis: return WriteDavis(field);
+    case FieldFormat::kNcorr:
+      throw Error(ErrorKind::kUsage, "Ncorr output is a binary MAT file, not text",
+                  {.field = "format", .value = "ncorr", .expected = "WriteNcorrFile"});
   }
   throw Error(ErrorKind::kInternal, "unknown field format");
 }

@@ -43,16 +43,22 @@ std::string FrameResult::Flags() const {
   };
   add(path_not_found, "path_not_found");
   add(path_disagrees_with_hint, "path_disagrees_with_line");
+  add(path.found && path.curved, "path_curved");
   add(tip.tip_at_edge, "tip_at_edge");
   add(tip.methods_disagree, "methods_disagree");
+  add(tip_beyond_band, "tip_beyond_band");
   return out;
 }
 
 std::string CrackSequenceResult::BriefReport() const {
   size_t with_tip = 0;
   for (const FrameResult& f : frames) with_tip += f.has_length ? 1 : 0;
-  return fmt::format("{} frames, {} with a crack tip, {} points per frame, {:.2f} s, {:.0f} points/s",
-                     frames.size(), with_tip, points, wall_s, points_per_s);
+  const std::string correlated =
+      mean_correlated_points > 0
+          ? fmt::format(" ({:.0f} correlated on average)", mean_correlated_points)
+          : "";
+  return fmt::format("{} frames, {} with a crack tip, {} grid points per frame{}, {:.2f} s, {:.0f} points/s",
+                     frames.size(), with_tip, points, correlated, wall_s, points_per_s);
 }
 
 void SetGridDefaults(int subset_px, int step_px, CrackSequenceOptions* o) {
@@ -68,6 +74,7 @@ void SetGridDefaults(int subset_px, int step_px, CrackSequenceOptions* o) {
   o->path.side_depth_px = std::max(o->tip.side_depth_px, 3.0 * step_px);
   // Where straddling subsets fail, the path is resolved to half a grid step.
   o->path.hint_tolerance_px = std::max(2.0, 0.5 * step_px + 1.0);
+  o->path.curved_rms_px = o->path.hint_tolerance_px;
 }
 
 void SetFieldDefaults(double spacing, double band, CrackSequenceOptions* o) {
@@ -80,6 +87,7 @@ void SetFieldDefaults(double spacing, double band, CrackSequenceOptions* o) {
   o->path.gap_px = band;
   o->path.side_depth_px = 3.0 * spacing;
   o->path.hint_tolerance_px = 1.5 * spacing;
+  o->path.curved_rms_px = 1.5 * spacing;
   o->path.search_half_width_px = std::max(o->path.search_half_width_px, 8.0 * spacing);
 }
 
@@ -89,21 +97,25 @@ CrackSequenceResult AnalyzeCrackFields(const std::vector<std::filesystem::path>&
   if (files.empty()) throw Error(ErrorKind::kInput, "no field files given");
   Stopwatch watch;
   CrackSequenceResult out;
+  // An Ncorr MAT file holds many frames: the count shown is of files.
   Progress progress("crack", files.size(), options.show_progress);
   CrackPathOptions path_opt;
-  std::string unit;
-  for (size_t k = 0; k < files.size(); ++k) {
-    FieldFile file = ReadFieldFile(files[k]);
+  std::string unit, first_name;
+  FieldFrames frames(files);
+  FieldFile file;
+  std::string name;
+  for (size_t k = 0; frames.Next(&file, &name); ++k) {
     if (k == 0) {
       unit = file.unit;
+      first_name = name;
       if (!file.IsPixels()) options.scale_m_per_px = file.m_per_unit;
       if (!(options.scale_m_per_px > 0))
         throw Error(ErrorKind::kUsage, "the fields are in px: a scale is needed",
-                    {.file = files[k].string(), .field = "--scale", .expected = "e.g. '0.05mm/px'"});
+                    {.file = name, .field = "--scale", .expected = "e.g. '0.05mm/px'"});
       if (auto_defaults) {
         const double spacing = PointSpacing(file.field);
         BF_CHECK_INPUT(spacing > 0, "cannot tell the point spacing (fewer than two valid points)",
-                       {.file = files[k].string()});
+                       {.file = name});
         SetFieldDefaults(spacing, band > 0 ? band : 1.5 * spacing, &options);
       }
       std::string why;
@@ -112,19 +124,19 @@ CrackSequenceResult AnalyzeCrackFields(const std::vector<std::filesystem::path>&
       out.points = file.field.size();
     } else if (file.unit != unit) {
       throw Error(ErrorKind::kInput, "field unit differs from the first file's",
-                  {.file = files[k].string(), .field = "unit", .value = file.unit,
-                   .expected = unit + " (as in " + files[0].string() + ")"});
+                  {.file = name, .field = "unit", .value = file.unit,
+                   .expected = unit + " (as in " + first_name + ")"});
     }
     FrameResult r;
-    r.image = files[k].string();
+    r.image = name;
     try {
       LocateCrackInField(file.field, options, path_opt, &r);
     } catch (const Error& e) {
-      throw e.WithContext({.file = files[k].string()});
+      throw e.WithContext({.file = name});
     }
     if (options.keep_fields) r.field = std::move(file.field);
     out.frames.push_back(std::move(r));
-    progress.Update(k + 1);
+    progress.Update(std::min(k + 1, files.size()));
   }
   progress.Finish();
   MakeMonotone(&out.frames);
@@ -185,6 +197,80 @@ void MakeMonotone(std::vector<FrameResult>* frames) {
     if ((*frames)[k].has_length) (*frames)[k].crack_length_m = mono[k];
 }
 
+std::vector<char> CrackBandPoints(const DisplacementField& grid, const CrackLine& line, bool tip_known,
+                                  double tip_x, double tip_y, double strip, double disk) {
+  std::vector<char> on(grid.size(), 0);
+  const double half = tip_known ? strip : disk;
+  for (size_t i = 0; i < grid.size(); ++i) {
+    double s, n;
+    line.ToLocal(grid.x[i], grid.y[i], &s, &n);
+    const bool in_strip = s >= -half && std::abs(n) <= half;
+    const bool in_disk = tip_known && std::hypot(grid.x[i] - tip_x, grid.y[i] - tip_y) <= disk;
+    on[i] = in_strip || in_disk ? 1 : 0;
+  }
+  return on;
+}
+
+void CrackBandWidths(const CrackSequenceOptions& o, double margin, double* strip, double* disk) {
+  const double half_subset = 0.5 * o.correlation.subset_size;
+  const double search = o.find_path ? o.path.search_half_width_px : 0.0;
+  *strip = std::max(search, o.tip.band_half_width_px) +
+           std::max(o.path.side_depth_px, o.tip.side_depth_px) + half_subset + o.correlation.step;
+  *disk = std::max(o.tip.fit_radius_px, o.tip.sqrt_window_px) + half_subset + margin;
+}
+
+namespace {
+
+// Follows the tip from frame to frame and sets the Correlator's band.
+class BandTracker {
+ public:
+  BandTracker(const CrackSequenceOptions& o, Correlator* c) : o_(o), c_(c), line_(o.tip.line) {}
+
+  // Before correlating a frame. Without a line and before the first tip:
+  // the whole field (the path is not known yet).
+  void Prepare() {
+    if (o_.full_field) return;
+    if (!o_.has_line && !tip_known_) {
+      c_->SetActive({});
+      return;
+    }
+    double strip, disk;
+    CrackBandWidths(o_, Margin(), &strip, &disk);
+    c_->SetActive(CrackBandPoints(c_->Grid(), line_, tip_known_, tip_x_, tip_y_, strip, disk));
+  }
+
+  // After locating the crack in the frame.
+  void Update(FrameResult* r) {
+    if (o_.full_field || !r->tip.tip.found) return;
+    // The strip follows the given line (it holds the path search around
+    // it); without one, the path found.
+    if (!o_.has_line && r->path.found) line_ = r->line_used;
+    double x, y;
+    r->line_used.FromLocal(r->tip.tip.s_px, 0, &x, &y);
+    if (tip_known_) {
+      const double moved = std::hypot(x - tip_x_, y - tip_y_);
+      r->tip_beyond_band = moved > Margin();
+      r->flagged = r->flagged || r->tip_beyond_band;
+      growth_ = std::max(growth_, moved);
+    }
+    tip_known_ = true;
+    tip_x_ = x;
+    tip_y_ = y;
+  }
+
+ private:
+  // Room for the tip to move: twice the largest step seen, at least 4 grid steps.
+  double Margin() const { return std::max(4.0 * o_.correlation.step, 2.0 * growth_); }
+
+  const CrackSequenceOptions& o_;
+  Correlator* c_;
+  CrackLine line_;
+  bool tip_known_ = false;
+  double tip_x_ = 0, tip_y_ = 0, growth_ = 0;
+};
+
+}  // namespace
+
 CrackSequenceResult AnalyzeCrackSequence(const std::vector<std::filesystem::path>& images,
                                          const CrackSequenceOptions& options) {
   std::string why;
@@ -225,7 +311,8 @@ CrackSequenceResult AnalyzeCrackSequence(const std::vector<std::filesystem::path
   if (options.keep_fields) first.field = correlator->Grid();
   out.frames.push_back(std::move(first));
   Progress progress("dic", images.size() - 1, options.show_progress);
-  double solve_seconds = 0, solves = 0;
+  double solve_seconds = 0, solves = 0, correlated = 0;
+  BandTracker band(options, correlator.get());
   for (size_t k = 1; k < images.size(); ++k) {
     const Image frame = ReadImage(images[k]);
     if (frame.width != reference.width || frame.height != reference.height)
@@ -235,10 +322,13 @@ CrackSequenceResult AnalyzeCrackSequence(const std::vector<std::filesystem::path
                   {.file = images[k].string(), .expected = "all images with the same size"});
     FrameResult r;
     r.image = images[k].string();
+    band.Prepare();
     DisplacementField field = correlator->Next(frame, &r.correlation);
     solve_seconds += r.correlation.wall_s;
     solves += r.correlation.points_per_s * r.correlation.wall_s;
+    correlated += static_cast<double>(r.correlation.points);
     LocateCrackInField(field, options, path_opt, &r);
+    band.Update(&r);
     if (options.keep_fields) r.field = std::move(field);
     out.frames.push_back(std::move(r));
     progress.Update(k);
@@ -247,6 +337,7 @@ CrackSequenceResult AnalyzeCrackSequence(const std::vector<std::filesystem::path
   MakeMonotone(&out.frames);
   out.wall_s = watch.Seconds();
   out.points_per_s = solve_seconds > 0 ? solves / solve_seconds : 0;
+  out.mean_correlated_points = images.size() > 1 ? correlated / (images.size() - 1) : 0;
   return out;
 }
 

@@ -3,9 +3,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <numbers>
 #include <random>
 #include <vector>
+
+#include <fmt/format.h>
 
 #include "bridgefit/core/error.hpp"
 
@@ -142,6 +145,115 @@ void ModeICrackField::operator()(double X, double Y, double* u, double* v) const
 
 double ModeICrackField::OpeningAt(double r) const {
   return (kappa + 1.0) * k_over_2mu * std::sqrt(2.0 * r / std::numbers::pi);
+}
+
+namespace {
+
+// Integral over xi in [xa, xb] of ln|(sqrt(xi) + c) / (sqrt(xi) - c)|,
+// c = sqrt(x): with s = sqrt(xi), F(s) = (s^2 - c^2) ln|(s + c)/(s - c)| + 2 c s.
+double LogKernelIntegral(double xa, double xb, double x) {
+  const double c = std::sqrt(x);
+  auto F = [c](double xi) {
+    const double s = std::sqrt(xi);
+    const double d = std::abs(s - c);
+    const double log_term = d > 0 ? (s * s - c * c) * std::log((s + c) / d) : 0.0;
+    return log_term + 2.0 * c * s;
+  };
+  return F(xb) - F(xa);
+}
+
+}  // namespace
+
+void BridgedCrackField::Solve() {
+  if (!(zone_length > 0) || segments < 1)
+    throw Error(ErrorKind::kUsage, "bridged crack needs a positive zone length and segments");
+  h_ = zone_length / segments;
+  const size_t n = static_cast<size_t>(segments);
+  tau_.assign(n, 0.0);
+  if (!traction_over_2mu) return;
+  const double pi = std::numbers::pi;
+  // delta_i = delta_K(x_i) - (kappa + 1) / pi sum_j tau_j C_ij at the midpoints.
+  std::vector<double> C(n * n), delta_k(n);
+  for (size_t i = 0; i < n; ++i) {
+    const double x = (i + 0.5) * h_;
+    delta_k[i] = (kappa + 1.0) * k_over_2mu * std::sqrt(2.0 * x / pi);
+    for (size_t j = 0; j < n; ++j)
+      C[i * n + j] = (kappa + 1.0) / pi * LogKernelIntegral(j * h_, (j + 1) * h_, x);
+  }
+  std::vector<double> delta(delta_k);
+  double change = 1;
+  for (int it = 0; it < 2000 && change > 1e-12; ++it) {
+    std::vector<double> target(n);
+    for (size_t j = 0; j < n; ++j) target[j] = std::max(0.0, traction_over_2mu(std::max(0.0, delta[j])));
+    change = 0;
+    double scale = 1e-300;
+    for (size_t j = 0; j < n; ++j) {
+      const double next = tau_[j] + 0.3 * (target[j] - tau_[j]);
+      change = std::max(change, std::abs(next - tau_[j]));
+      scale = std::max(scale, std::abs(next));
+      tau_[j] = next;
+    }
+    change /= scale;
+    for (size_t i = 0; i < n; ++i) {
+      double closing = 0;
+      for (size_t j = 0; j < n; ++j) closing += C[i * n + j] * tau_[j];
+      delta[i] = delta_k[i] - closing;
+    }
+  }
+  if (change > 1e-9)
+    throw Error(ErrorKind::kRuntime, "bridged crack tractions did not converge",
+                {.value = fmt::format("relative change {:.2e}", change), .expected = "< 1e-9"});
+}
+
+double BridgedCrackField::TractionAt(double r) const {
+  if (tau_.empty() || r < 0 || r >= zone_length) return 0.0;
+  return tau_[std::min(tau_.size() - 1, static_cast<size_t>(r / h_))];
+}
+
+double BridgedCrackField::OpeningAt(double r) const {
+  const double pi = std::numbers::pi;
+  double delta = (kappa + 1.0) * k_over_2mu * std::sqrt(2.0 * r / pi);
+  for (size_t j = 0; j < tau_.size(); ++j)
+    delta -= (kappa + 1.0) / pi * tau_[j] * LogKernelIntegral(j * h_, (j + 1) * h_, r);
+  return delta;
+}
+
+double BridgedCrackField::TipKOver2mu() const {
+  // K of closing pairs q at xi: q sqrt(2 / (pi xi)); integrated per segment:
+  // int sqrt(2 / (pi xi)) dxi = 2 sqrt(2 / pi) (sqrt(xb) - sqrt(xa)).
+  double k = k_over_2mu;
+  for (size_t j = 0; j < tau_.size(); ++j)
+    k -= tau_[j] * 2.0 * std::sqrt(2.0 / std::numbers::pi) *
+         (std::sqrt((j + 1) * h_) - std::sqrt(j * h_));
+  return k;
+}
+
+void BridgedCrackField::operator()(double X, double Y, double* u, double* v) const {
+  using C = std::complex<double>;
+  const double pi = std::numbers::pi;
+  const double L = std::hypot(direction_x, direction_y);
+  const double c = direction_x / L, s = direction_y / L;
+  const double dx = X - tip_x, dy = Y - tip_y;
+  const double xl = c * dx + s * dy, yl = -s * dx + c * dy;
+  const C z(xl, yl);
+  const C root = std::sqrt(z);  // branch cut on the crack (negative x')
+  C Z = k_over_2mu / (std::sqrt(2.0 * pi) * root);
+  C Zb = 2.0 * k_over_2mu * root / std::sqrt(2.0 * pi);
+  constexpr int kSub = 4;
+  for (size_t j = 0; j < tau_.size(); ++j) {
+    if (tau_[j] == 0) continue;
+    for (int k = 0; k < kSub; ++k) {
+      const double xi = (j + (k + 0.5) / kSub) * h_;
+      const double q = tau_[j] * h_ / kSub;
+      const double sx = std::sqrt(xi);
+      Z -= q / pi * sx / ((z + xi) * root);
+      Zb -= 2.0 * q / pi * std::atan(root / sx);
+    }
+  }
+  const double ul = 0.5 * (kappa - 1.0) * Zb.real() - yl * Z.imag();
+  const double vl = 0.5 * (kappa + 1.0) * Zb.imag() - yl * Z.real();
+  *u = c * ul - s * vl + translation_x - rotation * dy;
+  *v = s * ul + c * vl + translation_y + rotation * dx;
 }
 
 }  // namespace bridgefit::dic

@@ -141,6 +141,12 @@ class Correlator {
   // references in incremental mode). Throws Error(kInput) when the frame's
   // size differs from the reference.
   DisplacementField Next(const Image& frame, CorrelationSummary* summary = nullptr);
+  // Restricts the following frames to the grid points with active[i] != 0
+  // (size Grid().size(); empty: every point); the others are reported
+  // kMasked and cost nothing. A point that comes back after a reference
+  // update takes its position in the current reference from its known
+  // neighbours. Throws Error(kUsage) on a size mismatch.
+  void SetActive(const std::vector<char>& active);
 
  private:
   struct Impl;

@@ -48,6 +48,10 @@ struct CrackPathOptions {
   // height - 1); lengths count from where it enters. Empty: the field's extent.
   double bounds_x0 = 0, bounds_y0 = 0, bounds_x1 = -1, bounds_y1 = -1;
   double hint_tolerance_px = 2;      // path vs hint: further apart than this = disagree
+  // The straight line fits badly when the RMS normal distance of all crack
+  // points (outliers of the line fit included) exceeds this: the path is
+  // then also given as a polyline (FitCrackPolyline) and marked curved.
+  double curved_rms_px = 2;
   bool IsValid(std::string* why) const;
 };
 
@@ -66,9 +70,26 @@ struct CrackPathResult {
   double hint_max_offset_px = 0;  // largest distance between the lines over the cracked length
   double hint_angle_deg = 0;      // path angle minus hint angle
   bool disagrees_with_hint = false;
+  // Fit quality of the straight line over every crack point, and the
+  // polyline where it fits badly (vertices notch side first; empty when the
+  // line fits: then the path is the line).
+  double line_rms_all_px = 0;
+  bool curved = false;
+  std::vector<double> polyline_x, polyline_y;
+  double polyline_rms_px = 0;  // RMS distance of the crack points to the polyline
   std::string why_not_found;  // when !found
   std::string BriefReport() const;
 };
+
+// A polyline through crack points ordered along the path: split where a
+// point lies further than `tolerance` from the chord of its run (recursively,
+// runs of at least `min_points`), each run's points fitted by a straight line
+// (least squares), vertices where neighbouring lines meet (the runs' common
+// point when they are nearly parallel), ends projected on the first and last
+// lines. Returns the vertices (>= 2) and the RMS distance of the points to
+// the polyline in *rms.
+void FitCrackPolyline(const std::vector<double>& x, const std::vector<double>& y, double tolerance,
+                      int min_points, std::vector<double>* vx, std::vector<double>* vy, double* rms);
 
 // Never throws for data reasons (a missing path is a result); throws
 // Error(kUsage) for invalid options.

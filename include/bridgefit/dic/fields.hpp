@@ -13,6 +13,8 @@
 //  kDavis:  LaVision DaVis vector text: first line
 //           '#DaVis <version> 2D-vector <step> <ny> <nx> "" "<unit x>" "" "<unit y>"
 //           "displacement" "<unit>"', then x, y, u, v rows.
+//  kNcorr:  Ncorr's saved analysis, a MATLAB MAT file (v5/v7 or v7.3) with
+//           every frame of a run (NcorrFile below).
 //
 // A point is failed when the file marks it (SIGMA = -1, valid = 0) or any of
 // x, y, u, v is not a finite number. Each format has one reader and one
@@ -23,6 +25,7 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -30,9 +33,9 @@
 
 namespace bridgefit::dic {
 
-enum class FieldFormat { kCsv, kAramis, kDice, kDavis };
+enum class FieldFormat { kCsv, kAramis, kDice, kDavis, kNcorr };
 const char* FieldFormatName(FieldFormat format);
-// "csv" | "aramis" | "dice" | "davis"; throws Error(kUsage) otherwise.
+// "csv" | "aramis" | "dice" | "davis" | "ncorr"; throws Error(kUsage) otherwise.
 FieldFormat ParseFieldFormat(const std::string& text);
 
 inline constexpr std::size_t kMaxFieldFileBytes = std::size_t{1} << 30;  // 1 GiB
@@ -52,7 +55,12 @@ struct FieldFile {
 // '#' lines with ';' columns -> Aramis, otherwise CSV.
 FieldFormat DetectFieldFormat(const std::string& text);
 
-// `name` is used in error messages (the file name).
+// "px" for px/pixel(s); a length unit as written (with metres per unit);
+// throws Error(kInput) naming the unit otherwise.
+std::string NormalizeFieldUnit(const std::string& unit, double* m_per_unit);
+
+// `name` is used in error messages (the file name). Text exports only (an
+// Ncorr MAT file is refused with a pointer to NcorrFile / FieldFrames).
 FieldFile ReadFieldText(const std::string& text, const std::string& name);
 FieldFile ReadFieldFile(const std::filesystem::path& path);
 
@@ -61,8 +69,74 @@ FieldFile ReadFieldFile(const std::filesystem::path& path);
 std::string WriteFieldText(const FieldFile& field, FieldFormat format);
 void WriteFieldFile(const std::filesystem::path& path, const FieldFile& field, FieldFormat format);
 
-// Field files from arguments: a folder (its .txt/.csv/.dat files), a glob or
-// files; folders and globs in natural order ("f2" before "f10").
+// Ncorr's saved analysis ("Save data" in Ncorr 1.2: a MAT v7.3 file; v5/v7
+// where it was re-saved), read with matio. Frame k is
+// data_dic_save.displacements(k+1): plot_u_ref_formatted and
+// plot_v_ref_formatted on Ncorr's reduced grid, node (row r, column c), 0-based,
+// at x = c (spacing + 1), y = r (spacing + 1) pixels of the reference image
+// (0-based pixel centres, y down), times dispinfo.pixtounits in
+// dispinfo.units ("pixels" -> px). Failed points: outside
+// roi_ref_formatted.mask where that is a struct with a logical mask; where it
+// is Ncorr's own ncorr_class_roi object (opaque to matio), the nodes with
+// u = v = 0 exactly (Ncorr writes zeros outside the ROI and below the
+// correlation cutoff). The whole data_dic_save is read on opening (a MAT v5
+// variable is one compressed block); frames are converted one at a time.
+// Throws Error(kInput) naming the file and the variable
+// (e.g. "data_dic_save.dispinfo.units") for anything it cannot read.
+class NcorrFile {
+ public:
+  explicit NcorrFile(const std::filesystem::path& path);
+  ~NcorrFile();
+  NcorrFile(NcorrFile&&) noexcept;
+  NcorrFile& operator=(NcorrFile&&) noexcept;
+
+  std::size_t Frames() const;
+  FieldFile Frame(std::size_t k) const;           // k = 0 .. Frames()-1
+  std::string FrameName(std::size_t k) const;     // "run.mat: displacements(3)"
+  int MatVersion() const;                         // 5 (v5/v7) or 73
+  int Spacing() const;                            // Ncorr's spacing parameter, px
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// Writes frames (all in one unit, on one grid with x, y >= 0 on multiples of
+// the grid step) in the Ncorr layout above: data_dic_save.displacements(k)
+// with plot_u/v_ref_formatted and roi_ref_formatted.mask (a struct, not
+// Ncorr's object), dispinfo.type/spacing/pixtounits/units. The pixel size is
+// the grid step / (spacing + 1); a field in px must have step spacing + 1.
+struct NcorrWriteOptions {
+  int spacing_px = 0;  // Ncorr's spacing: grid step = spacing + 1 px
+  bool v73 = true;     // MAT v7.3 (HDF5, as Ncorr saves); false: MAT v5
+  // false: no roi_ref_formatted (as a reader without Ncorr's class sees
+  // Ncorr's own files: failed nodes are then those with u = v = 0).
+  bool roi_mask = true;
+};
+void WriteNcorrFile(const std::filesystem::path& path, const std::vector<FieldFile>& frames,
+                    const NcorrWriteOptions& options);
+
+// True when the file starts with a MAT v5/v7/v7.3 header (128 bytes ending
+// in the endian indicator "IM"; MATLAB's text reads "MATLAB 5.0 MAT-file").
+bool IsMatFile(const std::filesystem::path& path);
+
+// The frames of field files in order, read one at a time: a text export is
+// one frame, an Ncorr MAT file one frame per displacements(k).
+class FieldFrames {
+ public:
+  explicit FieldFrames(std::vector<std::filesystem::path> files);
+  ~FieldFrames();
+  // The next frame and its name for messages; false after the last.
+  bool Next(FieldFile* frame, std::string* name);
+
+ private:
+  std::vector<std::filesystem::path> files_;
+  std::size_t file_ = 0, frame_ = 0;
+  std::unique_ptr<NcorrFile> mat_;
+};
+
+// Field files from arguments: a folder (its .txt/.csv/.dat/.mat files), a
+// glob or files; folders and globs in natural order ("f2" before "f10").
 std::vector<std::filesystem::path> ExpandFieldArguments(const std::vector<std::string>& args);
 
 // Median distance between neighbouring points (the node or grid spacing),

@@ -27,6 +27,9 @@ struct CrackSequenceOptions {
   TipMethod method = TipMethod::kWilliams;
   double scale_m_per_px = 0;  // > 0
   double offset_m = 0;
+  // false (default): each frame correlates only the crack band (see
+  // CrackBandPoints), which follows the tip; true: every grid point.
+  bool full_field = false;
   bool keep_fields = false;   // keep each frame's displacement field
   bool show_progress = true;  // on stderr
 
@@ -41,9 +44,15 @@ struct FrameResult {
   bool flagged = false;
   bool path_not_found = false;     // find_path and no path: the given line was used
   bool path_disagrees_with_hint = false;
+  // Crack band: the tip moved further than the band's margin since the last
+  // frame, so its Williams window was not wholly correlated.
+  bool tip_beyond_band = false;
   CrackPathResult path;            // find_path only
   CrackLine line_used;             // the line the crack length is measured along
-  std::string Flags() const;       // "tip_at_edge;methods_disagree;..." ("" = none)
+  // "tip_at_edge;methods_disagree;..." ("" = none); path_curved: the straight
+  // path fits the crack points badly (the length along it may be off; see
+  // path.polyline_x/y).
+  std::string Flags() const;
   double crack_length_m = 0;   // monotone in time
   double crack_length_raw_m = 0;  // this frame's own estimate
   double uncertainty_m = 0;
@@ -58,6 +67,7 @@ struct CrackSequenceResult {
   double wall_s = 0;
   double points_per_s = 0;  // IC-GN solves per second over the whole run
   std::size_t points = 0;   // grid points per frame
+  double mean_correlated_points = 0;  // per deformed frame (the crack band, or every point)
   std::string BriefReport() const;
 };
 
@@ -97,6 +107,18 @@ void SetFieldDefaults(double spacing, double band, CrackSequenceOptions* options
 CrackSequenceResult AnalyzeCrackFields(const std::vector<std::filesystem::path>& files,
                                        CrackSequenceOptions options, bool auto_defaults = true,
                                        double band = 0);
+
+// The crack band of a frame: the grid points within `strip` of the line
+// (from `strip` behind its start on, to the grid's end ahead) and, with a
+// known tip, within `disk` of it; without a tip the strip is `disk` wide.
+// Static exclusions (ROI, mask) stay with the Correlator.
+std::vector<char> CrackBandPoints(const DisplacementField& grid, const CrackLine& line, bool tip_known,
+                                  double tip_x, double tip_y, double strip, double disk);
+
+// Half widths of the band (px) from the options: `strip` holds the path
+// search, the crack-band gap and the side windows of the COD profile; `disk`
+// the Williams / sqrt-COD window plus half a subset and `margin` for growth.
+void CrackBandWidths(const CrackSequenceOptions& options, double margin, double* strip, double* disk);
 
 // Throws Error(kInput) naming the file for unreadable images or a size
 // mismatch, Error(kUsage) for invalid options, Error(kInput) for a crack

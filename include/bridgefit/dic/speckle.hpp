@@ -10,6 +10,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "bridgefit/dic/image.hpp"
 
@@ -64,6 +65,43 @@ struct ModeICrackField {
   void operator()(double X, double Y, double* u, double* v) const;
   // Crack opening displacement at distance r behind the tip: (kappa + 1) A sqrt(2 r / pi).
   double OpeningAt(double r) const;
+};
+
+// A bridged mode I crack: a semi-infinite crack (Westergaard, plane
+// elasticity) under the applied K_I, with closing tractions on its faces
+// behind the tip set by a bridging law at the local opening, solved
+// self-consistently (opening -> traction -> opening). Lengths in one unit
+// throughout (px or mm). With Z(z) = A / sqrt(2 pi z)
+//   - sum_j (q_j / pi) sqrt(xi_j) / ((z + xi_j) sqrt(z))   (closing pairs q_j
+// at xi_j behind the tip, q = traction w / (2 mu)) and Zb its integral,
+//   u_x' = (kappa - 1)/2 Re Zb - y' Im Z,  u_y' = (kappa + 1)/2 Im Zb - y' Re Z;
+// without tractions this is ModeICrackField. The faces' opening uses the
+// traction integrated exactly over each segment (Tada's log kernel); the
+// field off the faces uses 4 point pairs per segment.
+struct BridgedCrackField {
+  double tip_x = 0, tip_y = 0;
+  double direction_x = 1, direction_y = 0;
+  double k_over_2mu = 0.05;          // applied K_I / (2 mu), unit^0.5
+  double kappa = (3.0 - 0.3) / 1.3;  // plane stress, nu = 0.3
+  double translation_x = 0, translation_y = 0, rotation = 0;
+  // Bridging traction / (2 mu) at opening delta (unit); >= 0 closes.
+  std::function<double(double)> traction_over_2mu;
+  double zone_length = 20;  // faces behind the tip that may carry traction (unit)
+  int segments = 400;
+
+  // Solves for the face tractions; call before use. Throws Error(kRuntime)
+  // when the fixed point does not converge.
+  void Solve();
+  void operator()(double X, double Y, double* u, double* v) const;
+  // Opening 2 u_y' of the faces at r behind the tip.
+  double OpeningAt(double r) const;
+  // K_tip / (2 mu): the applied K less the bridging tractions' share.
+  double TipKOver2mu() const;
+  double TractionAt(double r) const;  // solved traction / (2 mu) at r behind the tip
+
+ private:
+  std::vector<double> tau_;  // per segment, traction / (2 mu)
+  double h_ = 0;
 };
 
 }  // namespace bridgefit::dic
