@@ -68,6 +68,15 @@ void ReadRCurveInput(const FitRequest& request, FitInput& input) {
       reader.HasAttribute("/rcurve/figures", "initial_compliance_m_per_N"))
     input.initial_compliance =
         reader.ReadNumberAttribute("/rcurve/figures", "initial_compliance_m_per_N");
+  if (reader.Exists("/rcurve/dropped_reasons") && reader.Exists("/rcurve/dropped_counts")) {
+    const std::vector<std::string> reasons = reader.ReadStrings("/rcurve/dropped_reasons");
+    const std::vector<double> counts = reader.ReadVector("/rcurve/dropped_counts");
+    for (std::size_t i = 0; i < std::min(reasons.size(), counts.size()); ++i)
+      input.dropped_rows.emplace_back(reasons[i], static_cast<int>(std::lround(counts[i])));
+  }
+  if (reader.Exists("/rcurve/warnings"))
+    for (const std::string& w : reader.ReadStrings("/rcurve/warnings"))
+      if (w != "none") input.reduction_warnings.push_back(w);
 }
 
 // Only the compliance-based reductions infer the crack length (CT lefm and
@@ -177,6 +186,8 @@ void ReduceRecordInput(const FitRequest& request, FitInput& input) {
   input.reduction = ReduceInProcess(request, input, options);
   input.curve = input.reduction->curve;
   input.initial_compliance = input.reduction->initiation.initial_compliance;
+  input.dropped_rows = DroppedRowList(*input.record, *input.reduction);
+  input.reduction_warnings = input.reduction->warnings;
 }
 
 }  // namespace

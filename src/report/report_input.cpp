@@ -306,11 +306,27 @@ TruthView ReadTruth(const fs::path& scene_file) {
   return t;
 }
 
+// Issue 15: the record rows the R curve did not use, by reason, and the
+// reduction's warnings (/rcurve of `rcurve --out` and of a fit file).
+void ReadReductionNotes(const fs::path& fit_h5, std::vector<std::string>& notes) {
+  const io::H5Reader r(fit_h5);
+  if (r.Exists("/rcurve/dropped_reasons") && r.Exists("/rcurve/dropped_counts")) {
+    const std::vector<std::string> reasons = r.ReadStrings("/rcurve/dropped_reasons");
+    const std::vector<double> counts = r.ReadVector("/rcurve/dropped_counts");
+    for (std::size_t i = 0; i < std::min(reasons.size(), counts.size()); ++i)
+      notes.push_back(fmt::format("R curve: {:.0f} record rows not used: {}", counts[i], reasons[i]));
+  }
+  if (r.Exists("/rcurve/warnings"))
+    for (const std::string& w : r.ReadStrings("/rcurve/warnings"))
+      if (w != "none") notes.push_back("R curve warning: " + w);
+}
+
 }  // namespace
 
 ReportInput ReadReportInput(const fs::path& fit_h5, const ReportOptions& options) {
   ReportInput in;
   in.fit = ReadFit(fit_h5);
+  ReadReductionNotes(fit_h5, in.notes);
   // The record: --record, else the fit file itself when it carries /experiment.
   fs::path record_h5 = options.record_h5;
   if (record_h5.empty() && io::H5Reader(fit_h5).Exists("/experiment/load")) record_h5 = fit_h5;

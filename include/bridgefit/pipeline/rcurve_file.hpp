@@ -30,6 +30,11 @@ RCurve ReadRCurveFile(const std::string& path);
 std::vector<std::pair<std::string, int>> DroppedRowList(const ExperimentRecord& record,
                                                         const experiment::RCurveResult& result);
 
+// /rcurve/dropped_reasons, /rcurve/dropped_counts (rows per reason) and
+// /rcurve/warnings ("none" when there are none).
+void WriteDroppedRows(io::H5Writer& file, const std::vector<std::pair<std::string, int>>& dropped,
+                      const std::vector<std::string>& warnings);
+
 // /experiment (the record) and /rcurve (the reduction with its dropped rows,
 // noise levels, figures and specimen), the layout of `bridgefit rcurve --out`.
 void WriteReductionH5(io::H5Writer& file, const ExperimentRecord& record,
