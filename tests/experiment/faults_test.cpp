@@ -196,6 +196,10 @@ TEST(FaultCounts, EachRuleCountsItsRows) {
   EXPECT_EQ(cycle.figures.at("compliance_fit_cycle_points"), 1.0);
   const RCurveResult stamp = ComputeRCurve(faults["repeated time stamp"](sample.record), o);
   EXPECT_EQ(stamp.figures.at("cleaning_repeated_time_rows"), 1.0);
+  // ...and says so (it got no note before issue 15).
+  bool noted = false;
+  for (const std::string& n : stamp.notes) noted |= n.find("repeat the time stamp of the row before") != std::string::npos;
+  EXPECT_TRUE(noted);
   const RCurveResult ends = ComputeRCurve(faults["own: 30 preload rows and 25 rows after failure"](sample.record), o);
   EXPECT_GE(count(ends, "preload"), 30);
   EXPECT_EQ(count(ends, "after final failure"), 25);

@@ -141,6 +141,23 @@ int CountWith(const nlohmann::json& dropped, const std::string& word, int* total
   return c;
 }
 
+// `simulate --model mpm` without a density: the quasi-static growth run
+// needs none (docs/FORMATS.md lists it as optional); it said "density must be
+// positive (got '0')".
+TEST(Issue15Messages, MpmGrowthRunsWithoutDensity) {
+  const fs::path scene = TempDir() / "no_density.toml";
+  std::ifstream in(std::string(BRIDGEFIT_SOURCE_DIR) + "/tests/data/scenes/ct_mdf.toml");
+  std::ofstream out(scene);
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind("density", 0) != 0) out << line << "\n";
+  out.close();
+  const auto r = RunCli("simulate '" + scene.string() + "' --model mpm --cell '5 mm' --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err.find("density"), std::string::npos) << r.err;
+  EXPECT_FALSE(nlohmann::json::parse(r.out).at("points").empty());
+}
+
 // A real glitch and an injected cycle: counted by rule in the JSON, and a
 // rule over 5% warns on stderr naming its option.
 TEST(Issue15Messages, CleaningCountsInJsonAndWarnsOnStderr) {
