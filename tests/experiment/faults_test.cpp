@@ -194,6 +194,12 @@ TEST(FaultCounts, EachRuleCountsItsRows) {
   EXPECT_GE(count(cycle, "cycle"), 29);  // 30 rows inserted; the last may be back on the envelope
   EXPECT_LE(count(cycle, "cycle"), 30);
   EXPECT_EQ(cycle.figures.at("compliance_fit_cycle_points"), 1.0);
+  // A 0.1 mm unload-reload near the start (3 rows down, 3 up, DCB-01 loads
+  // 0.087 mm a row there): a reversal, never "jitter within the tolerance"
+  // (it was, before: the held maximum lags a fast unloading).
+  const RCurveResult near = ComputeRCurve(faults["unload-reload 0.1 mm near the start"](sample.record), o);
+  EXPECT_EQ(near.figures.at("cleaning_jitter_rows"), clean.figures.at("cleaning_jitter_rows"));
+  EXPECT_GE(near.figures.at("cleaning_unload_reload_cycles") * 6 + near.figures.at("cleaning_brief_reversal_rows"), 3.0);
   const RCurveResult stamp = ComputeRCurve(faults["repeated time stamp"](sample.record), o);
   EXPECT_EQ(stamp.figures.at("cleaning_repeated_time_rows"), 1.0);
   // ...and says so (it got no note before issue 15).
