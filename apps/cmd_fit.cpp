@@ -282,12 +282,22 @@ class FitCommand final : public Command {
                                 {"reduced_in_process", input.from_record},
                                 {"reduction", input.ReductionText()},
                                 {"rcurve_points", input.curve.size()}};
+    if (!input.dropped_rows.empty()) {  // issue 15: every record row by reason
+      int dropped = 0;
+      nlohmann::json by_reason = nlohmann::json::array();
+      for (const auto& [reason, count] : input.dropped_rows) {
+        dropped += count;
+        by_reason.push_back({{"reason", reason}, {"count", count}});
+      }
+      data_json["points_dropped"] = std::move(by_reason);
+      data_json["points_dropped_total"] = dropped;
+    }
     if (input.reduction) {
       const experiment::RCurveResult& r = *input.reduction;
-      int dropped = 0;
-      for (const auto& item : pipeline::DroppedRowList(*input.record, r)) dropped += item.second;
       data_json["record_rows"] = input.record->size();
-      data_json["points_dropped_total"] = dropped;
+      data_json["rows_read"] = input.record->rows_read > 0 ? input.record->rows_read
+                                                           : static_cast<int>(input.record->size());
+      data_json["points_used"] = r.points_used;
       data_json["min_crack_increment_m"] = input.reduction_options.min_crack_increment;
       data_json["max_crack_length_m"] = NumberOrNull(input.reduction_options.max_crack_length);
       data_json["notes"] = r.notes;

@@ -42,9 +42,12 @@ class SynthCommand final : public Command {
     sub.add_option("--frames", frames_, "Speckle frames (0: none)")->default_val(10);
     sub.add_option("--image-width", image_width_, "px")->default_val(400);
     sub.add_option("--image-height", image_height_, "px")->default_val(300);
-    sub.add_option("--scale", scale_, "Image scale per px")->default_val("0.15 mm");
-    sub.add_option("--image-x0", image_x0_, "Distance of the image's left edge from the load line")
-        ->default_val("20 mm");
+    sub.add_option("--scale", scale_,
+                   "Image scale per px (default 0.15 mm where the default window fits the "
+                   "specimen, else what fits it)");
+    sub.add_option("--image-x0", image_x0_,
+                   "Distance of the image's left edge from the load line (default 20 mm where "
+                   "the default window fits the specimen, else a tenth of the ligament before a0)");
   }
 
   int Run(const CommonOptions& common) override {
@@ -62,26 +65,37 @@ class SynthCommand final : public Command {
     request.displacement_rate =
         ParseOptionQuantity(rate_, Dimension::Length(), "--rate") / 60.0;  // per minute
     request.frames = frames_;
-    if (frames_ > 0) {
+    if (frames_ > 0 && !scale_.empty())
       request.scale = ParseOptionQuantity(scale_, Dimension::Length(), "--scale");
+    if (frames_ > 0 && !image_x0_.empty())
       request.image_x0 = ParseOptionQuantity(image_x0_, Dimension::Length(), "--image-x0");
-    }
     request.image_width = image_width_;
     request.image_height = image_height_;
     request.progress = !common.quiet;
     const pipeline::SynthTest test = pipeline::MakeSyntheticTest(request);
     pipeline::WriteSyntheticTest(test, out_, record_name_);
     const int frames_written = static_cast<int>(test.frames.size());
+    if (!test.window.note.empty()) std::cerr << test.window.note << "\n";
+    if (!test.window.warning.empty()) std::cerr << "warning: " << test.window.warning << "\n";
     if (common.json) {
       PrintJson({{"record", (std::filesystem::path(out_) / record_name_).string()},
                  {"rows", test.exact.size()},
                  {"frames", frames_written},
                  {"initiation_load_N", test.simulation.points.front().load},
                  {"final_crack_length_m", test.simulation.points.back().crack_length},
+                 {"image_x0_m", frames_written > 0 ? nlohmann::json(test.window.x0) : nlohmann::json()},
+                 {"image_scale_m_per_px",
+                  frames_written > 0 ? nlohmann::json(test.window.scale) : nlohmann::json()},
+                 {"image_window_fits", test.window.fits},
                  {"wall_s", test.wall_s}});
     } else {
       std::cout << fmt::format("synth: {} rows, {} frames in {} ({:.2f} s)\n", test.exact.size(),
                                frames_written, out_, test.wall_s);
+      if (frames_written > 0)
+        std::cout << fmt::format("  image window {:.4g}..{:.4g} mm from the load line, {:.4g} mm/px\n",
+                                 test.window.x0 * 1e3,
+                                 (test.window.x0 + image_width_ * test.window.scale) * 1e3,
+                                 test.window.scale * 1e3);
     }
     return 0;
   }

@@ -178,7 +178,9 @@ CleanedRecord CleanRecord(const ExperimentRecord& record, const CleaningOptions&
       bool below = true;
       for (int r = q; r < std::min(m, q + 3); ++r) below &= dq(r) < level - tol;
       if (!below) {
-        if (q > 0 && dq(q) < dq(q - 1)) ++out.jitter_rows;
+        // A step back: jitter within the tolerance, else a reversal too brief
+        // (or too shallow against the held maximum) to form a cycle.
+        if (q > 0 && dq(q) < dq(q - 1)) ++(dq(q - 1) - dq(q) > tol ? out.brief_reversal_rows : out.jitter_rows);
         double held = dq(q);
         for (int r = q + 1; r < std::min(m, q + 3); ++r) held = std::min(held, dq(r));
         level = std::max(level, held);
@@ -243,6 +245,13 @@ CleanedRecord CleanRecord(const ExperimentRecord& record, const CleaningOptions&
         "{} rows step back in displacement by less than the reversal tolerance ({:.3g} mm): "
         "jitter, kept",
         out.jitter_rows, tol * 1e3));
+  if (out.brief_reversal_rows > 0)
+    out.notes.push_back(fmt::format(
+        "{} rows step back in displacement by more than the reversal tolerance ({:.3g} mm) but "
+        "too briefly to count as an unload-reload cycle (fewer than 3 rows below the held "
+        "maximum): kept as envelope rows; check them (rows of a brief unloading give R below "
+        "the toughness if they fall after initiation)",
+        out.brief_reversal_rows, tol * 1e3));
   if (out.repeated_time_rows > 0)
     out.notes.push_back(fmt::format(
         "{} rows repeat the time stamp of the row before: kept (values differ); time-based "

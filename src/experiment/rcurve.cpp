@@ -155,6 +155,7 @@ void CleanStage(Prepared& p, RCurveResult& result) {
   result.figures["cleaning_unload_reload_cycles"] = static_cast<double>(p.cleaned.cycles.size());
   result.figures["cleaning_glitch_rows"] = static_cast<double>(p.cleaned.glitch_rows.size());
   result.figures["cleaning_jitter_rows"] = p.cleaned.jitter_rows;
+  result.figures["cleaning_brief_reversal_rows"] = p.cleaned.brief_reversal_rows;
   result.figures["cleaning_repeated_time_rows"] = p.cleaned.repeated_time_rows;
   p.sigma_P = p.cleaned.load_noise;
   p.sigma_d = p.cleaned.displacement_noise;

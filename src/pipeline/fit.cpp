@@ -272,6 +272,15 @@ std::string FitRun::BriefReport() const {
                        "R-curve fit, {:.2f} s); R rms {:.4g} J/m^2",
                        load_data->size(), start_fit->wall_s, load_fit_R_rms);
   out << "\n";
+  if (!input.dropped_rows.empty()) {  // issue 15: every record row by reason
+    int total = 0;
+    std::string list;
+    for (const auto& [reason, count] : input.dropped_rows) {
+      total += count;
+      list += fmt::format("{}{} {}", list.empty() ? "" : "; ", count, reason);
+    }
+    out << fmt::format("record rows giving no R point: {} ({})\n", total, list);
+  }
   const inverse::ComplianceCalibrationResult& c = calibration;
   if (c.along_crack)
     out << fmt::format(

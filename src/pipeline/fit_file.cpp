@@ -154,6 +154,8 @@ void WriteFitFile(const std::string& path, const FitRequest& request, const FitR
   } else {
     io::WriteRecordH5(file, input.curve, "/rcurve");
     if (input.record) io::WriteRecordH5(file, *input.record, "/experiment");
+    if (!input.dropped_rows.empty())  // from an rcurve.h5
+      WriteDroppedRows(file, input.dropped_rows, input.reduction_warnings);
   }
   const std::string g = "/fit";
   WriteSummaryAttributes(file, g, request, run);

@@ -64,6 +64,8 @@ void ReadRCurveInput(const FitRequest& request, FitInput& input) {
   RCurveFileRecord behind = ReadRCurveFileRecord(path);
   input.record = std::move(behind.record);
   input.initial_compliance = behind.initial_compliance;
+  input.dropped_rows = std::move(behind.dropped_rows);
+  input.reduction_warnings = std::move(behind.reduction_warnings);
 }
 
 // Only the compliance-based reductions infer the crack length (CT lefm and
@@ -173,6 +175,8 @@ void ReduceRecordInput(const FitRequest& request, FitInput& input) {
   input.reduction = ReduceInProcess(request, input, options);
   input.curve = input.reduction->curve;
   input.initial_compliance = input.reduction->initiation.initial_compliance;
+  input.dropped_rows = DroppedRowList(*input.record, *input.reduction);
+  input.reduction_warnings = input.reduction->warnings;
 }
 
 }  // namespace

@@ -61,6 +61,15 @@ RCurveFileRecord ReadRCurveFileRecord(const std::string& path) {
       reader.HasAttribute("/rcurve/figures", "initial_compliance_m_per_N"))
     out.initial_compliance =
         reader.ReadNumberAttribute("/rcurve/figures", "initial_compliance_m_per_N");
+  if (reader.Exists("/rcurve/dropped_reasons") && reader.Exists("/rcurve/dropped_counts")) {
+    const std::vector<std::string> reasons = reader.ReadStrings("/rcurve/dropped_reasons");
+    const std::vector<double> counts = reader.ReadVector("/rcurve/dropped_counts");
+    for (std::size_t i = 0; i < std::min(reasons.size(), counts.size()); ++i)
+      out.dropped_rows.emplace_back(reasons[i], static_cast<int>(std::lround(counts[i])));
+  }
+  if (reader.Exists("/rcurve/warnings"))
+    for (const std::string& w : reader.ReadStrings("/rcurve/warnings"))
+      if (w != "none") out.reduction_warnings.push_back(w);
   return out;
 }
 
@@ -75,6 +84,19 @@ std::vector<std::pair<std::string, int>> DroppedRowList(const ExperimentRecord& 
   return list;
 }
 
+void WriteDroppedRows(io::H5Writer& file, const std::vector<std::pair<std::string, int>>& dropped,
+                      const std::vector<std::string>& warnings) {
+  std::vector<std::string> reasons;
+  std::vector<double> counts;
+  for (const auto& [reason, count] : dropped) {
+    reasons.push_back(reason);
+    counts.push_back(count);
+  }
+  file.WriteStrings("/rcurve/dropped_reasons", reasons);
+  file.WriteVector("/rcurve/dropped_counts", counts, "1", "rows dropped per reason");
+  file.WriteStrings("/rcurve/warnings", warnings.empty() ? std::vector<std::string>{"none"} : warnings);
+}
+
 void WriteReductionH5(io::H5Writer& file, const ExperimentRecord& record,
                       const experiment::RCurveResult& result,
                       const experiment::RCurveOptions& options, const std::string& scene_path) {
@@ -85,18 +107,9 @@ void WriteReductionH5(io::H5Writer& file, const ExperimentRecord& record,
   file.WriteVector("/rcurve/displacement", result.displacement, "m", "load-point displacement");
   std::vector<double> rows(result.rows.begin(), result.rows.end());
   file.WriteVector("/rcurve/record_row", rows, "1", "0-based row of the cleaned record");
-  std::vector<std::string> reasons;
-  std::vector<double> counts;
-  for (const auto& [reason, count] : DroppedRowList(record, result)) {
-    reasons.push_back(reason);
-    counts.push_back(count);
-  }
-  file.WriteStrings("/rcurve/dropped_reasons", reasons);
-  file.WriteVector("/rcurve/dropped_counts", counts, "1", "rows dropped per reason");
+  WriteDroppedRows(file, DroppedRowList(record, result), result.warnings);
   file.WriteStrings("/rcurve/notes",
                     result.notes.empty() ? std::vector<std::string>{"none"} : result.notes);
-  file.WriteStrings("/rcurve/warnings",
-                    result.warnings.empty() ? std::vector<std::string>{"none"} : result.warnings);
   file.WriteAttribute("/rcurve", "points_used", static_cast<double>(result.points_used));
   file.WriteAttribute("/rcurve", "load_noise_N", result.load_noise);
   file.WriteAttribute("/rcurve", "displacement_noise_m", result.displacement_noise);

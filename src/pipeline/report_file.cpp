@@ -5,6 +5,8 @@
 
 #include <cmath>
 
+#include <fmt/format.h>
+
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/core/progress.hpp"
 #include "bridgefit/core/units.hpp"
@@ -13,6 +15,7 @@
 #include "bridgefit/io/scene_file.hpp"
 #include "bridgefit/pipeline/dic_file.hpp"
 #include "bridgefit/pipeline/fit_file.hpp"
+#include "bridgefit/pipeline/rcurve_file.hpp"
 
 namespace bridgefit::pipeline {
 namespace {
@@ -76,6 +79,13 @@ report::ReportInput ReadReportInput(const std::filesystem::path& fit_h5,
   report::ReportInput in;
   in.fit_path = fit_h5;
   in.fit = ReadFitView(fit_h5);
+  // The record rows the R curve did not use, by reason, and the reduction's
+  // warnings (/rcurve of `rcurve --out` and of a fit file; issue 15).
+  const RCurveFileRecord behind = ReadRCurveFileRecord(fit_h5.string());
+  for (const auto& [reason, count] : behind.dropped_rows)
+    in.notes.push_back(fmt::format("R curve: {} record rows not used: {}", count, reason));
+  for (const std::string& warning : behind.reduction_warnings)
+    in.notes.push_back("R curve warning: " + warning);
   // The record: --record, else the fit file itself when it carries /experiment.
   std::filesystem::path record_h5 = options.record_h5;
   if (record_h5.empty() && io::H5Reader(fit_h5).Exists("/experiment/load")) record_h5 = fit_h5;

@@ -21,6 +21,12 @@ void SynthRequest::Check() const {
     throw Error(ErrorKind::kInput, "synth needs a [fracture] table", {.file = scene.source});
   if (loading_rows < 2 || growth_rows < 2)
     throw Error(ErrorKind::kUsage, "need at least 2 loading and 2 growth points");
+  if (!std::isnan(scale) && !(scale > 0 && std::isfinite(scale)))
+    throw Error(ErrorKind::kUsage, "the image scale must be a positive length per pixel",
+                {.field = "--scale", .value = fmt::format("{} m", scale), .expected = "e.g. 0.15 mm"});
+  if (!std::isnan(image_x0) && !std::isfinite(image_x0))
+    throw Error(ErrorKind::kUsage, "the image's left edge must be a finite length",
+                {.field = "--image-x0", .expected = "e.g. 20 mm"});
 }
 
 namespace {
@@ -112,8 +118,8 @@ void RenderFrames(const SynthRequest& request, const SimulationResult& sim,
       frame.J_ff = std::isfinite(p.J_ff) ? p.J_ff : request.scene.fracture->J_tip_c;
       frame.K_I = std::sqrt(test.effective_modulus * frame.J_ff);
     }
-    frame.field.tip_x = (frame.crack_length - request.image_x0) / request.scale;
-    frame.field.k_over_2mu = frame.K_I / (2 * mu) / std::sqrt(request.scale);
+    frame.field.tip_x = (frame.crack_length - test.window.x0) / test.window.scale;
+    frame.field.k_over_2mu = frame.K_I / (2 * mu) / std::sqrt(test.window.scale);
     frame.field.translation_x = 0.3 * f;
     frame.field.translation_y = -0.2 * f;
     frame.image = f == 0 ? renderer.RenderReference(request.seed * 1000 + f)
@@ -126,12 +132,52 @@ void RenderFrames(const SynthRequest& request, const SimulationResult& sim,
 
 }  // namespace
 
+SynthWindow SynthImageWindow(const SpecimenSpec& specimen, int image_width_px, double given_x0,
+                             double given_scale) {
+  constexpr double kDefaultX0 = 20e-3, kDefaultScale = 0.15e-3;
+  SynthWindow w;
+  w.x0 = std::isfinite(given_x0) ? given_x0 : kDefaultX0;
+  w.scale = std::isfinite(given_scale) ? given_scale : kDefaultScale;
+  const double end = specimen.type == SpecimenType::kCT ? specimen.width : specimen.length;
+  const double a0 = specimen.notch;
+  if (!(end > a0 && a0 > 0 && image_width_px > 0)) return w;  // nothing to check against
+  auto fits = [&](double x0, double scale) {
+    const double tip_px = (a0 - x0) / scale;
+    return tip_px >= 0.05 * image_width_px && x0 + image_width_px * scale <= end * (1 + 1e-9);
+  };
+  if (fits(w.x0, w.scale)) return w;
+  const std::string end_name = specimen.type == SpecimenType::kCT ? "W" : "L";
+  const std::string was = fmt::format("{:.4g}..{:.4g} mm at {:.4g} mm/px", w.x0 * 1e3,
+                                      (w.x0 + image_width_px * w.scale) * 1e3, w.scale * 1e3);
+  if (std::isfinite(given_x0) || std::isfinite(given_scale)) {
+    w.fits = false;
+    w.warning = fmt::format(
+        "synth: the image window {} does not hold the notch tip (a0 = {:.4g} mm) at least 5% of "
+        "the width inside its left edge, or runs past the specimen's end ({} = {:.4g} mm); the "
+        "frames show less of the crack than they could: set --image-x0 and --scale (or leave "
+        "both out for a window that fits)",
+        was, a0 * 1e3, end_name, end * 1e3);
+    return w;
+  }
+  w.x0 = std::max(0.0, a0 - 0.1 * (end - a0));
+  w.scale = (end - w.x0) / image_width_px;
+  w.note = fmt::format(
+      "synth: the default image window ({}) does not fit this specimen (a0 = {:.4g} mm, {} = "
+      "{:.4g} mm): frames span {:.4g}..{:.4g} mm at {:.4g} mm/px instead (--image-x0 and --scale "
+      "set it)",
+      was, a0 * 1e3, end_name, end * 1e3, w.x0 * 1e3, end * 1e3, w.scale * 1e3);
+  return w;
+}
+
 SynthTest MakeSyntheticTest(const SynthRequest& request) {
   request.Check();
   Stopwatch watch;
   SynthTest test;
   test.effective_modulus =
       specimen::EffectiveModulus(request.scene.material, request.scene.specimen.plane);
+  if (request.frames > 0)
+    test.window = SynthImageWindow(request.scene.specimen, request.image_width, request.image_x0,
+                                   request.scale);
   models::ReducedOptions options;
   if (std::isfinite(request.resolution)) options.mesh.resolution = request.resolution;
   options.progress = request.progress;

@@ -55,6 +55,7 @@ struct CleanedRecord {
   double load_noise = NAN;               // sigma used for the tolerances [N]
   double displacement_noise = NAN;       // [m]
   int jitter_rows = 0;                   // backward steps inside the jitter band (kept)
+  int brief_reversal_rows = 0;           // backward steps beyond it that formed no cycle (kept)
   int repeated_time_rows = 0;            // rows with the time of the row before (kept)
 };
 

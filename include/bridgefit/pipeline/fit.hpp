@@ -15,6 +15,7 @@
 #include <cmath>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bridgefit/core/records.hpp"
@@ -86,6 +87,11 @@ struct FitInput {
   // The record's initial compliance C0 [m/N] (the reduction's, or
   // /rcurve/figures of an rcurve.h5); NaN when unknown.
   double initial_compliance = NAN;
+  // Record rows the R curve did not use, by reason, and the reduction's
+  // warnings: the in-process reduction's, or an rcurve.h5's /rcurve/dropped_*
+  // and /rcurve/warnings (issue 15: carried into the fit file and report).
+  std::vector<std::pair<std::string, int>> dropped_rows;
+  std::vector<std::string> reduction_warnings;
   std::string ReductionText() const;  // "energy method, reduced in-process from the record"
 };
 

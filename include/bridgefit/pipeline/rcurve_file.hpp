@@ -30,16 +30,24 @@ RCurve ReadRCurveFile(const std::string& path);
 
 // What an rcurve.h5 holds besides the curve: the record behind it
 // (/experiment, when present) and its initial compliance C0 [m/N]
-// (/rcurve/figures; NaN when absent). Nothing for a CSV.
+// (/rcurve/figures; NaN when absent), the rows its reduction dropped by
+// reason and its warnings (/rcurve/dropped_*, /rcurve/warnings). Nothing for a CSV.
 struct RCurveFileRecord {
   std::optional<ExperimentRecord> record;
   double initial_compliance = NAN;
+  std::vector<std::pair<std::string, int>> dropped_rows;
+  std::vector<std::string> reduction_warnings;
 };
 RCurveFileRecord ReadRCurveFileRecord(const std::string& path);
 
 // Rows that gave no R point: import cleaning (io), then the reduction's reasons.
 std::vector<std::pair<std::string, int>> DroppedRowList(const ExperimentRecord& record,
                                                         const experiment::RCurveResult& result);
+
+// /rcurve/dropped_reasons, /rcurve/dropped_counts (rows per reason) and
+// /rcurve/warnings ("none" when there are none).
+void WriteDroppedRows(io::H5Writer& file, const std::vector<std::pair<std::string, int>>& dropped,
+                      const std::vector<std::string>& warnings);
 
 // /experiment (the record) and /rcurve (the reduction with its dropped rows,
 // noise levels, figures and specimen), the layout of `bridgefit rcurve --out`.

@@ -29,11 +29,29 @@ struct SynthRequest {
   double displacement_rate = 1e-3 / 60.0;  // [m/s], sets the time column
   int frames = 10;                     // speckle frames (0: none)
   int image_width = 400, image_height = 300;  // [px]
-  double scale = 0.15e-3;              // [m/px]
-  double image_x0 = 20e-3;             // image's left edge from the load line [m]
+  // The image window; NaN: chosen by SynthImageWindow (the default window
+  // where it fits the specimen, else one that does).
+  double scale = NAN;                  // [m/px]
+  double image_x0 = NAN;               // image's left edge from the load line [m]
   bool progress = false;
   void Check() const;  // throws Error (kUsage / kInput) naming the field
 };
+
+// The speckle frames' window along the crack (issue 15). The default,
+// 20 mm + width x 0.15 mm from the load line, is kept where it holds the
+// notch tip (at least 5% of the width in from the left edge) and stays on the
+// specimen (W for a CT, L for a DCB). Where it does not and neither is given,
+// the window runs from a tenth of the ligament before a0 to the specimen's
+// end, and `note` says so; a given window (either value) that does not fit is
+// kept and `warning` says why (the other value takes its default).
+struct SynthWindow {
+  double x0 = NAN;     // [m]
+  double scale = NAN;  // [m/px]
+  bool fits = true;    // holds the notch tip and stays on the specimen
+  std::string note, warning;
+};
+SynthWindow SynthImageWindow(const SpecimenSpec& specimen, int image_width_px, double given_x0,
+                             double given_scale);
 
 struct SynthFrame {
   int index = 0;
@@ -53,6 +71,7 @@ struct SynthTest {
   std::string record_csv;
   std::vector<SynthFrame> frames;
   double effective_modulus = NAN;  // E' [Pa]
+  SynthWindow window;              // the frames' window (with frames)
   double wall_s = 0.0;
   std::string TruthCsv() const;  // images/truth.csv: the true tip per frame
 };

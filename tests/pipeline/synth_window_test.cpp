@@ -1,0 +1,94 @@
+// synth's image window follows the specimen (issue 15): on a W = 50 mm CT
+// the old default window (20 mm + 400 x 0.15 mm) ran to 80 mm, past the
+// back edge, and put the a0 = 20 mm tip on the image's left edge, silently.
+// Oracles: geometry (the notch tip inside the window, the window on the
+// specimen) and the frames' true tips (truth) inside the image; the bundled
+// samples, where the default fits, keep it exactly.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "bridgefit/core/error.hpp"
+#include "bridgefit/io/scene_file.hpp"
+#include "bridgefit/pipeline/synth.hpp"
+
+namespace bridgefit::pipeline {
+namespace {
+
+Scene SmallCt() {
+  Scene scene = io::ReadSceneFile(std::string(BRIDGEFIT_SOURCE_DIR) + "/data_samples/mdf_ct/scene.toml");
+  scene.specimen.width = 50e-3;
+  scene.specimen.height = 60e-3;
+  scene.specimen.notch = 20e-3;
+  scene.run.max_crack_length = 35e-3;
+  return scene;
+}
+
+bool Contains(const std::string& text, const std::string& word) {
+  return text.find(word) != std::string::npos;
+}
+
+TEST(SynthWindow, DefaultKeptWhereItFitsTheSpecimen) {
+  for (const char* sample : {"mdf_ct", "pb_ct", "dcb_composite"}) {
+    const Scene scene =
+        io::ReadSceneFile(std::string(BRIDGEFIT_SOURCE_DIR) + "/data_samples/" + sample + "/scene.toml");
+    const SynthWindow w = SynthImageWindow(scene.specimen, 400, NAN, NAN);
+    EXPECT_EQ(w.x0, 20e-3) << sample;
+    EXPECT_EQ(w.scale, 0.15e-3) << sample;
+    EXPECT_TRUE(w.fits) << sample;
+    EXPECT_TRUE(w.note.empty() && w.warning.empty()) << sample << ": " << w.note << w.warning;
+  }
+}
+
+TEST(SynthWindow, SmallCtGetsAWindowOnTheSpecimenWithTheTipInside) {
+  const Scene scene = SmallCt();
+  const SynthWindow w = SynthImageWindow(scene.specimen, 400, NAN, NAN);
+  EXPECT_TRUE(w.fits);
+  const double tip_px = (scene.specimen.notch - w.x0) / w.scale;
+  EXPECT_GE(tip_px, 0.05 * 400);
+  EXPECT_LE(w.x0 + 400 * w.scale, scene.specimen.width * (1 + 1e-12));
+  EXPECT_GE(w.x0, 0.0);
+  // Said, with the numbers and the options that set it.
+  for (const char* word : {"does not fit this specimen", "a0 = 20 mm", "W = 50 mm", "--image-x0", "--scale"})
+    EXPECT_TRUE(Contains(w.note, word)) << word << " in: " << w.note;
+  EXPECT_TRUE(w.warning.empty());
+}
+
+TEST(SynthWindow, GivenWindowThatDoesNotFitIsKeptAndWarned) {
+  const Scene scene = SmallCt();
+  const SynthWindow w = SynthImageWindow(scene.specimen, 400, 20e-3, NAN);  // x0 given: the old default
+  EXPECT_EQ(w.x0, 20e-3);
+  EXPECT_EQ(w.scale, 0.15e-3);
+  EXPECT_FALSE(w.fits);
+  for (const char* word : {"does not hold the notch tip", "W = 50 mm", "--image-x0", "--scale"})
+    EXPECT_TRUE(Contains(w.warning, word)) << word << " in: " << w.warning;
+  // A given window that fits: no word.
+  const SynthWindow ok = SynthImageWindow(scene.specimen, 400, 15e-3, 0.08e-3);
+  EXPECT_TRUE(ok.fits);
+  EXPECT_TRUE(ok.note.empty() && ok.warning.empty());
+}
+
+// End to end: every frame's true tip is inside the image (at least 5% of
+// the width from the left edge), as the truth file states it.
+TEST(SynthWindow, FramesOfASmallCtShowTheCrackTip) {
+  SynthRequest request;
+  request.scene = SmallCt();
+  request.resolution = 2e-3;
+  request.growth_rows = 40;
+  request.frames = 3;
+  const SynthTest test = MakeSyntheticTest(request);
+  ASSERT_EQ(test.frames.size(), 3u);
+  EXPECT_FALSE(test.window.note.empty());
+  for (const SynthFrame& f : test.frames) {
+    EXPECT_GE(f.field.tip_x, 0.05 * request.image_width) << "frame " << f.index;
+    EXPECT_LT(f.field.tip_x, request.image_width) << "frame " << f.index;
+    EXPECT_NEAR(test.window.x0 + f.field.tip_x * test.window.scale, f.crack_length, 1e-12);
+  }
+  // The scale is checked before any work.
+  request.scale = -1e-4;
+  EXPECT_THROW(MakeSyntheticTest(request), Error);
+}
+
+}  // namespace
+}  // namespace bridgefit::pipeline
