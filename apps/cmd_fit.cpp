@@ -70,7 +70,32 @@ nlohmann::json EstimateJson(const inverse::ParameterEstimate& e) {
           {"decided_by", e.decided_by},
           {"note", e.note},
           {"interval_status", inverse::IntervalStatusName(e.interval_status)},
-          {"interval_reason", e.interval_reason}};
+          {"interval_reason", e.interval_reason},
+          // issue 17: ci95_* are the total interval (statistical + model bias)
+          {"statistical_ci95_low", NumberOrNull(e.statistical_ci95_low)},
+          {"statistical_ci95_high", NumberOrNull(e.statistical_ci95_high)},
+          {"model_bias", NumberOrNull(e.model_bias)}};
+}
+
+nlohmann::json ModelErrorJson(const inverse::ModelErrorEstimate& m) {
+  nlohmann::json bias;
+  for (int i = 0; i < inverse::kParameterCount; ++i)
+    bias[inverse::ParameterName(i)] = NumberOrNull(m.parameter_bias[i]);
+  return {{"status", inverse::ModelErrorStatusName(m.status)},
+          {"reason", m.reason},
+          {"summary", m.Summary()},
+          {"quantity", m.quantity},
+          {"resolution_m", NumberOrNull(m.resolution)},
+          {"coarse_resolution_m", NumberOrNull(m.coarse_resolution)},
+          {"coarser_resolution_m", NumberOrNull(m.coarser_resolution)},
+          {"observed_order", NumberOrNull(m.observed_order)},
+          {"order_used", NumberOrNull(m.order_used)},
+          {"safety_factor", NumberOrNull(m.safety_factor)},
+          {"output_bias_rms", NumberOrNull(m.output_bias_rms)},
+          {"output_bias_max", NumberOrNull(m.output_bias_max)},
+          {"output_bias_max_relative", NumberOrNull(m.output_bias_max_relative)},
+          {"parameter_bias", bias},
+          {"wall_s", m.wall_s}};
 }
 
 // An interval that cannot be trusted is said on stderr too, whatever the
@@ -194,6 +219,8 @@ class FitCommand final : public Command {
         throw;
       }
     }
+    if (run.model_error.status != inverse::ModelErrorStatus::kEstimated)
+      std::cerr << "warning: fit: " << run.model_error.Summary() << "\n";
     if (run.comparison.empty()) {
       WarnUnreliableIntervals(run.summary, run.summary.law);
     } else {
@@ -382,6 +409,7 @@ class FitCommand final : public Command {
     }
     out["data_points"] = s.data_points;
     out["reduced_chi2"] = NumberOrNull(s.reduced_chi2);
+    out["model_error"] = ModelErrorJson(run.model_error);
     out["sigma_c_Pa"] = EstimateJson(s.sigma_c);
     out["J_B_J_per_m2"] = EstimateJson(s.J_B);
     out["delta_c_m"] = EstimateJson(s.delta_c);

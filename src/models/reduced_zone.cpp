@@ -239,6 +239,7 @@ bool SolveZoneDense(const Eigen::MatrixXd& F, const Eigen::VectorXd& Fg, const E
     for (int ls = 0; ls < 30; ++ls, lambda *= 0.5) {
       trial_u = uz + lambda * step.head(k);
       trial_p = p + lambda * step[k];
+      if (!(trial_p > 0.0)) continue;  // the physical root (see GrowBordered)
       evaluate(trial_u, trial_p, &trial_residual, nullptr);
       trial = norm(trial_residual, trial_u);
       if (trial < current * (1.0 - 1e-4 * lambda) || trial < options.tolerance) break;
@@ -366,6 +367,11 @@ void GrowBordered(const CrackPlaneModel& m, const laws::BridgingLaw* law, double
         elastic.Solve(x2.head(t));
         const double R1 = s_t.dot(x2.head(t)) - g[t];
         p = std::sqrt(2.0 * h * J_tip_c / (R1 * R1 * phi + x2[t - 1] * x2[t - 1] / psi));
+        // The openings of that load (issue 17): from u = 0 the residual is
+        // all load, and on a coarse DCB mesh the first Newton step crossed
+        // to the root with p < 0 (sqrt(J_tip) = sqrt(J_tip,c) at a negative
+        // load), "Newton did not converge at crack length a0".
+        u.head(t) = p * x2.head(t);
       }
       slopes(u);
       refresh(1e-9);
@@ -393,6 +399,9 @@ void GrowBordered(const CrackPlaneModel& m, const laws::BridgingLaw* law, double
         for (int ls = 0; ls < 30; ++ls, lambda *= 0.5) {
           trial_u.head(t) = u.head(t) + lambda * (x2.head(t) * dp - x1.head(t));
           trial_p = p + lambda * dp;
+          // The load stays positive: sqrt(J_tip) = sqrt(J_tip,c) has a root
+          // at p < 0 too, which a full step can reach on a coarse mesh.
+          if (!(trial_p > 0.0)) continue;
           evaluate(trial_u, trial_p, trial_r, trial_a, trial_rg, trial_e);
           trial = norm(trial_r, trial_u, trial_rg);
           if (trial < current * (1.0 - 1e-4 * lambda) || trial < options.tolerance) break;

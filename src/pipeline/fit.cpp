@@ -204,6 +204,29 @@ void FinishLoadFit(const inverse::ForwardModel& model, FitRun& run) {
   run.load_fit_R_rms = std::sqrt(sum / p.R.size());
 }
 
+// Issue 17: the reduced model's discretisation error, from two coarser
+// solves at the fitted parameters, into every interval (the total interval).
+void AddModelError(const FitRequest& request, const FitModels& models,
+                   const inverse::FitData& fit_data, const inverse::FitOptions& options,
+                   FitRun& run) {
+  inverse::ModelErrorEstimate& e = run.model_error;
+  if (request.model != ModelChoice::kReduced) {
+    e.model = ModelChoiceName(request.model);
+    e.reason = fmt::format("no error model for the {} model yet", e.model);
+    return;
+  }
+  const inverse::ModelErrorOptions error_options;
+  const double h = models.resolution();
+  const double r = error_options.refinement_ratio;
+  const std::unique_ptr<inverse::ForwardModel> coarse = models.ReducedAt(r * h);
+  const std::unique_ptr<inverse::ForwardModel> coarser = models.ReducedAt(r * r * h);
+  e = inverse::EstimateModelError(models.model(), coarse.get(), coarser.get(), h, run.shape,
+                                  fit_data, options, run.summary, error_options);
+  inverse::ApplyModelError(e, run.summary);
+  run.summary.wall_s += e.wall_s;
+  run.summary.evaluations += e.runs;
+}
+
 }  // namespace
 
 FitRun RunFit(const FitRequest& request) {
@@ -250,6 +273,7 @@ FitRun RunFit(const FitRequest& request) {
   }
   FitLaw(request, models, fit_data, options, run);
   if (run.start_fit) FinishLoadFit(models.model(), run);
+  AddModelError(request, models, fit_data, options, run);
   run.mpm_cell = models.mpm_cell();
   return run;
 }
@@ -286,6 +310,7 @@ std::string FitRun::BriefReport() const {
         c.modulus_factor, c.initial_slope_factor, c.model_initial_compliance,
         input.initial_compliance, c.fits);
   out << summary.BriefReport();
+  out << "  " << model_error.Summary() << "\n";
   if (!model_note.empty()) out << "  " << model_note << "\n";
   return out.str();
 }

