@@ -46,7 +46,7 @@ std::string ModelErrorEstimate::Summary() const {
       coarse_resolution * 1e3, coarser_resolution * 1e3);
   if (status == ModelErrorStatus::kEstimated)
     text += std::isfinite(observed_order)
-                ? fmt::format("observed order {:.2f}", observed_order)
+                ? fmt::format("observed order {:.2f}, order {:.2f} used", observed_order, order_used)
                 : std::string("the coarser solves agree with it");
   else
     text += fmt::format("order not observed ({}), order {:.2f} assumed", reason, order_used);
@@ -119,6 +119,50 @@ FitOptions AnswerParameters(const FitOptions& options, const FitSummary& fit,
   return answer;
 }
 
+// The order of convergence from two successive differences (fine: r h to
+// h, coarse: r^2 h to r h), and the Richardson denominator r^p - 1.
+struct OrderChoice {
+  bool observed = false;
+  bool no_difference = false;  // the coarser solve agrees with the fine one
+  double observed_order = NAN;
+  double order = NAN;
+  double denominator = 1.0;
+  std::string problem;
+};
+OrderChoice ChooseOrder(const std::vector<double>& fine, const std::vector<double>& coarse,
+                        const std::string& problem, const ModelErrorOptions& o) {
+  OrderChoice c;
+  double fine_norm = 0.0, coarse_norm = 0.0, dot = 0.0;
+  for (std::size_t i = 0; i < fine.size(); ++i) {
+    fine_norm += fine[i] * fine[i];
+    if (coarse.size() == fine.size()) {
+      coarse_norm += coarse[i] * coarse[i];
+      dot += coarse[i] * fine[i];
+    }
+  }
+  c.order = o.assumed_order;
+  c.problem = problem;
+  if (fine_norm == 0.0) {
+    c.no_difference = true;
+  } else if (problem.empty() && coarse.size() == fine.size()) {
+    const double q = 0.5 * std::log(coarse_norm / fine_norm) / std::log(o.refinement_ratio);
+    if (!(dot > 0.0)) {
+      c.problem = "the differences between successive solves change direction";
+    } else if (!(q >= o.min_order && q <= o.max_order)) {
+      c.problem = fmt::format("observed order {:.2f} outside [{:g}, {:g}]", q, o.min_order,
+                              o.max_order);
+    } else {
+      c.observed = true;
+      c.observed_order = q;
+      c.order = std::min(q, o.assumed_order);
+    }
+  } else if (c.problem.empty()) {
+    c.problem = "no third solve";
+  }
+  c.denominator = std::pow(o.refinement_ratio, c.order) - 1.0;
+  return c;
+}
+
 }  // namespace
 
 ModelErrorEstimate EstimateModelError(const ForwardModel& model, const ForwardModel* coarse,
@@ -160,58 +204,31 @@ ModelErrorEstimate EstimateModelError(const ForwardModel& model, const ForwardMo
     return give_up(fmt::format("the coarser solve at {:.3g} mm failed: {}",
                                e.coarse_resolution * 1e3, why));
   std::vector<double> y_4h;
-  std::string order_problem;
+  std::string prediction_problem = "no third solve";
   if (coarser) {
     y_4h = PredictAt(*coarser, shape, p, used, &why);
     ++e.runs;
     if (y_4h.empty())
-      order_problem = fmt::format("the solve at {:.3g} mm failed: {}", e.coarser_resolution * 1e3, why);
-  } else {
-    order_problem = "no third solve";
+      prediction_problem =
+          fmt::format("the solve at {:.3g} mm failed: {}", e.coarser_resolution * 1e3, why);
   }
 
-  // Observed order from the weighted differences between the three solves.
+  // The prediction's bias (R or load at the data), for the report:
+  // Richardson with the order of the prediction's differences.
   const double r = error_options.refinement_ratio;
-  const double fine_step = WeightedNorm(y_2h, y_h, u);
-  double order = NAN;
-  if (order_problem.empty() && fine_step > 0.0) {
-    const double coarse_step = WeightedNorm(y_4h, y_2h, u);
-    double dot = 0.0;
-    for (std::size_t i = 0; i < y_h.size(); ++i) {
-      const double w = u.empty() ? 1.0 : 1.0 / (u[i] * u[i]);
-      dot += w * (y_4h[i] - y_2h[i]) * (y_2h[i] - y_h[i]);
-    }
-    const double q = std::log(coarse_step / fine_step) / std::log(r);
-    if (!(dot > 0.0))
-      order_problem = "the differences between successive solves change direction";
-    else if (!(q >= error_options.min_order && q <= error_options.max_order))
-      order_problem = fmt::format("observed order {:.2f} outside [{:g}, {:g}]", q,
-                                  error_options.min_order, error_options.max_order);
-    else
-      order = q;
+  std::string order_problem = y_4h.empty() ? prediction_problem : std::string();
+  std::vector<double> step_fine(y_h.size()), step_coarse(y_4h.size());
+  for (std::size_t i = 0; i < y_h.size(); ++i) {
+    const double w = u.empty() ? 1.0 : u[i];
+    step_fine[i] = (y_2h[i] - y_h[i]) / w;
+    if (!y_4h.empty()) step_coarse[i] = (y_4h[i] - y_2h[i]) / w;
   }
-  if (fine_step == 0.0) {
-    e.status = ModelErrorStatus::kEstimated;
-    e.order_used = NAN;
-    e.safety_factor = error_options.safety_factor;
-  } else if (std::isfinite(order)) {
-    e.status = ModelErrorStatus::kEstimated;
-    e.observed_order = e.order_used = order;
-    e.safety_factor = error_options.safety_factor;
-  } else {
-    e.status = ModelErrorStatus::kOrderNotObserved;
-    e.reason = order_problem;
-    e.order_used = error_options.assumed_order;
-    e.safety_factor = error_options.unverified_safety_factor;
-  }
-
-  // Richardson: the fine model's bias at each data point.
-  const double denominator = std::isfinite(e.order_used) ? std::pow(r, e.order_used) - 1.0 : 1.0;
+  const OrderChoice output_order = ChooseOrder(step_fine, step_coarse, order_problem, error_options);
   e.output_bias.resize(y_h.size());
   double sum2 = 0.0;
   e.output_bias_max = e.output_bias_max_relative = 0.0;
   for (std::size_t i = 0; i < y_h.size(); ++i) {
-    e.output_bias[i] = (y_2h[i] - y_h[i]) / denominator;
+    e.output_bias[i] = (y_2h[i] - y_h[i]) / output_order.denominator;
     sum2 += e.output_bias[i] * e.output_bias[i];
     const double magnitude = std::abs(e.output_bias[i]);
     if (magnitude > e.output_bias_max) {
@@ -221,29 +238,75 @@ ModelErrorEstimate EstimateModelError(const ForwardModel& model, const ForwardMo
   }
   e.output_bias_rms = std::sqrt(sum2 / std::max<std::size_t>(1, y_h.size()));
 
-  // Through the fit's Jacobian onto the parameters the data decided.
+  // The parameters: the fit re-run locally from its optimum with each
+  // coarser model (Richardson on the estimates themselves; mapping the
+  // prediction's bias through the Jacobian missed the sign of the actual
+  // error near a0, where the coarse R curves are poorly resolved: docs/FIT.md).
   for (int i = 0; i < kParameterCount; ++i) e.parameter_bias[i] = answer.fixed[i] ? 0.0 : NAN;
   const Objective objective(model, shape, used, answer);
   const std::vector<int>& free = objective.free();
-  if (!free.empty()) {
-    Eigen::MatrixXd jacobian;
-    const std::vector<double> full(at.begin(), at.end());
-    const bool ok = PhysicalJacobian(objective, full, &jacobian);
-    e.runs += objective.evaluations();
-    if (!ok) {
-      e.wall_s = clock.Seconds();
-      e.status = ModelErrorStatus::kNotEstimated;
-      e.reason = "the model failed next to the fitted parameters (Jacobian): " +
-                 objective.last_failure();
-      return e;
-    }
-    Eigen::VectorXd b(static_cast<Eigen::Index>(y_h.size()));
-    for (std::size_t i = 0; i < y_h.size(); ++i)
-      b(static_cast<Eigen::Index>(i)) = e.output_bias[i] / (u.empty() ? 1.0 : u[i]);
-    const Eigen::VectorXd beta = -jacobian.colPivHouseholderQr().solve(b);
-    for (std::size_t k = 0; k < free.size(); ++k)
-      e.parameter_bias[free[k]] = beta(static_cast<Eigen::Index>(k));
+  const std::vector<double> full(at.begin(), at.end());
+  if (free.empty()) {
+    e.status = ModelErrorStatus::kEstimated;
+    e.safety_factor = error_options.safety_factor;
+    e.wall_s = clock.Seconds();
+    return e;
   }
+  // Statistical standard uncertainties from the Jacobian (the scale of the
+  // differences, and what --resolution auto compares the bias with).
+  Eigen::MatrixXd jacobian;
+  const bool jacobian_ok = PhysicalJacobian(objective, full, &jacobian);
+  e.runs += objective.evaluations();
+  std::vector<double> sd(free.size(), NAN);
+  if (jacobian_ok) {
+    const double scale2 = used.weighted() ? std::max(1.0, fit.reduced_chi2) : fit.reduced_chi2;
+    const Eigen::MatrixXd jtj = jacobian.transpose() * jacobian;
+    const Eigen::MatrixXd covariance = scale2 * jtj.completeOrthogonalDecomposition().pseudoInverse();
+    for (std::size_t k = 0; k < free.size(); ++k) {
+      sd[k] = std::sqrt(covariance(k, k));
+      e.statistical_sd[free[k]] = sd[k];
+    }
+  }
+  std::vector<double> x0;
+  for (int index : free) x0.push_back(ToBox(index, at[index], answer));
+  auto refit = [&](const ForwardModel& coarse_model, std::vector<double>* estimate) {
+    const Objective coarse_objective(coarse_model, shape, used, answer);
+    const LocalResult result = MinimizeLocal(coarse_objective, Optimizer::kBobyqa, x0,
+                                             options.max_evaluations);
+    e.runs += coarse_objective.evaluations();
+    if (result.chi2 >= kFailedCost) return false;
+    const std::vector<double> p_full = coarse_objective.Expand(result.x.data());
+    for (int index : free) estimate->push_back(p_full[index]);
+    return true;
+  };
+  std::vector<double> p_2h, p_4h;
+  if (!refit(*coarse, &p_2h)) {
+    e.status = ModelErrorStatus::kNotEstimated;
+    e.reason = fmt::format("the fit with the {:.3g} mm model failed", e.coarse_resolution * 1e3);
+    e.wall_s = clock.Seconds();
+    return e;
+  }
+  std::string parameter_problem = order_problem;
+  if (coarser && parameter_problem.empty() && !refit(*coarser, &p_4h))
+    parameter_problem = fmt::format("the fit with the {:.3g} mm model failed",
+                                    e.coarser_resolution * 1e3);
+  std::vector<double> move_fine(free.size()), move_coarse;
+  for (std::size_t k = 0; k < free.size(); ++k) {
+    const double scale = std::isfinite(sd[k]) && sd[k] > 0.0 ? sd[k] : std::abs(at[free[k]]);
+    move_fine[k] = (p_2h[k] - at[free[k]]) / scale;
+    if (p_4h.size() == free.size()) move_coarse.push_back((p_4h[k] - p_2h[k]) / scale);
+  }
+  const OrderChoice order = ChooseOrder(move_fine, move_coarse, parameter_problem, error_options);
+  e.status = order.observed || order.no_difference ? ModelErrorStatus::kEstimated
+                                                   : ModelErrorStatus::kOrderNotObserved;
+  e.reason = order.problem;
+  e.observed_order = order.observed_order;
+  e.order_used = order.order;
+  e.safety_factor = e.status == ModelErrorStatus::kEstimated
+                        ? error_options.safety_factor
+                        : error_options.unverified_safety_factor;
+  for (std::size_t k = 0; k < free.size(); ++k)
+    e.parameter_bias[free[k]] = (p_2h[k] - at[free[k]]) / order.denominator;
   e.wall_s = clock.Seconds();
   return e;
 }

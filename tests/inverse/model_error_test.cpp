@@ -45,10 +45,10 @@ Scene Dcb(bool orthotropic) {
   Scene s;
   s.source = "model_error_test DCB";
   s.specimen.type = SpecimenType::kDCB;
-  s.specimen.width = 0.020;
-  s.specimen.height = 0.006;
-  s.specimen.length = 0.150;
-  s.specimen.notch = 0.040;
+  s.specimen.width = 0.025;
+  s.specimen.height = orthotropic ? 0.008 : 0.010;
+  s.specimen.length = 0.200;
+  s.specimen.notch = 0.045;
   s.specimen.plane = PlaneCondition::kPlaneStress;
   if (orthotropic) {
     s.material.orthotropic = true;
@@ -57,7 +57,7 @@ Scene Dcb(bool orthotropic) {
     s.material.G12 = 3e9;
     s.material.nu12 = 0.3;
   } else {
-    s.material.E = 3e9;
+    s.material.E = 4e9;
     s.material.nu = 0.3;
   }
   return s;
@@ -87,10 +87,10 @@ std::vector<Case> Cases() {
        0.0165, 0.027, 1e-3, 0.125e-3},
       {"CT orthotropic, exponential", Ct(true), laws::MakeExponentialShape(3.0),
        {1.5e6, 400.0, 300.0}, 0.0165, 0.027, 1e-3, 0.125e-3},
-      {"DCB isotropic, linear", Dcb(false), laws::MakeLinearShape(), {0.6e6, 500.0, 1500.0},
-       0.041, 0.085, 2e-3, 0.25e-3},
+      {"DCB isotropic, linear", Dcb(false), laws::MakeLinearShape(), {0.8e6, 400.0, 1000.0},
+       0.046, 0.090, 1e-3, 0.25e-3},
       {"DCB orthotropic, cubic", Dcb(true), laws::MakeCubicShape(), {2.0e6, 600.0, 400.0},
-       0.041, 0.085, 2e-3, 0.25e-3},
+       0.046, 0.080, 1e-3, 0.25e-3},
   };
 }
 
@@ -138,12 +138,69 @@ TEST(ModelError, PredictedRBiasMatchesAFinerSolve) {
       actual[i] = at_h.R[i] - truth.R[i];
       miss[i] = e.output_bias[i] - actual[i];
     }
-    std::cout << fmt::format("{}: {}; actual rms {:.3g} J/m^2, predicted rms {:.3g}, miss rms {:.3g}\n",
-                             c.name, e.Summary(), Rms(actual), e.output_bias_rms, Rms(miss));
-    // Richardson from three solves predicts the finer solve's difference to
-    // within half its size (the finer solve has its own error, a few % of it).
-    EXPECT_LT(Rms(miss), 0.5 * Rms(actual));
+    double dot = 0.0;
+    for (std::size_t i = 0; i < actual.size(); ++i) dot += actual[i] * e.output_bias[i];
+    std::cout << fmt::format("{}: {}; actual rms {:.3g} J/m^2 (predicted / actual {:.2f})\n",
+                             c.name, e.Summary(), Rms(actual), e.output_bias_rms / Rms(actual));
+    // Same direction, and never much below the actual difference (the
+    // finer solve has its own error, an eighth to a quarter of it at order
+    // 1); conservative, but within a factor 3.
+    EXPECT_GT(dot, 0.0);
+    EXPECT_GT(e.output_bias_rms, 0.8 * Rms(actual));
+    EXPECT_LT(e.output_bias_rms, 3.0 * Rms(actual));
   }
+}
+
+// A fit at h to noise-free data of the much finer model: the statistical
+// interval (0.3% uncertainties) can be narrower than the model's bias; the
+// total interval covers the truth. (The predicted bias need not point the
+// way of the actual error: on the CT case sigma_c is 1.584 MPa at 2 mm,
+// 1.396 at 1 mm and the truth 1.5 - the estimates cross the converged value
+// - and the observed order, 3.1, is not trusted, so F_s = 3; docs/FIT.md.)
+TEST(ModelError, TotalIntervalCoversTheFinerModelsTruth) {
+  const std::vector<Case> cases = Cases();
+  int covered_only_by_total = 0;
+  for (int index : {1, 2}) {  // CT orthotropic exponential; DCB isotropic linear
+    const Case& c = cases[index];
+    SCOPED_TRACE(c.name);
+    const auto fine = Model(c.scene, c.h, c.a_last + 2 * c.h);
+    const auto coarse = Model(c.scene, 2 * c.h, c.a_last + 4 * c.h);
+    const auto coarser = Model(c.scene, 4 * c.h, c.a_last + 8 * c.h);
+    const auto reference = Model(c.scene, c.h_reference, c.a_last + 2 * c.h);
+    FitData data = Window(c);
+    const ForwardPrediction truth = reference->Predict(c.shape, c.truth, data.crack_length, data.kind);
+    ASSERT_TRUE(truth.ok()) << truth.message;
+    data.R = truth.R;
+    for (double r : truth.R) data.R_uncertainty.push_back(0.003 * r);
+    FitOptions options;
+    options.starts = 2;
+    options.profile_likelihood = false;
+    FitSummary fit = FitBridgingLaw(*fine, c.shape, data, options);
+    ASSERT_TRUE(fit.converged) << fit.stop_reason;
+    const ModelErrorEstimate e = EstimateModelError(*fine, coarse.get(), coarser.get(), c.h,
+                                                    c.shape, data, options, fit);
+    ASSERT_TRUE(e.estimated()) << e.reason;
+    ApplyModelError(e, fit);
+    std::cout << c.name << ": " << e.Summary() << "\n" << fit.BriefReport();
+    const double truths[] = {c.truth.sigma_c, c.truth.J_B, c.truth.J_tip_c};
+    const ParameterEstimate* estimates[] = {&fit.sigma_c, &fit.J_B, &fit.J_tip_c};
+    for (int i = 0; i < kParameterCount; ++i) {
+      const ParameterEstimate& p = *estimates[i];
+      if (!p.identified || !std::isfinite(p.value)) continue;
+      SCOPED_TRACE(ParameterName(i));
+      const double error = p.value - truths[i];
+      const double sd = (p.statistical_ci95_high - p.statistical_ci95_low) / (2 * 1.96);
+      std::cout << fmt::format("  {}: error {:+.4g}, predicted bias {:+.4g}, statistical sd {:.3g}\n",
+                               ParameterName(i), error, p.model_bias, sd);
+      EXPECT_LE(p.ci95_low, truths[i]);
+      EXPECT_GE(p.ci95_high, truths[i]);
+      covered_only_by_total +=
+          truths[i] < p.statistical_ci95_low || truths[i] > p.statistical_ci95_high;
+    }
+  }
+  // The model error matters here: some statistical interval misses the
+  // truth (else this test could not fail).
+  EXPECT_GE(covered_only_by_total, 1);
 }
 
 }  // namespace
