@@ -57,7 +57,46 @@ std::string ModelErrorEstimate::Summary() const {
   return text;
 }
 
-namespace {
+namespace fit_internal {
+
+OrderChoice ChooseOrder(const std::vector<double>& fine, const std::vector<double>& coarse,
+                        const std::string& problem, const ModelErrorOptions& o) {
+  OrderChoice c;
+  double fine_norm = 0.0, coarse_norm = 0.0, dot = 0.0;
+  for (std::size_t i = 0; i < fine.size(); ++i) {
+    fine_norm += fine[i] * fine[i];
+    if (coarse.size() == fine.size()) {
+      coarse_norm += coarse[i] * coarse[i];
+      dot += coarse[i] * fine[i];
+    }
+  }
+  c.order = o.assumed_order;
+  c.problem = problem;
+  if (fine_norm == 0.0) {
+    c.no_difference = true;
+  } else if (problem.empty() && coarse.size() == fine.size()) {
+    const double q = 0.5 * std::log(coarse_norm / fine_norm) / std::log(o.refinement_ratio);
+    if (!(dot > 0.0)) {
+      c.problem = "the differences between successive solves change direction";
+    } else if (!(q >= o.min_order && q <= o.max_order)) {
+      c.problem = fmt::format("observed order {:.2f} outside [{:g}, {:g}]", q, o.min_order,
+                              o.max_order);
+    } else {
+      c.observed = true;
+      c.observed_order = q;
+      c.order = std::min(q, o.assumed_order);
+    }
+  } else if (c.problem.empty()) {
+    c.problem = "no third solve";
+  }
+  c.denominator = std::pow(o.refinement_ratio, c.order) - 1.0;
+  return c;
+}
+
+
+}  // namespace fit_internal
+
+namespace fit_internal {
 
 // The rows the fit kept: its outliers (listed by crack length or
 // displacement and value) are left out.
@@ -119,51 +158,7 @@ FitOptions AnswerParameters(const FitOptions& options, const FitSummary& fit,
   return answer;
 }
 
-// The order of convergence from two successive differences (fine: r h to
-// h, coarse: r^2 h to r h), and the Richardson denominator r^p - 1.
-struct OrderChoice {
-  bool observed = false;
-  bool no_difference = false;  // the coarser solve agrees with the fine one
-  double observed_order = NAN;
-  double order = NAN;
-  double denominator = 1.0;
-  std::string problem;
-};
-OrderChoice ChooseOrder(const std::vector<double>& fine, const std::vector<double>& coarse,
-                        const std::string& problem, const ModelErrorOptions& o) {
-  OrderChoice c;
-  double fine_norm = 0.0, coarse_norm = 0.0, dot = 0.0;
-  for (std::size_t i = 0; i < fine.size(); ++i) {
-    fine_norm += fine[i] * fine[i];
-    if (coarse.size() == fine.size()) {
-      coarse_norm += coarse[i] * coarse[i];
-      dot += coarse[i] * fine[i];
-    }
-  }
-  c.order = o.assumed_order;
-  c.problem = problem;
-  if (fine_norm == 0.0) {
-    c.no_difference = true;
-  } else if (problem.empty() && coarse.size() == fine.size()) {
-    const double q = 0.5 * std::log(coarse_norm / fine_norm) / std::log(o.refinement_ratio);
-    if (!(dot > 0.0)) {
-      c.problem = "the differences between successive solves change direction";
-    } else if (!(q >= o.min_order && q <= o.max_order)) {
-      c.problem = fmt::format("observed order {:.2f} outside [{:g}, {:g}]", q, o.min_order,
-                              o.max_order);
-    } else {
-      c.observed = true;
-      c.observed_order = q;
-      c.order = std::min(q, o.assumed_order);
-    }
-  } else if (c.problem.empty()) {
-    c.problem = "no third solve";
-  }
-  c.denominator = std::pow(o.refinement_ratio, c.order) - 1.0;
-  return c;
-}
-
-}  // namespace
+}  // namespace fit_internal
 
 ModelErrorEstimate EstimateModelError(const ForwardModel& model, const ForwardModel* coarse,
                                       const ForwardModel* coarser, double resolution,
@@ -215,7 +210,6 @@ ModelErrorEstimate EstimateModelError(const ForwardModel& model, const ForwardMo
 
   // The prediction's bias (R or load at the data), for the report:
   // Richardson with the order of the prediction's differences.
-  const double r = error_options.refinement_ratio;
   std::string order_problem = y_4h.empty() ? prediction_problem : std::string();
   std::vector<double> step_fine(y_h.size()), step_coarse(y_4h.size());
   for (std::size_t i = 0; i < y_h.size(); ++i) {

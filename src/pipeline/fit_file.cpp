@@ -47,6 +47,11 @@ void WriteModelError(io::H5Writer& file, const std::string& g, const FitRun& run
   for (int i = 0; i < inverse::kParameterCount; ++i)
     file.WriteAttribute(me, std::string("bias_") + inverse::ParameterName(i), m.parameter_bias[i]);
   file.WriteAttribute(me, "wall_s", m.wall_s);
+  file.WriteAttribute(g, "resolution_m", run.resolution);
+  if (run.resolution_choice) {
+    file.WriteAttribute(g, "resolution_auto_reason", run.resolution_choice->reason);
+    file.WriteAttribute(g, "resolution_auto_wall_s", run.resolution_choice->wall_s);
+  }
   if (!m.output_bias.empty())
     file.WriteVector(me + "/output_bias", m.output_bias, m.quantity == "load" ? "N" : "J/m^2",
                      "predicted bias of the model's prediction at each data point used");

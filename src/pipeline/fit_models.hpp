@@ -54,4 +54,16 @@ class FitModels {
                                                                double margin) const;
 };
 
+// A load-displacement fit starts where the R-curve fit (quick, without
+// profiles) of `data` ends; the start goes into `options.initial` (fit.cpp).
+inverse::FitSummary StartFromRCurveFit(const inverse::ForwardModel& model,
+                                       const laws::LawShape& shape, const inverse::FitData& data,
+                                       inverse::FitOptions& options);
+
+// --resolution auto (issue 17; fit_resolution.cpp): for the reduced model
+// without a given element size, chooses one (inverse::ChooseResolution from
+// a pilot fit at the coarsest valid size) and sets request.resolution and
+// run.resolution_choice. Otherwise leaves both as they are.
+void ChooseAutoResolution(FitRequest& request, const laws::LawShape& shape, FitRun& run);
+
 }  // namespace bridgefit::pipeline
