@@ -7,9 +7,9 @@
 //         DIR/Images_Sample14_Exact/Sample14Exact.csv
 // Grid: x = 20..2026, y = 250..330 of the full image, step 2 (41,164 points);
 // first order unless --second. Convergence as OpenCorr's IC-GN (|dp| < 0.001
-// px, at most 10 iterations).
+// px, at most 10 iterations; --max-iter 40 gives the product's default).
 //   bench/dic_speed [--full DIR | --crop DIR] [--step 2] [--subsets 21,33]
-//                   [--threads 1,2] [--reps 5] [--second]
+//                   [--threads 1,2] [--reps 5] [--second] [--max-iter 10]
 //   bench/dic_speed CROP_DIR STEP SUBSETS THREADS   (older form, both shapes)
 // Per run: wall time, CPU time of the process (all threads) and the per
 // thread rate (points = grid points); the row is the run with the least CPU
@@ -70,7 +70,7 @@ std::vector<double> ReadExactU(const std::string& path) {
 int main(int argc, char** argv) {
   std::string crop_dir = std::string(BRIDGEFIT_SOURCE_DIR) + "/tests/data/dic";
   std::string full_dir;
-  int step = 2, reps = 5;
+  int step = 2, reps = 5, max_iter = 10;
   bool with_second = false;
   std::vector<int> subsets{21, 33}, thread_counts{1, 2};
   // The older positional form (bench/run_all.sh): DIR STEP SUBSETS THREADS on
@@ -99,6 +99,7 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[a], "--subsets")) subsets = ParseInts(next());
     else if (!std::strcmp(argv[a], "--threads")) thread_counts = ParseInts(next());
     else if (!std::strcmp(argv[a], "--second")) with_second = true;
+    else if (!std::strcmp(argv[a], "--max-iter")) max_iter = std::atoi(next());
     else {
       std::fprintf(stderr, "unknown argument %s\n", argv[a]);
       return 2;
@@ -142,7 +143,7 @@ int main(int argc, char** argv) {
         opt.step = step;
         opt.shape = shape;
         opt.threads = threads;
-        opt.max_iterations = 10;  // OpenCorr: at most 10 iterations, |dp| < 0.001
+        opt.max_iterations = max_iter;  // OpenCorr: at most 10 iterations, |dp| < 0.001
         opt.convergence_px = 1e-3;
         opt.roi_x0 = 20;
         opt.roi_x1 = 2027;

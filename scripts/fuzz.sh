@@ -18,7 +18,7 @@ command -v ccache > /dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache 
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER="$CC" \
   -DCMAKE_CXX_COMPILER="$CXX" -DBRIDGEFIT_FUZZ=ON -DBRIDGEFIT_BUILD_TESTS=OFF "${launcher[@]}" \
   > "$build/build.log" 2>&1 || { tail -n 40 "$build/build.log"; exit 1; }
-harnesses=(units csv scene h5 image)
+harnesses=(units csv scene h5 image fields)
 targets=()
 for h in "${harnesses[@]}"; do targets+=("fuzz_$h"); done
 cmake --build "$build" -j"$(nproc)" --target "${targets[@]}" >> "$build/build.log" 2>&1 \
@@ -27,7 +27,7 @@ cmake --build "$build" -j"$(nproc)" --target "${targets[@]}" >> "$build/build.lo
 # Seed corpora: the repository's own inputs of each kind.
 seeds=$build/seeds
 rm -rf "$seeds"
-mkdir -p "$seeds"/{units,csv,scene,h5,image}
+mkdir -p "$seeds"/{units,csv,scene,h5,image,fields}
 printf '%s\n' "MPa" "J/m^2" "kg/m^3" "N/mm" "mm/px" "m.s^-1" "0.45 MPa" "2 m^2*s^-2" "1 kN*mm" \
   "12.7 mm" "500 kJ/m^2" | split -l 1 - "$seeds/units/u"
 cp tests/data/experiment/*.csv tests/data/scenes/*.csv "$seeds/csv/" 2>/dev/null || true
@@ -36,6 +36,7 @@ cp tests/data/scenes/*.toml tests/data/models/*.toml tests/data/mpm/*.toml "$see
 cp tests/fuzz/seeds/h5/*.h5 "$seeds/h5/"
 find tests/data/dic data_samples \( -name '*.png' -o -name '*.tif' -o -name '*.bmp' \) -size -300k \
   2>/dev/null | head -n 20 | while read -r f; do cp "$f" "$seeds/image/"; done
+find tests/data/fields -type f ! -name '*.md' -size -200k -exec cp {} "$seeds/fields/" \;
 for kind in "${harnesses[@]}"; do
   [[ -d tests/fuzz/regressions/$kind ]] && cp tests/fuzz/regressions/"$kind"/* "$seeds/$kind/" 2>/dev/null || true
 done

@@ -9,6 +9,7 @@
 #include <cctype>
 #include <cstdio>
 #include <fnmatch.h>
+#include <mutex>
 #include <string>
 #include <system_error>
 
@@ -25,10 +26,13 @@ namespace {
 // The codecs under OpenCV (libpng, libtiff) print their own "libpng error:"
 // lines on stderr before imread returns an empty image; while decoding, the
 // process's stderr goes to a temporary file so that the text can join our
-// error message instead (images are read one at a time).
+// error message instead. File descriptor 2 belongs to the whole process, so
+// the swap is serialised: two decodes on two threads take turns (bridgefit
+// reads its images one at a time; a library user may not). Text another
+// thread writes to stderr during a decode joins that decode's message.
 class StderrCapture {
  public:
-  StderrCapture() : file_(std::tmpfile()) {
+  StderrCapture() : lock_(Mutex()), file_(std::tmpfile()) {
     if (!file_) return;
     std::fflush(stderr);
     saved_ = dup(STDERR_FILENO);
@@ -58,6 +62,11 @@ class StderrCapture {
     close(saved_);
     saved_ = -1;
   }
+  static std::mutex& Mutex() {
+    static std::mutex mutex;
+    return mutex;
+  }
+  std::lock_guard<std::mutex> lock_;
   std::FILE* file_ = nullptr;
   int saved_ = -1;
 };
