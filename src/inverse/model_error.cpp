@@ -308,7 +308,8 @@ ModelErrorEstimate EstimateModelError(const ForwardModel& model, const ForwardMo
 std::array<double, 2> TotalInterval(double low, double high, double bias, double safety_factor) {
   if (!std::isfinite(bias)) return {low, high};
   const double margin = (safety_factor - 1.0) * std::abs(bias);
-  return {std::min(low, low - bias) - margin, std::max(high, high - bias) + margin};
+  // Every parameter is positive: a total interval never reaches below 0.
+  return {std::max(0.0, std::min(low, low - bias) - margin), std::max(high, high - bias) + margin};
 }
 
 void ApplyModelError(const ModelErrorEstimate& estimate, FitSummary& fit) {
