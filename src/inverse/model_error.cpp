@@ -308,8 +308,12 @@ ModelErrorEstimate EstimateModelError(const ForwardModel& model, const ForwardMo
 std::array<double, 2> TotalInterval(double low, double high, double bias, double safety_factor) {
   if (!std::isfinite(bias)) return {low, high};
   const double margin = (safety_factor - 1.0) * std::abs(bias);
-  // Every parameter is positive: a total interval never reaches below 0.
-  return {std::max(0.0, std::min(low, low - bias) - margin), std::max(high, high - bias) + margin};
+  // An open end stays open; every parameter is positive: a total interval
+  // never reaches below 0.
+  const double total_low =
+      std::isfinite(low) ? std::max(0.0, std::min(low, low - bias) - margin) : low;
+  const double total_high = std::isfinite(high) ? std::max(high, high - bias) + margin : high;
+  return {total_low, total_high};
 }
 
 void ApplyModelError(const ModelErrorEstimate& estimate, FitSummary& fit) {
@@ -318,7 +322,8 @@ void ApplyModelError(const ModelErrorEstimate& estimate, FitSummary& fit) {
   ParameterEstimate* estimates[] = {&fit.sigma_c, &fit.J_B, &fit.J_tip_c};
   for (int i = 0; i < kParameterCount; ++i) {
     ParameterEstimate& e = *estimates[i];
-    if (e.fixed) continue;
+    // Fixed, or no interval (a bound, J_B = 0 without bridging): unchanged.
+    if (e.fixed || (!std::isfinite(e.ci95_low) && !std::isfinite(e.ci95_high))) continue;
     e.statistical_ci95_low = e.ci95_low;
     e.statistical_ci95_high = e.ci95_high;
     e.model_bias = estimate.parameter_bias[i];

@@ -8,12 +8,14 @@
 
 #include <cmath>
 #include <iostream>
+#include <map>
 #include <memory>
 
 #include <fmt/format.h>
 
 #include "bridgefit/inverse/model_error.hpp"
 #include "bridgefit/inverse/reduced_forward.hpp"
+#include "bridgefit/inverse/resolution.hpp"
 #include "bridgefit/models/reduced.hpp"
 
 namespace bridgefit::inverse {
@@ -201,6 +203,57 @@ TEST(ModelError, TotalIntervalCoversTheFinerModelsTruth) {
   // The model error matters here: some statistical interval misses the
   // truth (else this test could not fail).
   EXPECT_GE(covered_only_by_total, 1);
+}
+
+// --resolution auto on noise-free data of a much finer model: a looser
+// criterion never picks a finer size, the chosen size's predicted bias meets
+// the criterion, and the estimate there lies within its total interval of
+// the truth (the model error is what the criterion bounds).
+TEST(ModelError, AutoResolutionMeetsItsCriterion) {
+  const Case c = Cases()[2];  // DCB isotropic, linear
+  const auto reference = Model(c.scene, c.h_reference, c.a_last + 2 * c.h);
+  FitData data = Window(c);
+  const ForwardPrediction truth = reference->Predict(c.shape, c.truth, data.crack_length, data.kind);
+  ASSERT_TRUE(truth.ok()) << truth.message;
+  data.R = truth.R;
+  for (double r : truth.R) data.R_uncertainty.push_back(0.003 * r);
+  std::map<double, std::unique_ptr<SimulationForwardModel>> cache;
+  const ModelAtResolution model_at = [&](double h) -> const ForwardModel* {
+    auto& m = cache[h];
+    if (!m) m = Model(c.scene, h, c.a_last + 2 * h);
+    return m.get();
+  };
+  FitOptions options;
+  options.starts = 2;
+  options.profile_likelihood = false;
+  ResolutionOptions strict;
+  strict.coarsest = 2.5e-3;  // a quarter of the arm
+  strict.finest = 0.3e-3;
+  const FitSummary pilot = FitBridgingLaw(*model_at(strict.coarsest), c.shape, data, options);
+  ASSERT_TRUE(pilot.converged) << pilot.stop_reason;
+  const ResolutionChoice chosen = ChooseResolution(model_at, c.shape, data, options, pilot, strict);
+  ResolutionOptions loose = strict;
+  loose.bias_fraction = 3.0;
+  const ResolutionChoice coarser = ChooseResolution(model_at, c.shape, data, options, pilot, loose);
+  std::cout << "strict: " << chosen.reason << "\nloose: " << coarser.reason << "\n";
+  for (const ResolutionLevel& l : chosen.levels)
+    std::cout << fmt::format("  {:.3g} mm: sigma_c {:.5g} (bias {:+.3g}, sd {:.3g}), {}\n",
+                             l.resolution * 1e3, l.estimate[kSigmaC], l.bias[kSigmaC],
+                             l.sd[kSigmaC], l.note);
+  ASSERT_FALSE(chosen.levels.empty());
+  EXPECT_GE(coarser.resolution, chosen.resolution);
+  if (chosen.criterion_met) {
+    const ResolutionLevel& at = chosen.levels.back();
+    for (int i : {kSigmaC, kJB, kJTipC}) {
+      EXPECT_LE(std::abs(at.bias[i]), strict.bias_fraction * at.sd[i]) << ParameterName(i);
+    }
+    // The estimate there against the truth: within the total interval's
+    // half-width beyond the statistical one (1.96 sd + F_s |bias|).
+    const double truths[] = {c.truth.sigma_c, c.truth.J_B, c.truth.J_tip_c};
+    for (int i : {kSigmaC, kJB, kJTipC})
+      EXPECT_LE(std::abs(at.estimate[i] - truths[i]), 1.96 * at.sd[i] + 1.25 * std::abs(at.bias[i]))
+          << ParameterName(i);
+  }
 }
 
 }  // namespace
