@@ -37,6 +37,7 @@ std::unique_ptr<Command> MakeRcurveCommand();
 std::unique_ptr<Command> MakeDicCommand();
 std::unique_ptr<Command> MakeCrackCommand();
 std::unique_ptr<Command> MakeFitCommand();
+std::unique_ptr<Command> MakeCampaignCommand();
 std::unique_ptr<Command> MakeReportCommand();  std::unique_ptr<Command> MakeSynthCommand();
 
 // Prints one JSON object on stdout (the only stdout output under --json).

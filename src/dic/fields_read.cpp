@@ -401,8 +401,14 @@ double PointSpacing(const DisplacementField& f) {
     ymin = std::min(ymin, f.y[i]);
     ymax = std::max(ymax, f.y[i]);
   }
-  const double area = std::max((xmax - xmin) * (ymax - ymin), 1e-30);
-  const double cell = std::max(std::sqrt(area / idx.size()) * 2, 1e-12);
+  // Buckets of about four points each; a field on one line (zero area) gets
+  // at most 4n buckets along it. Coordinates whose span overflows have no
+  // meaningful spacing.
+  const double span = std::max(xmax - xmin, ymax - ymin);
+  if (!std::isfinite(span)) return 0;
+  const double n = static_cast<double>(idx.size());
+  const double cell = std::max({std::sqrt((xmax - xmin) * (ymax - ymin) / n) * 2, span / (4 * n),
+                                1e-12});
   const int gx = std::max(1, static_cast<int>((xmax - xmin) / cell) + 1);
   const int gy = std::max(1, static_cast<int>((ymax - ymin) / cell) + 1);
   std::vector<std::vector<size_t>> buckets(static_cast<size_t>(gx) * gy);

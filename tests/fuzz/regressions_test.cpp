@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -14,6 +15,7 @@
 #include "../cli/cli_helpers.hpp"
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/core/units.hpp"
+#include "bridgefit/dic/fields.hpp"
 #include "bridgefit/dic/image.hpp"
 #include "bridgefit/io/csv.hpp"
 #include "bridgefit/io/scene_file.hpp"
@@ -103,6 +105,24 @@ TEST(FuzzRegressions, ImagesAreRefused) {
 // In-process, after the child-process check, through every HDF5 reader: a
 // corrupt file is an Error (or some kinds read and others refuse), never a
 // crash. Every file here must be refused as a test record.
+// Field exports are valid data here (both read), but once made PointSpacing
+// cast a 3e14 bucket count to int (subsets on one line: zero area) or divide
+// an overflowing span: the spacing must come out finite and, for the DICe
+// column of subsets 10 px apart, exactly 10 px.
+TEST(FuzzRegressions, FieldExportsGiveAFiniteNodeSpacing) {
+  const auto files = FilesIn("fields");
+  ASSERT_GE(files.size(), 2u);
+  for (const fs::path& file : files) {
+    try {
+      const dic::FieldFile f = dic::ReadFieldText(Slurp(file), file.string());
+      const double spacing = dic::PointSpacing(f.field);
+      EXPECT_TRUE(std::isfinite(spacing) && spacing >= 0) << file << ": " << spacing;
+      if (file.filename() == "dice_subsets_on_one_line.txt") EXPECT_DOUBLE_EQ(spacing, 10.0);
+    } catch (const Error&) {  // a clean refusal is fine too
+    }
+  }
+}
+
 TEST(FuzzRegressions, Hdf5FilesReadAsEveryKindWithoutCrashing) {
   const auto files = FilesIn("h5");
   ASSERT_GE(files.size(), 8u);

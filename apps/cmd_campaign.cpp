@@ -1,0 +1,104 @@
+// `bridgefit campaign`: many specimens of one material (issue 19).
+//   bridgefit campaign data_samples/dcb_campaign/campaign.toml --out campaign_out [--jobs 2]
+// Flags -> campaign::RunCampaign -> printing; the manifest format is in
+// docs/FORMATS.md, the statistics and outlier rule in docs/CAMPAIGN.md.
+
+#include <iostream>
+
+#include "bridgefit/campaign/campaign.hpp"
+#include "bridgefit/core/error.hpp"
+#include "bridgefit/io/campaign_manifest.hpp"
+#include "command.hpp"
+
+namespace bridgefit::cli {
+namespace {
+
+nlohmann::json EstimateJson(const inverse::ParameterEstimate& e) {
+  return {{"value", NumberOrNull(e.value)},
+          {"ci95_low", NumberOrNull(e.ci95_low)},
+          {"ci95_high", NumberOrNull(e.ci95_high)},
+          {"lower_bound", NumberOrNull(e.lower_bound)},
+          {"identified", e.identified},
+          {"interval_status", inverse::IntervalStatusName(e.interval_status)}};
+}
+
+nlohmann::json ResultJson(const campaign::CampaignResult& r, const std::string& out_dir) {
+  nlohmann::json specimens = nlohmann::json::array();
+  for (const campaign::SpecimenOutcome& s : r.specimens) {
+    nlohmann::json j = {{"name", s.name}, {"record", s.request.input_path},
+                        {"ran", s.ran()}, {"ok", s.ok()}, {"wall_s", s.wall_s},
+                        {"error", s.error}};
+    if (s.ran()) {
+      const inverse::FitSummary& f = s.run->summary;
+      j["converged"] = f.converged;
+      j["bridging_detected"] = f.bridging_detected;
+      j["law"] = f.law;
+      j["parameters_si"] = {{"sigma_c_Pa", EstimateJson(f.sigma_c)},
+                            {"J_B_J_per_m2", EstimateJson(f.J_B)},
+                            {"delta_c_m", EstimateJson(f.delta_c)},
+                            {"J_tip_c_J_per_m2", EstimateJson(f.J_tip_c)}};
+    }
+    specimens.push_back(j);
+  }
+  nlohmann::json statistics = nlohmann::json::array();
+  for (const campaign::ParameterStatistics& p : r.statistics)
+    statistics.push_back({{"parameter", p.parameter}, {"unit", p.unit}, {"values", p.values},
+                          {"bounds", p.bounds}, {"mean", NumberOrNull(p.mean * p.scale)},
+                          {"sd", NumberOrNull(p.sd * p.scale)}, {"cv", NumberOrNull(p.cv)},
+                          {"median", NumberOrNull(p.median * p.scale)},
+                          {"campaign_lower_bound", NumberOrNull(p.campaign_lower_bound * p.scale)},
+                          {"bound_from", p.bound_from}, {"outliers", p.outliers},
+                          {"note", p.note}});
+  return {{"command", "campaign"}, {"manifest", r.manifest.path.string()},
+          {"name", r.manifest.name}, {"out", out_dir}, {"jobs", r.jobs},
+          {"wall_s", r.wall_s}, {"failed", r.Failed()}, {"specimens", specimens},
+          {"statistics", statistics}};
+}
+
+class CampaignCommand final : public Command {
+ public:
+  const char* name() const override { return "campaign"; }
+  const char* description() const override {
+    return "Fit many specimens of one material from a manifest: per-specimen fits and the "
+           "campaign's statistics (docs/CAMPAIGN.md)";
+  }
+  void Register(CLI::App& sub) override {
+    sub.add_option("manifest", manifest_, "Campaign manifest (TOML, docs/FORMATS.md)")
+        ->required();
+    sub.add_option("--out", out_, "Output folder: summary.csv, statistics.csv, specimens/NAME.h5")
+        ->required();
+    sub.add_option("--jobs", jobs_, "Specimens fitted at once (0: the machine's cores)")
+        ->default_val(0)
+        ->check(CLI::NonNegativeNumber);
+  }
+
+  int Run(const CommonOptions& common) override {
+    const io::CampaignManifest manifest = io::ReadCampaignManifest(manifest_);
+    campaign::CampaignOptions options;
+    options.jobs = jobs_;
+    if (!common.quiet) options.progress = [](const std::string& line) { std::cerr << line << "\n"; };
+    const campaign::CampaignResult result = campaign::RunCampaign(manifest, options);
+    campaign::WriteCampaignOutputs(result, out_);
+    if (common.json) {
+      PrintJson(ResultJson(result, out_));
+    } else {
+      std::cout << result.BriefReport() << "  written: " << out_ << "/summary.csv, "
+                << out_ << "/statistics.csv, " << out_ << "/specimens/\n";
+    }
+    for (const campaign::SpecimenOutcome& s : result.specimens)
+      if (!s.ok())
+        std::cerr << "warning: specimen '" << s.name << "' "
+                  << (s.ran() ? "did not converge" : "failed: " + s.error) << "\n";
+    return result.Failed() == 0 ? 0 : 1;
+  }
+
+ private:
+  std::string manifest_, out_;
+  int jobs_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<Command> MakeCampaignCommand() { return std::make_unique<CampaignCommand>(); }
+
+}  // namespace bridgefit::cli

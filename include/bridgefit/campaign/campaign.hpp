@@ -1,0 +1,95 @@
+#pragma once
+// Test campaigns (issue 19): many specimens of one material, each through the
+// single fit's chain (record -> R curve -> fit, pipeline::RunFit), specimens
+// in parallel, then the statistics a paper reports.
+//
+//   manifest (io::ReadCampaignManifest) -> BuildRequests (every check, before
+//   any work) -> RunCampaign (one RunFit per specimen on `jobs` threads; a
+//   specimen that fails is data: its reason is kept, the others go on)
+//   -> Summarise per parameter -> WriteCampaignOutputs
+
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bridgefit/inverse/fit.hpp"
+#include "bridgefit/io/campaign_manifest.hpp"
+#include "bridgefit/pipeline/fit.hpp"
+
+namespace bridgefit::campaign {
+
+struct CampaignOptions {
+  int jobs = 0;  // specimens run at once; 0: the machine's cores
+  // Called (from any worker, one call at a time) with one line per specimen
+  // started and finished.
+  std::function<void(const std::string& line)> progress;
+  bool IsValid(std::string* why) const;
+};
+
+struct SpecimenOutcome {
+  std::string name;
+  pipeline::FitRequest request;
+  std::optional<pipeline::FitRun> run;  // empty when the specimen could not run
+  std::string error;                    // why it could not run (the Error's text)
+  double wall_s = 0.0;
+  bool ran() const { return run.has_value(); }
+  // Ran and the fit converged.
+  bool ok() const { return run && run->summary.converged; }
+};
+
+// One parameter over the campaign. Values are the specimens that identify
+// it; bounds the specimens that give only a lower bound (a truncated test).
+struct ParameterStatistics {
+  std::string parameter;  // sigma_c | J_B | delta_c | J_tip_c
+  std::string unit;       // display unit of the numbers below
+  double scale = 1.0;     // SI value x scale = display value
+  int values = 0, bounds = 0;
+  double mean = NAN, sd = NAN, cv = NAN;  // over the values (SD, CV with >= 2)
+  double median = NAN;
+  // The largest lower bound over the bound-only specimens: the campaign's
+  // lower bound (NaN when no specimen gives a bound).
+  double campaign_lower_bound = NAN;
+  std::string bound_from;             // the specimen giving it
+  std::vector<std::string> outliers;  // flagged, never dropped
+  std::string note;                   // one sentence for the reader
+};
+
+// The outlier rule (stated in docs/CAMPAIGN.md): with at least 3 values, a
+// value whose modified z-score 0.6745 |x - median| / MAD exceeds 3.5
+// (Iglewicz and Hoaglin, 1993) is flagged; with MAD = 0, any value off the
+// median by more than 1e-9 relative is.
+inline constexpr double kOutlierModifiedZ = 3.5;
+
+struct NamedEstimate {
+  std::string specimen;
+  inverse::ParameterEstimate estimate;
+};
+ParameterStatistics Summarise(const std::string& parameter, const std::string& unit, double scale,
+                              const std::vector<NamedEstimate>& estimates);
+
+struct CampaignResult {
+  io::CampaignManifest manifest;
+  std::vector<SpecimenOutcome> specimens;  // manifest order
+  std::vector<ParameterStatistics> statistics;  // sigma_c, J_B, delta_c, J_tip_c
+  int jobs = 1;
+  double wall_s = 0.0;
+  int Failed() const;  // specimens that did not run or did not converge
+  std::string BriefReport() const;
+};
+
+// One fit request per specimen, in manifest order: every check that needs no
+// fit (names of methods, laws and targets, the request's own IsValid). An
+// error names the manifest, the specimen and the line.
+std::vector<pipeline::FitRequest> BuildRequests(const io::CampaignManifest& manifest);
+
+// Builds the requests (throws before any work), then runs them.
+CampaignResult RunCampaign(const io::CampaignManifest& manifest, const CampaignOptions& options);
+
+// DIR/summary.csv (one row per specimen), DIR/statistics.csv (one row per
+// parameter) and DIR/specimens/<name>.h5 (each a fit file, as `bridgefit fit
+// --out` writes). Every file is written atomically; DIR is created.
+void WriteCampaignOutputs(const CampaignResult& result, const std::filesystem::path& dir);
+
+}  // namespace bridgefit::campaign

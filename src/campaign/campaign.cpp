@@ -1,0 +1,277 @@
+// Test campaigns: requests from a manifest, specimens in parallel, statistics.
+#include "bridgefit/campaign/campaign.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <mutex>
+#include <thread>
+
+#include <fmt/format.h>
+
+#include "bridgefit/core/error.hpp"
+#include "bridgefit/experiment/rcurve.hpp"
+#include "bridgefit/inverse/compliance_calibration.hpp"
+#include "bridgefit/laws/law.hpp"
+
+namespace bridgefit::campaign {
+namespace {
+
+// The choice a specimen makes, or else the campaign's, with the manifest
+// line it was written on (0 when neither wrote it).
+struct Choice {
+  std::string text;
+  int line = 0;
+};
+Choice Pick(const std::string& own, const std::map<std::string, int>& own_lines,
+            const std::string& shared, const std::map<std::string, int>& shared_lines,
+            const char* key, const std::string& fallback) {
+  auto line_of = [key](const std::map<std::string, int>& lines) {
+    const auto it = lines.find(key);
+    return it == lines.end() ? 0 : it->second;
+  };
+  if (!own.empty()) return {own, line_of(own_lines)};
+  if (!shared.empty()) return {shared, line_of(shared_lines)};
+  return {fallback, 0};
+}
+
+// Runs `parse`; an Error it throws is re-thrown naming the manifest line and key.
+template <class F>
+auto Parsed(F&& parse, const io::CampaignManifest& m, const io::ManifestSpecimen& sp,
+            const char* key, const Choice& choice) {
+  try {
+    return parse(choice.text);
+  } catch (const Error& e) {
+    throw Error(ErrorKind::kInput, e.message(),
+                {.file = m.path.string(), .line = choice.line ? choice.line : sp.line,
+                 .field = fmt::format("{} (specimen '{}')", key, sp.name), .value = choice.text,
+                 .expected = e.context().expected});
+  }
+}
+
+pipeline::FitRequest RequestFor(const io::CampaignManifest& m, const io::ManifestSpecimen& sp) {
+  pipeline::FitRequest r;
+  r.input_path = sp.record.string();
+  r.scene = sp.scene;
+  r.scene_path = sp.scene_path.string();
+  const auto pick = [&](const std::string& own, const std::string& shared, const char* key,
+                        const std::string& fallback) {
+    return Pick(own, sp.lines, shared, m.lines, key, fallback);
+  };
+  const io::ManifestChoices& a = sp.choices;
+  const io::ManifestChoices& b = m.choices;
+  r.columns = pick(a.columns, b.columns, "columns", "").text;
+  r.units = pick(a.units, b.units, "units", "").text;
+  const Choice method = pick(a.rcurve_method, b.rcurve_method, "rcurve_method", "energy");
+  r.reduction.method = Parsed([](const std::string& t) { return experiment::ParseRMethod(t); }, m,
+                              sp, "rcurve_method", method);
+  r.reduction_given = method.line != 0;
+  const Choice model{m.model, m.lines.count("model") ? m.lines.at("model") : 0};
+  r.model = Parsed([](const std::string& t) { return pipeline::ParseModelChoice(t); }, m, sp,
+                   "model", model);
+  if (m.resolution) r.resolution = *m.resolution;
+  r.compare_laws = m.law == "compare";
+  if (!r.compare_laws) {
+    const Choice law{m.law, m.lines.count("law") ? m.lines.at("law") : 0};
+    r.law = Parsed([](const std::string& t) { return laws::ParseLawFamily(t); }, m, sp, "law", law);
+  }
+  r.target = Parsed([](const std::string& t) { return inverse::ParseFitTarget(t); }, m, sp,
+                    "fit_to", pick(a.fit_to, b.fit_to, "fit_to", "r-curve"));
+  r.calibration = Parsed(
+      [](const std::string& t) { return inverse::ParseComplianceCalibrationMode(t); }, m, sp,
+      "calibrate_compliance", pick(a.calibrate_compliance, b.calibrate_compliance,
+                                   "calibrate_compliance", ""));
+  r.fit.profile_likelihood = m.profile;
+  std::string why;
+  if (!r.IsValid(&why))
+    throw Error(ErrorKind::kInput, why,
+                {.file = m.path.string(), .line = sp.line,
+                 .field = fmt::format("specimen '{}'", sp.name),
+                 .expected = "choices a single `bridgefit fit` would accept"});
+  return r;
+}
+
+double Median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// One specimen through RunFit; an Error is the specimen's reason, not the campaign's.
+void RunOne(SpecimenOutcome& out) {
+  const auto t0 = std::chrono::steady_clock::now();
+  try {
+    out.run = pipeline::RunFit(out.request);
+  } catch (const Error& e) {
+    if (e.kind() == ErrorKind::kInterrupted) throw;
+    out.error = e.what();
+  } catch (const std::exception& e) {
+    out.error = std::string("unexpected failure: ") + e.what();
+  }
+  out.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+std::string OutcomeLine(const SpecimenOutcome& s) {
+  if (!s.ran()) return fmt::format("{}: failed ({:.1f} s): {}", s.name, s.wall_s, s.error);
+  return fmt::format("{}: {} ({:.1f} s)", s.name,
+                     s.run->summary.converged ? "fitted" : "fit did not converge", s.wall_s);
+}
+
+}  // namespace
+
+bool CampaignOptions::IsValid(std::string* why) const {
+  if (jobs < 0) {
+    if (why) *why = fmt::format("jobs must be >= 0 (0: the machine's cores), got {}", jobs);
+    return false;
+  }
+  return true;
+}
+
+std::vector<pipeline::FitRequest> BuildRequests(const io::CampaignManifest& manifest) {
+  std::vector<pipeline::FitRequest> requests;
+  for (const io::ManifestSpecimen& sp : manifest.specimens) requests.push_back(RequestFor(manifest, sp));
+  return requests;
+}
+
+ParameterStatistics Summarise(const std::string& parameter, const std::string& unit, double scale,
+                              const std::vector<NamedEstimate>& estimates) {
+  ParameterStatistics st;
+  st.parameter = parameter;
+  st.unit = unit;
+  st.scale = scale;
+  std::vector<double> values;
+  std::vector<std::string> names;
+  for (const NamedEstimate& e : estimates) {
+    if (std::isfinite(e.estimate.value)) {
+      values.push_back(e.estimate.value);
+      names.push_back(e.specimen);
+    } else if (std::isfinite(e.estimate.lower_bound)) {
+      ++st.bounds;
+      if (!(e.estimate.lower_bound <= st.campaign_lower_bound)) {
+        st.campaign_lower_bound = e.estimate.lower_bound;
+        st.bound_from = e.specimen;
+      }
+    }
+  }
+  st.values = static_cast<int>(values.size());
+  if (!values.empty()) {
+    double sum = 0;
+    for (double v : values) sum += v;
+    st.mean = sum / values.size();
+    st.median = Median(values);
+  }
+  if (values.size() >= 2) {
+    double ss = 0;
+    for (double v : values) ss += (v - st.mean) * (v - st.mean);
+    st.sd = std::sqrt(ss / (values.size() - 1));
+    st.cv = st.mean != 0 ? st.sd / std::abs(st.mean) : NAN;
+  }
+  if (values.size() >= 3) {
+    std::vector<double> deviations;
+    for (double v : values) deviations.push_back(std::abs(v - st.median));
+    const double mad = Median(deviations);
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      const double off = std::abs(values[i] - st.median);
+      const bool flagged = mad > 0 ? 0.6745 * off / mad > kOutlierModifiedZ
+                                   : off > 1e-9 * std::abs(st.median);
+      if (flagged) st.outliers.push_back(names[i]);
+    }
+  }
+  if (st.values == 0 && st.bounds == 0) {
+    st.note = "no specimen gives a value or a bound";
+  } else if (st.bounds > 0 && st.values == 0) {
+    st.note = fmt::format(
+        "every specimen that gives it gives only a lower bound (no steady state); the largest, "
+        "{:.4g} {} from {}, is the campaign's lower bound",
+        st.campaign_lower_bound * scale, unit, st.bound_from);
+  } else if (st.bounds > 0) {
+    st.note = fmt::format(
+        "{} specimen(s) give only a lower bound (largest {:.4g} {} from {}); mean and SD are "
+        "over the {} that identify it",
+        st.bounds, st.campaign_lower_bound * scale, unit, st.bound_from, st.values);
+  }
+  if (!st.outliers.empty()) {
+    std::string list;
+    for (const std::string& n : st.outliers) list += (list.empty() ? "" : ", ") + n;
+    st.note += fmt::format("{}outlier(s) flagged, not dropped: {} (modified z-score > {})",
+                           st.note.empty() ? "" : "; ", list, kOutlierModifiedZ);
+  }
+  return st;
+}
+
+int CampaignResult::Failed() const {
+  int n = 0;
+  for (const SpecimenOutcome& s : specimens) n += s.ok() ? 0 : 1;
+  return n;
+}
+
+CampaignResult RunCampaign(const io::CampaignManifest& manifest, const CampaignOptions& options) {
+  std::string why;
+  if (!options.IsValid(&why)) throw Error(ErrorKind::kUsage, why, {.field = "--jobs"});
+  std::vector<pipeline::FitRequest> requests = BuildRequests(manifest);  // before any work
+  CampaignResult result;
+  result.manifest = manifest;
+  for (std::size_t i = 0; i < requests.size(); ++i) {
+    SpecimenOutcome s;
+    s.name = manifest.specimens[i].name;
+    s.request = std::move(requests[i]);
+    result.specimens.push_back(std::move(s));
+  }
+  const int hw = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  result.jobs = std::clamp(options.jobs > 0 ? options.jobs : hw, 1,
+                           static_cast<int>(result.specimens.size()));
+  const auto t0 = std::chrono::steady_clock::now();
+  std::atomic<std::size_t> next{0};
+  std::atomic<int> done{0};
+  std::mutex progress_mutex;
+  std::exception_ptr interrupted;
+  auto report = [&](const std::string& line) {
+    if (!options.progress) return;
+    std::lock_guard<std::mutex> lock(progress_mutex);
+    options.progress(line);
+  };
+  auto worker = [&]() {
+    for (std::size_t i; (i = next++) < result.specimens.size();) {
+      SpecimenOutcome& s = result.specimens[i];
+      report(fmt::format("[{}/{}] {}: started", i + 1, result.specimens.size(), s.name));
+      try {
+        RunOne(s);
+      } catch (...) {  // an interrupt: stop taking specimens
+        std::lock_guard<std::mutex> lock(progress_mutex);
+        if (!interrupted) interrupted = std::current_exception();
+        next = result.specimens.size();
+        return;
+      }
+      report(fmt::format("[{} done of {}] {}", ++done, result.specimens.size(), OutcomeLine(s)));
+    }
+  };
+  std::vector<std::thread> threads;
+  for (int t = 1; t < result.jobs; ++t) threads.emplace_back(worker);
+  worker();
+  for (std::thread& t : threads) t.join();
+  if (interrupted) std::rethrow_exception(interrupted);
+  result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+  struct Parameter {
+    const char* name;
+    const char* unit;
+    double scale;
+    inverse::ParameterEstimate inverse::FitSummary::*member;
+  };
+  const Parameter parameters[] = {{"sigma_c", "MPa", 1e-6, &inverse::FitSummary::sigma_c},
+                                  {"J_B", "J/m^2", 1.0, &inverse::FitSummary::J_B},
+                                  {"delta_c", "mm", 1e3, &inverse::FitSummary::delta_c},
+                                  {"J_tip_c", "J/m^2", 1.0, &inverse::FitSummary::J_tip_c}};
+  for (const Parameter& p : parameters) {
+    std::vector<NamedEstimate> estimates;
+    for (const SpecimenOutcome& s : result.specimens)
+      // Without bridging, only the tip toughness is a property of the test.
+      if (s.ok() && (s.run->summary.bridging_detected || p.member == &inverse::FitSummary::J_tip_c))
+        estimates.push_back({s.name, s.run->summary.*p.member});
+    result.statistics.push_back(Summarise(p.name, p.unit, p.scale, estimates));
+  }
+  return result;
+}
+
+}  // namespace bridgefit::campaign

@@ -1,0 +1,145 @@
+// The campaign's text report and files (summary.csv, statistics.csv and one
+// fit file per specimen, written by the fit file's owner).
+#include <cmath>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "bridgefit/campaign/campaign.hpp"
+#include "bridgefit/core/atomic_file.hpp"
+#include "bridgefit/core/error.hpp"
+#include "bridgefit/pipeline/fit_file.hpp"
+
+namespace bridgefit::campaign {
+namespace {
+
+std::string Number(double v) { return std::isfinite(v) ? fmt::format("{:.6g}", v) : ""; }
+
+// A CSV field: quoted when it holds a comma, a quote or a line break.
+std::string Field(const std::string& text) {
+  if (text.find_first_of(",\"\n") == std::string::npos) return text;
+  std::string out = "\"";
+  for (char c : text) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
+const inverse::ParameterEstimate& Estimate(const inverse::FitSummary& s, const std::string& name) {
+  if (name == "sigma_c") return s.sigma_c;
+  if (name == "J_B") return s.J_B;
+  if (name == "delta_c") return s.delta_c;
+  return s.J_tip_c;
+}
+
+std::string Status(const SpecimenOutcome& s) {
+  if (!s.ran()) return "failed";
+  if (!s.run->summary.converged) return "not converged";
+  return s.run->summary.bridging_detected ? "fitted" : "no bridging";
+}
+
+// "0.45 [0.43, 0.47]", ">= 500" or "-".
+std::string Cell(const inverse::ParameterEstimate& e, double scale) {
+  if (std::isfinite(e.value)) {
+    std::string text = fmt::format("{:.4g}", e.value * scale);
+    if (std::isfinite(e.ci95_low) && std::isfinite(e.ci95_high))
+      text += fmt::format(" [{:.4g}, {:.4g}]", e.ci95_low * scale, e.ci95_high * scale);
+    return text;
+  }
+  if (std::isfinite(e.lower_bound)) return fmt::format(">= {:.4g}", e.lower_bound * scale);
+  return "-";
+}
+
+std::string SummaryCsv(const CampaignResult& r) {
+  std::ostringstream out;
+  out << "specimen,status,record,wall [s]";
+  for (const ParameterStatistics& p : r.statistics) {
+    const std::string u = p.unit;
+    out << fmt::format(",{0} [{1}],{0} kind,{0} ci95 low [{1}],{0} ci95 high [{1}],{0} interval",
+                       p.parameter, u);
+  }
+  out << ",outlier in,error\n";
+  for (const SpecimenOutcome& s : r.specimens) {
+    out << Field(s.name) << "," << Status(s) << "," << Field(s.request.input_path) << ","
+        << fmt::format("{:.2f}", s.wall_s);
+    std::string outlier_in;
+    for (const ParameterStatistics& p : r.statistics) {
+      for (const std::string& n : p.outliers)
+        if (n == s.name) outlier_in += (outlier_in.empty() ? "" : " ") + p.parameter;
+      if (!s.ok()) {
+        out << ",,,,,";
+        continue;
+      }
+      const inverse::ParameterEstimate& e = Estimate(s.run->summary, p.parameter);
+      const bool value = std::isfinite(e.value);
+      const bool bound = !value && std::isfinite(e.lower_bound);
+      out << "," << Number((value ? e.value : e.lower_bound) * p.scale) << ","
+          << (value ? "value" : bound ? "lower bound" : "none") << ","
+          << Number(e.ci95_low * p.scale) << "," << Number(e.ci95_high * p.scale) << ","
+          << (value ? inverse::IntervalStatusName(e.interval_status) : "");
+    }
+    out << "," << outlier_in << "," << Field(s.error) << "\n";
+  }
+  return out.str();
+}
+
+std::string StatisticsCsv(const CampaignResult& r) {
+  std::ostringstream out;
+  out << "parameter,unit,values,bounds,mean,sd,cv [%],median,campaign lower bound,bound from,"
+         "outliers,note\n";
+  for (const ParameterStatistics& p : r.statistics) {
+    std::string outliers;
+    for (const std::string& n : p.outliers) outliers += (outliers.empty() ? "" : " ") + n;
+    out << p.parameter << "," << p.unit << "," << p.values << "," << p.bounds << ","
+        << Number(p.mean * p.scale) << "," << Number(p.sd * p.scale) << ","
+        << Number(p.cv * 100) << "," << Number(p.median * p.scale) << ","
+        << Number(p.campaign_lower_bound * p.scale) << "," << Field(p.bound_from) << ","
+        << Field(outliers) << "," << Field(p.note) << "\n";
+  }
+  return out.str();
+}
+
+}  // namespace
+
+std::string CampaignResult::BriefReport() const {
+  std::ostringstream out;
+  out << fmt::format("campaign '{}': {} specimens, {} ran on {} thread(s) in {:.1f} s, {} failed\n",
+                     manifest.name, specimens.size(), specimens.size() - Failed(), jobs, wall_s,
+                     Failed());
+  out << fmt::format("  {:<16} {:<14}", "specimen", "status");
+  for (const ParameterStatistics& p : statistics)
+    out << fmt::format(" {:<26}", p.parameter + " [" + p.unit + "]");
+  out << "\n";
+  for (const SpecimenOutcome& s : specimens) {
+    out << fmt::format("  {:<16} {:<14}", s.name, Status(s));
+    for (const ParameterStatistics& p : statistics)
+      out << fmt::format(" {:<26}", s.ok() ? Cell(Estimate(s.run->summary, p.parameter), p.scale) : "-");
+    out << "\n";
+    if (!s.ran()) out << "      " << s.error << "\n";
+  }
+  out << "  statistics (values of the specimens that identify each parameter):\n";
+  for (const ParameterStatistics& p : statistics) {
+    out << fmt::format("    {:<8} n = {}", p.parameter, p.values);
+    if (p.values > 0) out << fmt::format(", mean {:.4g} {}", p.mean * p.scale, p.unit);
+    if (p.values > 1)
+      out << fmt::format(", SD {:.3g} {}, CV {:.1f}%", p.sd * p.scale, p.unit, p.cv * 100);
+    if (p.bounds > 0)
+      out << fmt::format(", campaign lower bound >= {:.4g} {} ({} bound(s))",
+                         p.campaign_lower_bound * p.scale, p.unit, p.bounds);
+    out << "\n";
+    if (!p.note.empty()) out << "             " << p.note << "\n";
+  }
+  return out.str();
+}
+
+void WriteCampaignOutputs(const CampaignResult& result, const std::filesystem::path& dir) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir / "specimens", ec);
+  if (ec)
+    throw Error(ErrorKind::kRuntime, "cannot create the campaign's output folder",
+                {.file = (dir / "specimens").string(), .value = ec.message()});
+  for (const SpecimenOutcome& s : result.specimens)
+    if (s.ran()) pipeline::WriteFitFile((dir / "specimens" / (s.name + ".h5")).string(), s.request, *s.run);
+  WriteTextFileAtomic(dir / "statistics.csv", StatisticsCsv(result));
+  WriteTextFileAtomic(dir / "summary.csv", SummaryCsv(result));
+}
+
+}  // namespace bridgefit::campaign

@@ -1,0 +1,212 @@
+// Campaigns as a library (issue 19). Oracles: every manifest fault is found
+// before any fit, naming the manifest line; the statistics against hand
+// computation (mean, SD, CV, the largest bound, the modified z-score rule);
+// a campaign of identical specimens gives each the single fit's result and
+// zero scatter, and a specimen whose record cannot be read is reported
+// failed while the others finish.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "../cli/cli_helpers.hpp"
+#include "bridgefit/campaign/campaign.hpp"
+#include "bridgefit/core/error.hpp"
+#include "bridgefit/io/campaign_manifest.hpp"
+#include "bridgefit/io/scene_file.hpp"
+
+namespace bridgefit::campaign {
+namespace {
+
+namespace fs = std::filesystem;
+const fs::path kSample = fs::path(BRIDGEFIT_SOURCE_DIR) / "data_samples" / "mdf_ct";
+
+struct WorkDir {
+  fs::path path = fs::temp_directory_path() / ("bf_campaign_" + std::to_string(::getpid()));
+  WorkDir() {
+    fs::remove_all(path);
+    fs::create_directories(path);
+    fs::copy_file(kSample / "scene.toml", path / "scene.toml");
+    fs::copy_file(kSample / "record.csv", path / "a.csv");
+  }
+  ~WorkDir() { fs::remove_all(path); }
+  fs::path Write(const std::string& name, const std::string& text) const {
+    std::ofstream(path / name) << text;
+    return path / name;
+  }
+};
+
+std::string ErrorOf(const fs::path& manifest) {
+  try {
+    const io::CampaignManifest m = io::ReadCampaignManifest(manifest);
+    BuildRequests(m);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no error for " << manifest;
+  return "";
+}
+
+const char* const kHead =
+    "[campaign]\n"                   // line 1
+    "scene = \"scene.toml\"\n"       // 2
+    "law = \"linear\"\n"             // 3
+    "resolution = \"1 mm\"\n"        // 4
+    "profile = false\n"              // 5
+    "[[specimen]]\n"                 // 6
+    "name = \"A\"\n"                 // 7
+    "record = \"a.csv\"\n";          // 8
+
+TEST(CampaignManifest, ReadsSharedChoicesAndSpecimenSizes) {
+  WorkDir dir;
+  const fs::path m = dir.Write("c.toml", std::string(kHead) +
+                                             "[[specimen]]\nname = \"B\"\nrecord = \"a.csv\"\n"
+                                             "notch = \"35 mm\"\nrcurve_method = \"lefm\"\n");
+  const io::CampaignManifest manifest = io::ReadCampaignManifest(m);
+  ASSERT_EQ(manifest.specimens.size(), 2u);
+  EXPECT_EQ(manifest.name, "c");
+  EXPECT_DOUBLE_EQ(*manifest.resolution, 1e-3);
+  EXPECT_FALSE(manifest.profile);
+  EXPECT_DOUBLE_EQ(manifest.specimens[0].scene.specimen.notch, 30e-3);  // the scene's
+  EXPECT_DOUBLE_EQ(manifest.specimens[1].scene.specimen.notch, 35e-3);  // its own
+  EXPECT_EQ(manifest.specimens[1].line, 9);
+  const std::vector<pipeline::FitRequest> requests = BuildRequests(manifest);
+  EXPECT_EQ(requests[0].reduction.method, experiment::RMethod::kEnergy);
+  EXPECT_EQ(requests[1].reduction.method, experiment::RMethod::kLefm);
+  EXPECT_DOUBLE_EQ(requests[1].resolution, 1e-3);
+  EXPECT_FALSE(requests[1].fit.profile_likelihood);
+}
+
+TEST(CampaignManifest, EachFaultIsFoundBeforeAnyFitNamingTheLine) {
+  WorkDir dir;
+  struct Case {
+    std::string extra, what;
+    int line;
+  };
+  const Case cases[] = {
+      {"[[specimen]]\nname = \"B\"\nrecord = \"missing.csv\"\n", "file not found", 11},
+      {"[[specimen]]\nname = \"A\"\nrecord = \"a.csv\"\n", "duplicate specimen name", 10},
+      {"[[specimen]]\nname = \"B\"\nrecord = \"a.csv\"\ncolour = \"red\"\n", "unknown key", 12},
+      {"[[specimen]]\nname = \"B\"\nrecord = \"a.csv\"\nnotch = 35\n", "a bare number needs a unit", 12},
+      {"[[specimen]]\nname = \"B\"\nrecord = \"a.csv\"\nrcurve_method = \"magic\"\n", "unknown", 12},
+  };
+  for (const Case& c : cases) {
+    const std::string m = ErrorOf(dir.Write("bad.toml", kHead + c.extra));
+    EXPECT_NE(m.find("bad.toml:" + std::to_string(c.line)), std::string::npos) << m;
+    EXPECT_NE(m.find(c.what), std::string::npos) << m;
+  }
+  // A campaign-level fault: an unknown top-level table.
+  const std::string m = ErrorOf(dir.Write("bad2.toml", std::string(kHead) + "[extra]\nx = 1\n"));
+  EXPECT_NE(m.find("bad2.toml:9"), std::string::npos) << m;
+}
+
+inverse::ParameterEstimate Value(double v) {
+  inverse::ParameterEstimate e;
+  e.value = v;
+  e.identified = true;
+  return e;
+}
+inverse::ParameterEstimate Bound(double b) {
+  inverse::ParameterEstimate e;
+  e.lower_bound = b;
+  return e;
+}
+
+TEST(CampaignStatistics, MeanSdCvAndTheLargestBoundAgainstHandComputation) {
+  const ParameterStatistics s =
+      Summarise("J_B", "J/m^2", 1.0,
+                {{"a", Value(400)}, {"b", Value(500)}, {"c", Bound(450)}, {"d", Bound(520)},
+                 {"e", Value(600)}});
+  EXPECT_EQ(s.values, 3);
+  EXPECT_EQ(s.bounds, 2);
+  EXPECT_DOUBLE_EQ(s.mean, 500.0);
+  EXPECT_DOUBLE_EQ(s.sd, 100.0);  // sqrt((100^2 + 0 + 100^2) / 2)
+  EXPECT_DOUBLE_EQ(s.cv, 0.2);
+  EXPECT_DOUBLE_EQ(s.campaign_lower_bound, 520.0);
+  EXPECT_EQ(s.bound_from, "d");
+  EXPECT_TRUE(s.outliers.empty());
+  EXPECT_NE(s.note.find("lower bound"), std::string::npos) << s.note;
+}
+
+TEST(CampaignStatistics, OutlierByModifiedZScoreIsFlaggedNotDropped) {
+  // median 0.45, MAD 0.01: 0.6745 * 0.45 / 0.01 = 30 > 3.5 for 0.9; 0.47 gives 1.35.
+  const ParameterStatistics s =
+      Summarise("sigma_c", "MPa", 1e-6,
+                {{"a", Value(0.44e6)}, {"b", Value(0.45e6)}, {"c", Value(0.46e6)},
+                 {"d", Value(0.47e6)}, {"e", Value(0.90e6)}});
+  ASSERT_EQ(s.outliers.size(), 1u);
+  EXPECT_EQ(s.outliers[0], "e");
+  EXPECT_EQ(s.values, 5);  // still counted
+  EXPECT_NEAR(s.mean, 0.544e6, 1.0);
+}
+
+TEST(Campaign, IdenticalSpecimensGiveTheSingleFitAndAnUnreadableOneFailsAlone) {
+  WorkDir dir;
+  dir.Write("broken.csv", "time [s], load [N]\nnot, numbers\n");
+  const fs::path m = dir.Write(
+      "c.toml", std::string(kHead) + "[[specimen]]\nname = \"B\"\nrecord = \"a.csv\"\n" +
+                    "[[specimen]]\nname = \"broken\"\nrecord = \"broken.csv\"\n");
+  const io::CampaignManifest manifest = io::ReadCampaignManifest(m);
+  CampaignOptions options;
+  options.jobs = 2;
+  int lines = 0;
+  options.progress = [&lines](const std::string&) { ++lines; };
+  const CampaignResult r = RunCampaign(manifest, options);
+  ASSERT_EQ(r.specimens.size(), 3u);
+  EXPECT_EQ(lines, 6);  // started + finished, per specimen
+  EXPECT_EQ(r.Failed(), 1);
+  EXPECT_FALSE(r.specimens[2].ran());
+  EXPECT_NE(r.specimens[2].error.find("broken.csv"), std::string::npos) << r.specimens[2].error;
+  ASSERT_TRUE(r.specimens[0].ok());
+  ASSERT_TRUE(r.specimens[1].ok());
+
+  // The single fit of the same request, outside the campaign.
+  const pipeline::FitRun single = pipeline::RunFit(BuildRequests(manifest)[0]);
+  const ParameterStatistics& jtip = r.statistics[3];
+  EXPECT_EQ(jtip.parameter, "J_tip_c");
+  EXPECT_DOUBLE_EQ(r.specimens[0].run->summary.J_tip_c.value, single.summary.J_tip_c.value);
+  EXPECT_DOUBLE_EQ(r.specimens[1].run->summary.J_tip_c.value, single.summary.J_tip_c.value);
+  EXPECT_EQ(jtip.values, 2);
+  EXPECT_DOUBLE_EQ(jtip.mean, single.summary.J_tip_c.value);
+  EXPECT_DOUBLE_EQ(jtip.sd, 0.0);
+
+  WriteCampaignOutputs(r, dir.path / "out");
+  EXPECT_TRUE(fs::exists(dir.path / "out" / "specimens" / "A.h5"));
+  EXPECT_TRUE(fs::exists(dir.path / "out" / "specimens" / "B.h5"));
+  EXPECT_FALSE(fs::exists(dir.path / "out" / "specimens" / "broken.h5"));
+  std::ifstream summary(dir.path / "out" / "summary.csv");
+  std::string header, a, b, broken;
+  std::getline(summary, header);
+  std::getline(summary, a);
+  std::getline(summary, b);
+  std::getline(summary, broken);
+  EXPECT_NE(header.find("sigma_c [MPa]"), std::string::npos) << header;
+  EXPECT_EQ(a.rfind("A,", 0), 0u) << a;
+  EXPECT_EQ(broken.rfind("broken,failed,", 0), 0u) << broken;
+  EXPECT_TRUE(fs::exists(dir.path / "out" / "statistics.csv"));
+}
+
+}  // namespace
+}  // namespace bridgefit::campaign
+
+namespace bridgefit::campaign {
+namespace {
+
+// The CLI's own job: a manifest fault exits 1 before any fit, with the
+// manifest line, and writes nothing.
+TEST(CampaignCli, ManifestFaultExitsOneNamingTheLineAndWritesNothing) {
+  WorkDir dir;
+  const fs::path m = dir.Write(
+      "c.toml", std::string(kHead) + "[[specimen]]\nname = \"B\"\nrecord = \"gone.csv\"\n");
+  const auto r = testing::RunCli("campaign " + m.string() + " --out " + (dir.path / "out").string());
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("c.toml:11"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("gone.csv"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir.path / "out"));
+}
+
+}  // namespace
+}  // namespace bridgefit::campaign
