@@ -89,6 +89,11 @@ FitView ReadFit(const fs::path& path) {
       e.ci_low = NumberAttr(r, pg, "ci95_low");
       e.ci_high = NumberAttr(r, pg, "ci95_high");
       e.lower_bound = NumberAttr(r, pg, "lower_bound");
+      if (r.HasAttribute(pg, "model_bias")) {
+        e.statistical_low = NumberAttr(r, pg, "statistical_ci95_low");
+        e.statistical_high = NumberAttr(r, pg, "statistical_ci95_high");
+        e.model_bias = NumberAttr(r, pg, "model_bias");
+      }
       e.identified = NumberAttr(r, pg, "identified") == 1.0;
       e.fixed = NumberAttr(r, pg, "fixed") == 1.0;
       e.decided_by = StringAttr(r, pg, "decided_by");
