@@ -38,6 +38,7 @@ std::unique_ptr<Command> MakeDicCommand();
 std::unique_ptr<Command> MakeCrackCommand();
 std::unique_ptr<Command> MakeFitCommand();
 std::unique_ptr<Command> MakeCampaignCommand();
+std::unique_ptr<Command> MakeDesignCommand();
 std::unique_ptr<Command> MakeReportCommand();  std::unique_ptr<Command> MakeSynthCommand();
 
 // Prints one JSON object on stdout (the only stdout output under --json).

@@ -121,6 +121,7 @@ int main(int argc, char** argv) {
   commands.push_back(cli::MakeCrackCommand());
   commands.push_back(cli::MakeFitCommand());
   commands.push_back(cli::MakeCampaignCommand());
+  commands.push_back(cli::MakeDesignCommand());
   commands.push_back(cli::MakeReportCommand()); commands.push_back(cli::MakeSynthCommand());
 
   std::vector<CLI::App*> subs;

@@ -1,0 +1,121 @@
+// Experiment design: the reduced model over a grid of similar specimens.
+#include "bridgefit/campaign/design.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "bridgefit/core/error.hpp"
+#include "bridgefit/models/reduced.hpp"
+
+namespace bridgefit::campaign {
+
+double SceneSize(const Scene& scene) {
+  return scene.specimen.type == SpecimenType::kCT ? scene.specimen.width : scene.specimen.length;
+}
+
+Scene ScaledScene(const Scene& scene, double size) {
+  Scene out = scene;
+  const double f = size / SceneSize(scene);
+  SpecimenSpec& s = out.specimen;
+  s.notch *= f;
+  s.height *= f;
+  if (s.type == SpecimenType::kCT) s.width = size;  // B (thickness) stays
+  else s.length = size;                              // b (width) stays
+  if (out.run.max_crack_length) *out.run.max_crack_length *= f;
+  out.Validate();
+  return out;
+}
+
+std::vector<double> SizeGrid(double from, double to, double step, const std::string& field) {
+  if (!(from > 0) || !(to >= from) || !(step > 0) || (to - from) / step > 1000)
+    throw Error(ErrorKind::kUsage, "bad size range",
+                {.field = field, .value = fmt::format("{:g} m to {:g} m by {:g} m", from, to, step),
+                 .expected = "FROM:TO:STEP with 0 < FROM <= TO, STEP > 0, at most 1000 sizes, "
+                             "e.g. 50mm:200mm:25mm"});
+  std::vector<double> sizes;
+  for (int i = 0; from + i * step <= to * (1 + 1e-9); ++i) sizes.push_back(from + i * step);
+  return sizes;
+}
+
+bool DesignRequest::IsValid(std::string* why) const {
+  auto fail = [why](const std::string& text) {
+    if (why) *why = text;
+    return false;
+  };
+  if (!scene.fracture) return fail("the scene needs [fracture] (J_tip_c)");
+  if (!scene.bridging) return fail("the scene needs [bridging] (the law to design for)");
+  if (sizes.empty()) return fail("no sizes to try");
+  for (std::size_t i = 0; i < sizes.size(); ++i) {
+    if (!(sizes[i] > 0)) return fail(fmt::format("size {} is not positive", sizes[i]));
+    if (i > 0 && !(sizes[i] > sizes[i - 1])) return fail("sizes must be ascending");
+  }
+  if (!(resolution_fraction >= 0)) return fail("resolution_fraction must be >= 0");
+  if (r_points < 3) return fail(fmt::format("r_points must be >= 3, got {}", r_points));
+  if (points_past_onset < 1 || points_past_onset >= r_points)
+    return fail("points_past_onset must be in 1 .. r_points - 1");
+  return true;
+}
+
+DesignResult RunDesign(const DesignRequest& request) {
+  std::string why;
+  if (!request.IsValid(&why))
+    throw Error(ErrorKind::kInput, why, {.file = request.scene.source, .field = "design"});
+  DesignResult result;
+  for (double size : request.sizes) {
+    DesignSize d;
+    d.size = size;
+    d.scene = ScaledScene(request.scene, size);
+    d.scene.run.max_crack_length.reset();  // the specimen's whole window, not the test's stop
+    d.scene.run.grow = true;
+    d.notch = d.scene.specimen.notch;
+    models::ReducedOptions options;
+    const double characteristic = d.scene.specimen.type == SpecimenType::kCT
+                                      ? d.scene.specimen.width
+                                      : d.scene.specimen.height;
+    options.mesh.resolution = request.resolution_fraction * characteristic;
+    const auto t0 = std::chrono::steady_clock::now();
+    const SimulationResult run = models::SimulateReduced(d.scene, options);
+    d.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    d.status = run.status;
+    d.message = run.message;
+    d.window_end = run.points.empty() ? d.notch : run.points.back().crack_length;
+    d.reached = run.steady_state_reached && run.status == RunStatus::kOk;
+    if (d.reached) {
+      d.onset = run.steady_state_crack_length;
+      const double step = (d.window_end - d.notch) / (request.r_points - 1);
+      for (int i = 0; i < request.r_points; ++i)
+        d.points_past += d.notch + i * step >= d.onset - 1e-12 * d.window_end;
+      d.identifies = d.points_past >= request.points_past_onset;
+    }
+    if (d.identifies && result.smallest < 0) result.smallest = static_cast<int>(result.sizes.size());
+    result.sizes.push_back(std::move(d));
+  }
+  return result;
+}
+
+std::string DesignResult::BriefReport() const {
+  std::ostringstream out;
+  const bool ct = !sizes.empty() && sizes[0].scene.specimen.type == SpecimenType::kCT;
+  out << fmt::format("  {:>10} {:>9} {:>12} {:>14} {:>11} {:>10}\n", ct ? "W [mm]" : "L [mm]",
+                     "a0 [mm]", "window [mm]", "onset [mm]", "R points", "J_B");
+  for (const DesignSize& d : sizes) {
+    const std::string onset = d.reached ? fmt::format("{:.1f}", d.onset * 1e3) : "not reached";
+    const std::string verdict = d.status != RunStatus::kOk ? RunStatusName(d.status)
+                                : d.identifies              ? "identified"
+                                                            : "bound only";
+    out << fmt::format("  {:>10.1f} {:>9.1f} {:>12.1f} {:>14} {:>11} {:>10}\n", d.size * 1e3,
+                       d.notch * 1e3, d.window_end * 1e3, onset,
+                       d.reached ? fmt::format("{} past", d.points_past) : "-", verdict);
+  }
+  if (smallest >= 0)
+    out << fmt::format("  smallest size that identifies J_B and delta_c: {} = {:.1f} mm\n",
+                       ct ? "W" : "L", sizes[smallest].size * 1e3);
+  else
+    out << "  no size on this grid reaches steady state early enough: try larger sizes\n";
+  return out.str();
+}
+
+}  // namespace bridgefit::campaign
