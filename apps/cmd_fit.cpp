@@ -66,7 +66,32 @@ nlohmann::json EstimateJson(const inverse::ParameterEstimate& e) {
           {"decided_by", e.decided_by},
           {"note", e.note},
           {"interval_status", inverse::IntervalStatusName(e.interval_status)},
-          {"interval_reason", e.interval_reason}};
+          {"interval_reason", e.interval_reason},
+          // issue 17: ci95_* are the total interval (statistical + model bias)
+          {"statistical_ci95_low", NumberOrNull(e.statistical_ci95_low)},
+          {"statistical_ci95_high", NumberOrNull(e.statistical_ci95_high)},
+          {"model_bias", NumberOrNull(e.model_bias)}};
+}
+
+nlohmann::json ModelErrorJson(const inverse::ModelErrorEstimate& m) {
+  nlohmann::json bias;
+  for (int i = 0; i < inverse::kParameterCount; ++i)
+    bias[inverse::ParameterName(i)] = NumberOrNull(m.parameter_bias[i]);
+  return {{"status", inverse::ModelErrorStatusName(m.status)},
+          {"reason", m.reason},
+          {"summary", m.Summary()},
+          {"quantity", m.quantity},
+          {"resolution_m", NumberOrNull(m.resolution)},
+          {"coarse_resolution_m", NumberOrNull(m.coarse_resolution)},
+          {"coarser_resolution_m", NumberOrNull(m.coarser_resolution)},
+          {"observed_order", NumberOrNull(m.observed_order)},
+          {"order_used", NumberOrNull(m.order_used)},
+          {"safety_factor", NumberOrNull(m.safety_factor)},
+          {"output_bias_rms", NumberOrNull(m.output_bias_rms)},
+          {"output_bias_max", NumberOrNull(m.output_bias_max)},
+          {"output_bias_max_relative", NumberOrNull(m.output_bias_max_relative)},
+          {"parameter_bias", bias},
+          {"wall_s", m.wall_s}};
 }
 
 // An interval that cannot be trusted is said on stderr too, whatever the
@@ -157,7 +182,11 @@ class FitCommand final : public Command {
                  "fitted to the record's compliance at its measured crack lengths, alternated "
                  "with the law's fit")
         ->check(CLI::IsMember({"initial", "crack"}));
-    sub.add_option("--resolution", resolution_, "Reduced model element size, e.g. '0.5 mm'");
+    sub.add_option("--resolution", resolution_,
+                   "Reduced model element size, e.g. '0.5 mm', or auto (default): the coarsest "
+                   "size whose predicted parameter bias is below 0.3 of each statistical "
+                   "uncertainty (docs/FIT.md)")
+        ->default_val("auto");
     sub.add_flag("--no-profile", no_profile_, "Skip the profile likelihood (faster)");
     sub.add_option("--out", out_h5_, "Write the fit to this HDF5 file");
     sub.add_option("--report", report_dir_, "Also write an HTML report into this folder");
@@ -174,6 +203,8 @@ class FitCommand final : public Command {
     report_options.title = "bridgefit fit: " + input_;
     const auto written = pipeline::WriteFitOutputs(request, run, out_h5_, report_dir_, report_options);
     if (written && !common.quiet) std::cerr << "report: " << written->index_html.string() << "\n";
+    if (run.model_error.status != inverse::ModelErrorStatus::kEstimated)
+      std::cerr << "warning: fit: " << run.model_error.Summary() << "\n";
     if (run.comparison.empty()) {
       WarnUnreliableIntervals(run.summary, run.summary.law);
     } else {
@@ -204,7 +235,7 @@ class FitCommand final : public Command {
     if (model_ == "mpm" || model_ == "auto")
       request.mpm_cell = ParseOptionQuantity(mpm_cell_, Dimension::Length(), "--mpm-cell");
     request.model_tolerance = model_tolerance_;
-    if (!resolution_.empty())
+    if (!resolution_.empty() && resolution_ != "auto")
       request.resolution = ParseOptionQuantity(resolution_, Dimension::Length(), "--resolution");
     request.compare_laws = law_ == "compare";
     if (!request.compare_laws) {
@@ -348,6 +379,24 @@ class FitCommand final : public Command {
     }
     out["data_points"] = s.data_points;
     out["reduced_chi2"] = NumberOrNull(s.reduced_chi2);
+    out["model_error"] = ModelErrorJson(run.model_error);
+    out["resolution_m"] = NumberOrNull(run.resolution);
+    if (run.resolution_choice) {
+      nlohmann::json levels = nlohmann::json::array();
+      for (const inverse::ResolutionLevel& l : run.resolution_choice->levels)
+        levels.push_back({{"resolution_m", l.resolution},
+                          {"evaluated", l.evaluated},
+                          {"status", inverse::ModelErrorStatusName(l.status)},
+                          {"meets", l.meets},
+                          {"bias", {NumberOrNull(l.bias[0]), NumberOrNull(l.bias[1]), NumberOrNull(l.bias[2])}},
+                          {"sd", {NumberOrNull(l.sd[0]), NumberOrNull(l.sd[1]), NumberOrNull(l.sd[2])}},
+                          {"note", l.note}});
+      out["resolution_auto"] = {{"resolution_m", run.resolution_choice->resolution},
+                                {"criterion_met", run.resolution_choice->criterion_met},
+                                {"reason", run.resolution_choice->reason},
+                                {"wall_s", run.resolution_choice->wall_s},
+                                {"levels", std::move(levels)}};
+    }
     out["sigma_c_Pa"] = EstimateJson(s.sigma_c);
     out["J_B_J_per_m2"] = EstimateJson(s.J_B);
     out["delta_c_m"] = EstimateJson(s.delta_c);

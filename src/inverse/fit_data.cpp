@@ -204,15 +204,23 @@ std::string FitSummary::BriefReport() const {
     const bool no_interval = !std::isfinite(e.ci95_low) && !std::isfinite(e.ci95_high);
     const bool warn = e.interval_status != IntervalStatus::kReliable &&
                       e.interval_status != IntervalStatus::kOpen;
+    // With the model error applied: the total interval, then its parts.
+    const std::string parts_text =
+        std::isfinite(e.model_bias)
+            ? fmt::format(" (statistical {} .. {}, model bias {:+.3g} {})", end(e.statistical_ci95_low),
+                          end(e.statistical_ci95_high), e.model_bias / scale, unit)
+            : std::string();
     if (std::isfinite(e.value) && warn)
       return fmt::format("  {:<8} = {:.4g} {} {}(interval unreliable: {})\n", name, e.value / scale,
                          unit,
                          no_interval ? std::string()
-                                     : fmt::format("[95% CI {} .. {}] ", end(e.ci95_low), end(e.ci95_high)),
+                                     : fmt::format("[95% CI {} .. {}]{} ", end(e.ci95_low),
+                                                   end(e.ci95_high), parts_text),
                          e.interval_reason);
     if (std::isfinite(e.value))
-      return fmt::format("  {:<8} = {:.4g} {} [95% CI {} .. {}]{}\n", name, e.value / scale, unit,
-                         end(e.ci95_low), end(e.ci95_high), e.identified ? "" : " (not identifiable)");
+      return fmt::format("  {:<8} = {:.4g} {} [95% CI {} .. {}]{}{}\n", name, e.value / scale, unit,
+                         end(e.ci95_low), end(e.ci95_high), parts_text,
+                         e.identified ? "" : " (not identifiable)");
     if (std::isfinite(e.lower_bound))
       return fmt::format("  {:<8} >= {:.4g} {} (lower bound: {})\n", name, e.lower_bound / scale,
                          unit, e.note);

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "bridgefit/inverse/fit.hpp"
+#include "bridgefit/inverse/model_error.hpp"
 
 namespace bridgefit::inverse::fit_internal {
 
@@ -166,5 +167,28 @@ std::vector<ProfileRun> RunProfiles(const ForwardModel& model, const laws::LawSh
                                     const std::vector<int>& ks, const LocalResult& best,
                                     const std::vector<double>& full, double threshold,
                                     bool lower_side);
+
+
+// The order of convergence from two successive differences (fine: r h to
+// h, coarse: r^2 h to r h; any common scaling), the order used (at most
+// the model's asymptotic one) and the Richardson denominator r^p - 1
+// (model_error.cpp). `problem`: why the coarse difference is missing.
+struct OrderChoice {
+  bool observed = false;
+  bool no_difference = false;  // the coarser solve agrees with the fine one
+  double observed_order = NAN;
+  double order = NAN;
+  double denominator = 1.0;
+  std::string problem;
+};
+OrderChoice ChooseOrder(const std::vector<double>& fine, const std::vector<double>& coarse,
+                        const std::string& problem, const ModelErrorOptions& options);
+// The rows a fit kept (its outliers left out), model_error.cpp.
+FitData RowsUsed(const FitData& data, const FitSummary& fit);
+// The parameters a fit's answer rests on (`at`, SI) and which the data
+// decided (the free ones of the returned options): every free one with
+// bridging; without, J_tip,c of a load-displacement fit only.
+FitOptions AnswerParameters(const FitOptions& options, const FitSummary& fit,
+                            std::array<double, kParameterCount>* at);
 
 }  // namespace bridgefit::inverse::fit_internal

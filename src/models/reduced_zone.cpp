@@ -239,6 +239,7 @@ bool SolveZoneDense(const Eigen::MatrixXd& F, const Eigen::VectorXd& Fg, const E
     for (int ls = 0; ls < 30; ++ls, lambda *= 0.5) {
       trial_u = uz + lambda * step.head(k);
       trial_p = p + lambda * step[k];
+      if (!(trial_p > 0.0)) continue;  // the physical root (see SolveChordNewton)
       evaluate(trial_u, trial_p, &trial_residual, nullptr);
       trial = norm(trial_residual, trial_u);
       if (trial < current * (1.0 - 1e-4 * lambda) || trial < options.tolerance) break;
@@ -421,6 +422,11 @@ class BorderedGrowth {
       elastic_.Solve(x2_.head(t));
       const double R1 = s_t.dot(x2_.head(t)) - g_[t];
       p_ = std::sqrt(2.0 * h_ * J_tip_c_ / (R1 * R1 * phi_ + x2_[t - 1] * x2_[t - 1] / psi_));
+      // The openings of that load (issue 17): from u = 0 the residual is
+      // all load, and on a coarse DCB mesh the first Newton step crossed
+      // to the root with p < 0 (sqrt(J_tip) = sqrt(J_tip,c) at a negative
+      // load), "Newton did not converge at crack length a0".
+      u_.head(t) = p_ * x2_.head(t);
     }
     Slopes(u_);
     Refresh(1e-9);
@@ -450,6 +456,9 @@ class BorderedGrowth {
       for (int ls = 0; ls < 30; ++ls, lambda *= 0.5) {
         trial_u_.head(t) = u_.head(t) + lambda * (x2_.head(t) * dp - x1_.head(t));
         trial_p = p_ + lambda * dp;
+        // The load stays positive: sqrt(J_tip) = sqrt(J_tip,c) has a root
+        // at p < 0 too, which a full step can reach on a coarse mesh.
+        if (!(trial_p > 0.0)) continue;
         Evaluate(trial_u_, trial_p, trial_r_, trial_a_, trial_rg, trial_e);
         trial = Norm(trial_r_, trial_u_, trial_rg);
         if (trial < current * (1.0 - 1e-4 * lambda) || trial < options_.tolerance) break;

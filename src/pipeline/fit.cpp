@@ -137,6 +137,8 @@ laws::LawShape ShapeForRequest(const FitRequest& request) {
                .expected = "a scene whose [bridging] has this law"});
 }
 
+}  // namespace
+
 // A load-displacement fit starts where the R-curve fit (quick, without
 // profiles) ends; the start goes into `options.initial`.
 inverse::FitSummary StartFromRCurveFit(const inverse::ForwardModel& model,
@@ -156,6 +158,8 @@ inverse::FitSummary StartFromRCurveFit(const inverse::ForwardModel& model,
   }
   return start;
 }
+
+namespace {
 
 // The fit itself: one law, or every family ranked by AICc (the best one
 // kept); --model auto: the reduced fit checked (and corrected) by MPM.
@@ -204,10 +208,38 @@ void FinishLoadFit(const inverse::ForwardModel& model, FitRun& run) {
   run.load_fit_R_rms = std::sqrt(sum / p.R.size());
 }
 
+// Issue 17: the reduced model's discretisation error, from two coarser
+// solves at the fitted parameters, into every interval (the total interval).
+void AddModelError(const FitRequest& request, const FitModels& models,
+                   const inverse::FitData& fit_data, const inverse::FitOptions& options,
+                   FitRun& run) {
+  inverse::ModelErrorEstimate& e = run.model_error;
+  if (request.model != ModelChoice::kReduced) {
+    e.model = ModelChoiceName(request.model);
+    e.reason = fmt::format("no error model for the {} model yet", e.model);
+    return;
+  }
+  const inverse::ModelErrorOptions error_options;
+  const double h = models.resolution();
+  const double r = error_options.refinement_ratio;
+  const std::unique_ptr<inverse::ForwardModel> coarse = models.ReducedAt(r * h);
+  const std::unique_ptr<inverse::ForwardModel> coarser = models.ReducedAt(r * r * h);
+  e = inverse::EstimateModelError(models.model(), coarse.get(), coarser.get(), h, run.shape,
+                                  fit_data, options, run.summary, error_options);
+  inverse::ApplyModelError(e, run.summary);
+  run.summary.wall_s += e.wall_s;
+  run.summary.evaluations += e.runs;
+  if (run.resolution_choice) {
+    run.summary.wall_s += run.resolution_choice->wall_s;
+    run.summary.evaluations += run.resolution_choice->runs;
+  }
+}
+
 }  // namespace
 
-FitRun RunFit(const FitRequest& request) {
-  request.Check();
+FitRun RunFit(const FitRequest& given) {
+  given.Check();
+  FitRequest request = given;  // the element size becomes the chosen one (--resolution auto)
   FitRun run;
   run.input = ResolveFitInput(request);
   run.r_kind = ResolveRKind(request, run.input);
@@ -219,6 +251,7 @@ FitRun RunFit(const FitRequest& request) {
   run.shape = request.compare_laws ? laws::MakeLinearShape() : ShapeForRequest(request);
   const laws::LawShape start_shape = run.shape;
   run.check.tolerance = request.model_tolerance;
+  ChooseAutoResolution(request, start_shape, run);
 
   FitModels models(request, run.input, run.data, run.load_data.has_value(), run.r_kind);
   models.Build(1.0, 0.0);
@@ -250,7 +283,9 @@ FitRun RunFit(const FitRequest& request) {
   }
   FitLaw(request, models, fit_data, options, run);
   if (run.start_fit) FinishLoadFit(models.model(), run);
+  AddModelError(request, models, fit_data, options, run);
   run.mpm_cell = models.mpm_cell();
+  run.resolution = models.resolution();
   return run;
 }
 
@@ -295,6 +330,10 @@ std::string FitRun::BriefReport() const {
         c.modulus_factor, c.initial_slope_factor, c.model_initial_compliance,
         input.initial_compliance, c.fits);
   out << summary.BriefReport();
+  if (resolution_choice)
+    out << fmt::format("  resolution auto: {} (chosen in {:.2f} s)\n", resolution_choice->reason,
+                       resolution_choice->wall_s);
+  out << "  " << model_error.Summary() << "\n";
   if (!model_note.empty()) out << "  " << model_note << "\n";
   return out.str();
 }

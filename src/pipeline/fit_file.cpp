@@ -23,6 +23,40 @@ void WriteEstimate(io::H5Writer& file, const std::string& group,
   file.WriteAttribute(group, "note", e.note);
   file.WriteAttribute(group, "interval_status", inverse::IntervalStatusName(e.interval_status));
   file.WriteAttribute(group, "interval_reason", e.interval_reason);
+  // Issue 17: ci95_* are the total interval; its parts.
+  file.WriteAttribute(group, "statistical_ci95_low", e.statistical_ci95_low);
+  file.WriteAttribute(group, "statistical_ci95_high", e.statistical_ci95_high);
+  file.WriteAttribute(group, "model_bias", e.model_bias);
+}
+
+// The forward model's discretisation error (inverse/model_error.hpp).
+void WriteModelError(io::H5Writer& file, const std::string& g, const FitRun& run) {
+  const inverse::ModelErrorEstimate& m = run.model_error;
+  const std::string me = g + "/model_error";
+  file.WriteAttribute(me, "status", inverse::ModelErrorStatusName(m.status));
+  file.WriteAttribute(me, "reason", m.reason);
+  file.WriteAttribute(me, "summary", m.Summary());
+  file.WriteAttribute(me, "quantity", m.quantity);
+  file.WriteAttribute(me, "resolution_m", m.resolution);
+  file.WriteAttribute(me, "coarse_resolution_m", m.coarse_resolution);
+  file.WriteAttribute(me, "coarser_resolution_m", m.coarser_resolution);
+  file.WriteAttribute(me, "observed_order", m.observed_order);
+  file.WriteAttribute(me, "order_used", m.order_used);
+  file.WriteAttribute(me, "safety_factor", m.safety_factor);
+  file.WriteAttribute(me, "output_bias_rms", m.output_bias_rms);
+  file.WriteAttribute(me, "output_bias_max", m.output_bias_max);
+  file.WriteAttribute(me, "output_bias_max_relative", m.output_bias_max_relative);
+  for (int i = 0; i < inverse::kParameterCount; ++i)
+    file.WriteAttribute(me, std::string("bias_") + inverse::ParameterName(i), m.parameter_bias[i]);
+  file.WriteAttribute(me, "wall_s", m.wall_s);
+  file.WriteAttribute(g, "resolution_m", run.resolution);
+  if (run.resolution_choice) {
+    file.WriteAttribute(g, "resolution_auto_reason", run.resolution_choice->reason);
+    file.WriteAttribute(g, "resolution_auto_wall_s", run.resolution_choice->wall_s);
+  }
+  if (!m.output_bias.empty())
+    file.WriteVector(me + "/output_bias", m.output_bias, m.quantity == "load" ? "N" : "J/m^2",
+                     "predicted bias of the model's prediction at each data point used");
 }
 
 void WriteSummaryAttributes(io::H5Writer& file, const std::string& g, const FitRequest& request,
@@ -166,6 +200,7 @@ void WriteFitFile(const std::string& path, const FitRequest& request, const FitR
   WriteEstimate(file, g + "/parameters/delta_c", run.summary.delta_c, "m");
   WriteEstimate(file, g + "/parameters/J_tip_c", run.summary.J_tip_c, "J/m^2");
   WriteModelCheck(file, g, run);
+  WriteModelError(file, g, run);
   WriteProfiles(file, g, run.summary);
   file.Commit();
 }
@@ -237,6 +272,11 @@ report::FitView ReadFitView(const std::filesystem::path& path) {
       e.ci_low = NumberAttr(r, pg, "ci95_low");
       e.ci_high = NumberAttr(r, pg, "ci95_high");
       e.lower_bound = NumberAttr(r, pg, "lower_bound");
+      if (r.HasAttribute(pg, "model_bias")) {
+        e.statistical_low = NumberAttr(r, pg, "statistical_ci95_low");
+        e.statistical_high = NumberAttr(r, pg, "statistical_ci95_high");
+        e.model_bias = NumberAttr(r, pg, "model_bias");
+      }
       e.identified = NumberAttr(r, pg, "identified") == 1.0;
       e.fixed = NumberAttr(r, pg, "fixed") == 1.0;
       e.decided_by = StringAttr(r, pg, "decided_by");

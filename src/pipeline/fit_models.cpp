@@ -7,6 +7,7 @@
 #include "bridgefit/inverse/reduced_forward.hpp"
 #include "bridgefit/models/reduced.hpp"
 #include "bridgefit/mpm/growth.hpp"
+#include "bridgefit/specimen/crack_plane.hpp"
 
 namespace bridgefit::pipeline {
 
@@ -70,16 +71,13 @@ void FitModels::Build(double modulus_factor, double series_compliance) {
     model_ = inverse::MakeAnalyticForwardModel(model_scene);
     return;
   }
-  models::ReducedOptions reduced;
-  if (std::isfinite(request_.resolution)) reduced.mesh.resolution = request_.resolution;
-  reduced.mesh.max_crack_length =
-      std::max(data_end_ + 2e-3, model_scene.run.max_crack_length.value_or(0.0));
+  modulus_factor_ = modulus_factor;
+  series_compliance_ = series_compliance;
   if (choice != ModelChoice::kMpm) {
-    auto simulation = inverse::MakeReducedForwardModel(model_scene, reduced);
-    if (kind_ == inverse::RKind::kAsData)
-      simulation->SetReducer(ModelRecordReducer(input_.reduction_options));
-    simulation->SetSeriesCompliance(series_compliance);
-    model_ = std::move(simulation);
+    resolution_ = std::isfinite(request_.resolution)
+                      ? request_.resolution
+                      : specimen::DefaultResolution(model_scene.specimen);
+    model_ = MakeReduced(model_scene, resolution_, 2e-3);
   }
   if (choice == ModelChoice::kMpm || choice == ModelChoice::kAuto) {
     mpm::GrowthOptions growth;
@@ -99,6 +97,34 @@ void FitModels::Build(double modulus_factor, double series_compliance) {
     else accurate_ = std::move(accurate);
     mpm_cell_ = growth.cell;
   }
+}
+
+std::unique_ptr<inverse::SimulationForwardModel> FitModels::MakeReduced(const Scene& scene,
+                                                                        double resolution,
+                                                                        double margin) const {
+  models::ReducedOptions reduced;
+  reduced.mesh.resolution = resolution;
+  reduced.mesh.max_crack_length =
+      std::max(data_end_ + margin, scene.run.max_crack_length.value_or(0.0));
+  auto simulation = inverse::MakeReducedForwardModel(scene, reduced);
+  if (kind_ == inverse::RKind::kAsData)
+    simulation->SetReducer(ModelRecordReducer(input_.reduction_options));
+  simulation->SetSeriesCompliance(series_compliance_);
+  return simulation;
+}
+
+std::unique_ptr<inverse::ForwardModel> FitModels::ReducedAt(double resolution) const {
+  if (request_.model != ModelChoice::kReduced) return nullptr;
+  const Scene scene = ScaledModuli(request_.scene, modulus_factor_);
+  // Past the data by two elements (a coarse mesh's last node rounds down by
+  // up to one element), else by the fine model's 2 mm.
+  for (double margin : {std::max(2e-3, 2.0 * resolution), 2e-3}) {
+    try {
+      return MakeReduced(scene, resolution, margin);
+    } catch (const Error&) {
+    }
+  }
+  return nullptr;  // the geometry does not take this element size
 }
 
 }  // namespace bridgefit::pipeline

@@ -29,6 +29,13 @@ class FitModels {
   const inverse::ForwardModel& model() const { return *model_; }
   const inverse::ForwardModel* accurate() const { return accurate_.get(); }
   double mpm_cell() const { return mpm_cell_; }  // [m], NaN without MPM
+  // The reduced model's element size [m] (NaN for analytic or MPM alone).
+  double resolution() const { return resolution_; }
+  // The reduced model as model() is (same scene scaling, series compliance
+  // and R kind) at another element size: the model error's coarser solves
+  // (issue 17). Null when model() is not the reduced model or the mesh is
+  // not valid at that size.
+  std::unique_ptr<inverse::ForwardModel> ReducedAt(double resolution) const;
 
  private:
   const FitRequest& request_;
@@ -38,6 +45,25 @@ class FitModels {
   std::unique_ptr<inverse::ForwardModel> model_;
   std::unique_ptr<inverse::ForwardModel> accurate_;
   double mpm_cell_ = NAN;
+  double resolution_ = NAN;
+  double modulus_factor_ = 1.0, series_compliance_ = 0.0;
+  // The reduced model of the request at element size `resolution`, grown
+  // `margin` [m] past the data.
+  std::unique_ptr<inverse::SimulationForwardModel> MakeReduced(const Scene& scene,
+                                                               double resolution,
+                                                               double margin) const;
 };
+
+// A load-displacement fit starts where the R-curve fit (quick, without
+// profiles) of `data` ends; the start goes into `options.initial` (fit.cpp).
+inverse::FitSummary StartFromRCurveFit(const inverse::ForwardModel& model,
+                                       const laws::LawShape& shape, const inverse::FitData& data,
+                                       inverse::FitOptions& options);
+
+// --resolution auto (issue 17; fit_resolution.cpp): for the reduced model
+// without a given element size, chooses one (inverse::ChooseResolution from
+// a pilot fit at the coarsest valid size) and sets request.resolution and
+// run.resolution_choice. Otherwise leaves both as they are.
+void ChooseAutoResolution(FitRequest& request, const laws::LawShape& shape, FitRun& run);
 
 }  // namespace bridgefit::pipeline

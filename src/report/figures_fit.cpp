@@ -50,8 +50,8 @@ struct ProfileEnds {
 ProfileEnds EndsFromProfile(const Estimate* e) {
   ProfileEnds ends;
   if (!e || e->note.find("profile likelihood") == std::string::npos) return ends;
-  ends.high = std::isfinite(e->ci_high);
-  ends.low = std::isfinite(e->ci_low) && e->note.find("Jacobian below") == std::string::npos;
+  ends.high = std::isfinite(e->ProfileHigh());
+  ends.low = std::isfinite(e->ProfileLow()) && e->note.find("Jacobian below") == std::string::npos;
   return ends;
 }
 
@@ -208,8 +208,8 @@ void AddProfileFigure(const ReportInput& in, FigureSet& set) {
     // The printed ends that come from this profile, at the threshold.
     const ProfileEnds ends = EndsFromProfile(e);
     std::string ends_dat = "# printed 95% interval ends from the profile: value delta_chi2 (= threshold)\n";
-    if (ends.low) ends_dat += fmt::format("{:.10g} {:.10g}\n", e->ci_low * d.factor, threshold);
-    if (ends.high) ends_dat += fmt::format("{:.10g} {:.10g}\n", e->ci_high * d.factor, threshold);
+    if (ends.low) ends_dat += fmt::format("{:.10g} {:.10g}\n", e->ProfileLow() * d.factor, threshold);
+    if (ends.high) ends_dat += fmt::format("{:.10g} {:.10g}\n", e->ProfileHigh() * d.factor, threshold);
     ends_dat += "nan nan\n";
     const std::string ends_file = "profile_" + p.name + "_ends.dat";
     WriteFile(set.dir / ends_file, ends_dat);
@@ -248,8 +248,14 @@ void AddProfileFigure(const ReportInput& in, FigureSet& set) {
     gp += "set xtics rotate by 35 right font ',9'\nset xtics autofreq\n";
     std::string panel_title;
     if (ends.low || ends.high)
-      panel_title = fmt::format("printed 95% CI [{}, {}]", ends.low ? Num(e->ci_low, d.factor) : "-",
-                                ends.high ? Num(e->ci_high, d.factor) : "-");
+      panel_title =
+          std::isfinite(e->model_bias)
+              ? fmt::format("statistical 95% CI [{}, {}]; printed with model error [{}, {}]",
+                            ends.low ? Num(e->ProfileLow(), d.factor) : "-",
+                            ends.high ? Num(e->ProfileHigh(), d.factor) : "-",
+                            Num(e->ci_low, d.factor), Num(e->ci_high, d.factor))
+              : fmt::format("printed 95% CI [{}, {}]", ends.low ? Num(e->ci_low, d.factor) : "-",
+                            ends.high ? Num(e->ci_high, d.factor) : "-");
     else if (e && std::isfinite(e->lower_bound))
       panel_title = fmt::format("printed: >= {} (a bound, not this profile)", Num(e->lower_bound, d.factor));
     else if (open_low || open_high)
@@ -275,8 +281,8 @@ void AddProfileFigure(const ReportInput& in, FigureSet& set) {
     html += fmt::format("<tr><td>{}</td><td>{:.6g}</td><td>{:.4g}</td><td>{}</td><td>{} .. {} {}</td><td>{}</td></tr>\n",
                         d.label, chi2_min, threshold, p.value.size(), Num(lo), Num(hi), d.unit,
                         ends.low || ends.high
-                            ? fmt::format("[{}, {}]{}", ends.low ? Num(e->ci_low, d.factor) : "&ndash;",
-                                          ends.high ? Num(e->ci_high, d.factor) : "&ndash;",
+                            ? fmt::format("[{}, {}]{}", ends.low ? Num(e->ProfileLow(), d.factor) : "&ndash;",
+                                          ends.high ? Num(e->ProfileHigh(), d.factor) : "&ndash;",
                                           open_high ? " (open above)" : open_low ? " (open below)" : "")
                             : (open_low || open_high ? "none: flat (open)"
                                                      : "none (" + Escape(e ? e->decided_by : "") + ")"));

@@ -57,6 +57,10 @@ std::string ResultsTable(const ReportInput& in) {
     h += "<tr><td>" + d.label + "</td><td>" + Num(e.value, d.factor) + "</td><td>";
     h += std::isfinite(e.ci_low) || std::isfinite(e.ci_high)
              ? "[" + Num(e.ci_low, d.factor) + ", " + Num(e.ci_high, d.factor) + "]" : "&ndash;";
+    // Issue 17: the printed interval is the total; its parts.
+    if (std::isfinite(e.model_bias))
+      h += " (statistical [" + Num(e.statistical_low, d.factor) + ", " +
+           Num(e.statistical_high, d.factor) + "], model bias " + Num(e.model_bias, d.factor) + ")";
     h += "</td><td>" + (std::isfinite(e.lower_bound) ? "&ge; " + Num(e.lower_bound, d.factor) : "&ndash;");
     h += "</td><td>" + d.unit + "</td><td>" + status + "</td>";
     if (in.truth.present) {

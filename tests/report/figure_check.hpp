@@ -72,7 +72,10 @@ inline std::map<std::string, PrintedEstimate> PrintedResults(const std::string& 
       if (cells[0].rfind(label, 0) != 0) continue;
       PrintedEstimate e;
       std::smatch m;
-      if (std::regex_search(cells[2], m, std::regex("\\[(.*), (.*)\\]"))) {
+      // With the model error (issue 17) the printed interval is the total
+      // one and the profile's own ends are the statistical interval.
+      if (std::regex_search(cells[2], m, std::regex("statistical \\[(.*?), (.*?)\\]")) ||
+          std::regex_search(cells[2], m, std::regex("\\[(.*), (.*)\\]"))) {
         e.ci_low = ParsePrinted(m[1]);
         e.ci_high = ParsePrinted(m[2]);
       }

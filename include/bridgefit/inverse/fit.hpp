@@ -121,6 +121,13 @@ struct ParameterEstimate {
   std::string note;
   IntervalStatus interval_status = IntervalStatus::kReliable;
   std::string interval_reason;  // empty when reliable: why the interval cannot be trusted
+  // With the model error applied (model_error.hpp): ci95_low/high are the
+  // total interval, these the noise's alone, and model_bias the predicted
+  // discretisation bias of `value` (estimate minus the converged model's).
+  // NaN when no model error was applied.
+  double statistical_ci95_low = NAN;
+  double statistical_ci95_high = NAN;
+  double model_bias = NAN;
   bool interval_reliable() const { return interval_status == IntervalStatus::kReliable; }
 };
 

@@ -23,6 +23,8 @@
 #include "bridgefit/inverse/compliance_calibration.hpp"
 #include "bridgefit/inverse/fit.hpp"
 #include "bridgefit/inverse/model_check.hpp"
+#include "bridgefit/inverse/model_error.hpp"
+#include "bridgefit/inverse/resolution.hpp"
 #include "bridgefit/laws/law.hpp"
 #include "bridgefit/scene/scene.hpp"
 
@@ -56,7 +58,12 @@ struct FitRequest {
   ModelChoice model = ModelChoice::kReduced;
   double mpm_cell = 2.5e-3;       // [m], kMpm / kAuto
   double model_tolerance = 0.03;  // kAuto: relative R difference accepted
-  double resolution = NAN;        // reduced model element size [m]; NaN: its default
+  // Reduced model element size [m]; NaN: automatic (--resolution auto,
+  // inverse/resolution.hpp: the coarsest size whose predicted parameter
+  // bias is below `resolution_bias_fraction` of each statistical
+  // uncertainty, within the model's validity limits).
+  double resolution = NAN;
+  double resolution_bias_fraction = 0.3;
 
   bool compare_laws = false;  // every family, ranked by AICc
   laws::LawFamily law = laws::LawFamily::kLinear;
@@ -113,6 +120,13 @@ struct FitRun {
   std::vector<double> load_fit_R;  // [J/m^2]
   double load_fit_R_rms = NAN;     // [J/m^2]
   std::string model_note;          // a sentence for the reader, or empty
+  // The forward model's discretisation error, already in the summary's
+  // intervals (issue 17; inverse/model_error.hpp).
+  inverse::ModelErrorEstimate model_error;
+  // The reduced model's element size used [m] (NaN without the reduced
+  // model) and, when chosen automatically, how.
+  double resolution = NAN;
+  std::optional<inverse::ResolutionChoice> resolution_choice;
 
   // The rms R residual of the fit [J/m^2] (of the load fit's R curve for a
   // load-displacement fit).

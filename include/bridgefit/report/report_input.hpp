@@ -20,6 +20,11 @@ namespace bridgefit::report {
 struct Estimate {
   std::string name, units;
   double value = NAN, ci_low = NAN, ci_high = NAN, lower_bound = NAN;
+  // Issue 17: ci_* are the total interval (statistical + model bias); the
+  // profile's own crossings are the statistical ends (NaN in older files).
+  double statistical_low = NAN, statistical_high = NAN, model_bias = NAN;
+  double ProfileLow() const { return std::isfinite(model_bias) ? statistical_low : ci_low; }
+  double ProfileHigh() const { return std::isfinite(model_bias) ? statistical_high : ci_high; }
   bool present = false, identified = false, fixed = false;
   std::string decided_by, note;
 };

@@ -1,0 +1,106 @@
+#pragma once
+// The forward model's own discretisation error inside every interval
+// (issue 17, docs/FIT.md "Model error in every interval").
+//
+// At the fitted parameters the model is run again at two coarser element
+// sizes, r h and r^2 h (r = 2), and the fit is re-run locally from its
+// optimum with each: estimates p_h, p_2h, p_4h. The observed order of
+// convergence q = ln(|p_4h - p_2h| / |p_2h - p_h|) / ln r (differences
+// scaled by the statistical standard uncertainties), and Richardson's
+// estimate of each parameter's discretisation bias (estimate minus the
+// converged model's) is beta = (p_2h - p_h) / (r^p - 1), p = min(q, the
+// model's asymptotic order 1). The same on the model's prediction at the
+// data (R, or the load) gives its predicted bias, reported alongside.
+// The total interval holds the statistical one and the statistical one
+// shifted by -beta, widened by (F_s - 1)|beta| on both sides, with Roache's
+// safety factor F_s = 1.25 for an observed order and 3 where it is not
+// observed (the order 1 is assumed then). The statistical interval, beta
+// and the total interval are all reported; the total is the default.
+
+#include <array>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "bridgefit/inverse/fit.hpp"
+
+namespace bridgefit::inverse {
+
+enum class ModelErrorStatus {
+  kEstimated,         // observed order inside the accepted range (or no difference at all)
+  kOrderNotObserved,  // the three solves do not converge cleanly: assumed order, F_s = 3
+  kNotEstimated,      // no coarser solve (failed, or no error model): statistical interval only
+};
+// "estimated", "order_not_observed", "not_estimated"
+const char* ModelErrorStatusName(ModelErrorStatus status);
+
+struct ModelErrorOptions {
+  double refinement_ratio = 2.0;  // coarse element size / fine (and coarser / coarse)
+  double min_order = 0.5;         // an observed order outside [min, max] is not trusted
+  double max_order = 3.0;
+  // The model's asymptotic order: the reduced model converges with order
+  // 0.9-1.2 (docs/REDUCED.md section 5). Assumed where the order is not
+  // observed, and an upper limit on the order used: the interpolation of the
+  // model's points between nodes adds an O(h^2) part that dominates the
+  // coarse differences (observed 1.5-2.1 from 4, 2, 1 mm) while the O(h)
+  // part dominates at h; a higher order would under-predict the bias
+  // (docs/FIT.md "Model error in every interval").
+  double assumed_order = 1.0;
+  double safety_factor = 1.25;            // Roache's F_s, observed order
+  double unverified_safety_factor = 3.0;  // Roache's F_s, assumed order
+  bool IsValid(std::string* why) const;
+};
+
+struct ModelErrorEstimate {
+  ModelErrorStatus status = ModelErrorStatus::kNotEstimated;
+  std::string reason;            // why not estimated, or why the order is not trusted
+  std::string model;             // the forward model's name
+  std::string quantity;          // "R" [J/m^2] or "load" [N]
+  double resolution = NAN;       // the fit's element size h [m]
+  double coarse_resolution = NAN, coarser_resolution = NAN;  // [m]
+  double observed_order = NAN;   // NaN when not observed
+  double order_used = NAN;       // min(observed, assumed), or the assumed one
+  double safety_factor = NAN;
+  // Predicted bias of the model's prediction at each data point used (model
+  // at h minus converged), in the quantity's unit; its rms and largest
+  // magnitude, the latter also relative to the prediction there.
+  std::vector<double> output_bias;
+  double output_bias_rms = NAN;
+  double output_bias_max = NAN;
+  double output_bias_max_relative = NAN;
+  // Predicted bias of each estimate (estimate minus the converged model's),
+  // SI; 0 for fixed parameters, NaN where not estimated.
+  std::array<double, kParameterCount> parameter_bias = {NAN, NAN, NAN};
+  // Statistical standard uncertainty of each free estimate from the fit's
+  // Jacobian (s^2 (J^T J)^-1, s^2 as the fit's), NaN where not computed.
+  std::array<double, kParameterCount> statistical_sd = {NAN, NAN, NAN};
+  int runs = 0;        // forward runs spent (coarser solves and the Jacobian)
+  double wall_s = 0.0;
+
+  bool estimated() const { return status != ModelErrorStatus::kNotEstimated; }
+  std::string Summary() const;  // one line for the report
+};
+
+// The model error of `fit` (made by `model` on `data` with `options`; its
+// outliers are left out) from the coarser models `coarse` (r h) and
+// `coarser` (r^2 h; may be null: then the order is assumed). Never throws
+// for a failed run: the estimate says why it is missing.
+ModelErrorEstimate EstimateModelError(const ForwardModel& model, const ForwardModel* coarse,
+                                      const ForwardModel* coarser, double resolution,
+                                      const laws::LawShape& shape, const FitData& data,
+                                      const FitOptions& options, const FitSummary& fit,
+                                      const ModelErrorOptions& error_options = {});
+
+// The total interval of one estimate from its statistical interval [low,
+// high] (an open end stays open), the predicted bias and the safety factor.
+std::array<double, 2> TotalInterval(double low, double high, double bias, double safety_factor);
+
+// Moves the estimate's model error into `fit`: each estimate keeps its
+// statistical interval (statistical_ci95_low/high), gets model_bias, and its
+// ci95_low/high become the total interval; delta_c's interval is recomputed
+// from the totals of J_B and sigma_c; a J_B lower bound is lowered where
+// J_tip,c may be biased low. Nothing changes when the error is not estimated
+// (the intervals stay the statistical ones, and the estimate says why).
+void ApplyModelError(const ModelErrorEstimate& estimate, FitSummary& fit);
+
+}  // namespace bridgefit::inverse

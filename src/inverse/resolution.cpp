@@ -1,0 +1,188 @@
+// --resolution auto (include/bridgefit/inverse/resolution.hpp).
+
+#include "bridgefit/inverse/resolution.hpp"
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <map>
+
+#include <fmt/format.h>
+
+#include "bridgefit/core/progress.hpp"
+#include "fit_impl.hpp"
+
+namespace bridgefit::inverse {
+
+using namespace fit_internal;
+
+bool ResolutionOptions::IsValid(std::string* why) const {
+  auto fail = [why](const std::string& text) {
+    if (why) *why = text;
+    return false;
+  };
+  if (!(bias_fraction > 0.0)) return fail("bias_fraction must be positive");
+  if (!(coarsest > 0.0 && finest > 0.0 && finest <= coarsest))
+    return fail("need 0 < finest <= coarsest element size");
+  if (std::string error_why; !error.IsValid(&error_why)) return fail(error_why);
+  return true;
+}
+
+namespace {
+
+// One rung of the ladder: the fit re-run locally from the pilot's
+// parameters with the model at `h`, and the statistical standard
+// uncertainties there.
+struct Rung {
+  bool ok = false;
+  std::string note;
+  std::vector<double> estimate;  // free parameters, SI
+  std::vector<double> sd;
+};
+
+Rung EvaluateRung(const ForwardModel* model, const laws::LawShape& shape, const FitData& used,
+                  const FitOptions& answer, const std::array<double, kParameterCount>& at,
+                  double scale2, int* runs) {
+  Rung rung;
+  if (!model) {
+    rung.note = "the geometry does not take this element size";
+    return rung;
+  }
+  const Objective objective(*model, shape, used, answer);
+  const std::vector<int>& free = objective.free();
+  std::vector<double> x0;
+  for (int index : free) x0.push_back(ToBox(index, at[index], answer));
+  const LocalResult result =
+      MinimizeLocal(objective, Optimizer::kBobyqa, x0, answer.max_evaluations);
+  if (result.chi2 >= kFailedCost) {
+    *runs += objective.evaluations();
+    rung.note = "every run failed: " + objective.last_failure();
+    return rung;
+  }
+  const std::vector<double> full = objective.Expand(result.x.data());
+  for (int index : free) rung.estimate.push_back(full[index]);
+  rung.sd.assign(free.size(), NAN);
+  Eigen::MatrixXd jacobian;
+  if (PhysicalJacobian(objective, full, &jacobian)) {
+    const Eigen::MatrixXd jtj = jacobian.transpose() * jacobian;
+    const Eigen::MatrixXd covariance = scale2 * jtj.completeOrthogonalDecomposition().pseudoInverse();
+    for (std::size_t k = 0; k < free.size(); ++k) rung.sd[k] = std::sqrt(covariance(k, k));
+  }
+  *runs += objective.evaluations();
+  rung.ok = true;
+  return rung;
+}
+
+}  // namespace
+
+ResolutionChoice ChooseResolution(const ModelAtResolution& model_at, const laws::LawShape& shape,
+                                  const FitData& data, const FitOptions& options,
+                                  const FitSummary& pilot, const ResolutionOptions& o) {
+  const Stopwatch clock;
+  ResolutionChoice choice;
+  std::string why;
+  if (!o.IsValid(&why)) {
+    choice.resolution = o.finest;
+    choice.reason = "invalid options (" + why + "): the finest size taken";
+    return choice;
+  }
+  const double r = o.error.refinement_ratio;
+  std::array<double, kParameterCount> at{};
+  const FitOptions answer = AnswerParameters(options, pilot, &at);
+  const FitData used = RowsUsed(data, pilot);
+  std::vector<int> free;
+  for (int i = 0; i < kParameterCount; ++i)
+    if (!answer.fixed[i]) free.push_back(i);
+  // The estimates the criterion is on: those the pilot reported as values
+  // (J_B only past steady state; a bound carries no interval).
+  const ParameterEstimate* pilot_estimates[] = {&pilot.sigma_c, &pilot.J_B, &pilot.J_tip_c};
+  std::vector<bool> checked;
+  for (int index : free)
+    checked.push_back(pilot_estimates[index]->identified && std::isfinite(pilot_estimates[index]->value));
+  if (free.empty() || !std::isfinite(at[kJTipC])) {
+    choice.resolution = o.coarsest;
+    choice.criterion_met = true;
+    choice.reason = "no estimate depends on the model (the coarsest valid size)";
+    choice.wall_s = clock.Seconds();
+    return choice;
+  }
+  const double scale2 = used.weighted() ? std::max(1.0, pilot.reduced_chi2) : pilot.reduced_chi2;
+
+  // Sizes s_j = coarsest r^(2 - j); candidates j >= 2 (inside the limits).
+  std::map<int, Rung> rungs;
+  auto rung = [&](int j) -> const Rung& {
+    auto found = rungs.find(j);
+    if (found != rungs.end()) return found->second;
+    const double h = o.coarsest * std::pow(r, 2 - j);
+    return rungs[j] = EvaluateRung(model_at(h), shape, used, answer, at, scale2, &choice.runs);
+  };
+  for (int j = 2;; ++j) {
+    const double h = o.coarsest * std::pow(r, 2 - j);
+    const bool finest = h / r < o.finest * (1.0 - 1e-9);
+    ResolutionLevel level;
+    level.resolution = h;
+    const Rung& fine = rung(j);
+    level.evaluated = fine.ok;
+    if (!fine.ok) {
+      level.note = fine.note;
+    } else {
+      for (std::size_t k = 0; k < free.size(); ++k) {
+        level.estimate[free[k]] = fine.estimate[k];
+        level.sd[free[k]] = fine.sd[k];
+      }
+      const Rung& coarse = rung(j - 1);
+      const Rung& coarser = rung(j - 2);
+      if (!coarse.ok) {
+        level.note = fmt::format("the {:.3g} mm solve: {}", r * h * 1e3, coarse.note);
+      } else {
+        std::vector<double> move_fine, move_coarse;
+        for (std::size_t k = 0; k < free.size(); ++k) {
+          const double scale = std::isfinite(fine.sd[k]) && fine.sd[k] > 0 ? fine.sd[k]
+                                                                          : std::abs(fine.estimate[k]);
+          move_fine.push_back((coarse.estimate[k] - fine.estimate[k]) / scale);
+          if (coarser.ok) move_coarse.push_back((coarser.estimate[k] - coarse.estimate[k]) / scale);
+        }
+        const OrderChoice order = ChooseOrder(
+            move_fine, move_coarse,
+            coarser.ok ? std::string()
+                       : fmt::format("the {:.3g} mm solve: {}", r * r * h * 1e3, coarser.note),
+            o.error);
+        level.status = order.observed || order.no_difference ? ModelErrorStatus::kEstimated
+                                                             : ModelErrorStatus::kOrderNotObserved;
+        level.meets = level.status == ModelErrorStatus::kEstimated;
+        std::string worst;
+        double worst_ratio = 0.0;
+        for (std::size_t k = 0; k < free.size(); ++k) {
+          const double bias = (coarse.estimate[k] - fine.estimate[k]) / order.denominator;
+          level.bias[free[k]] = bias;
+          if (!checked[k]) continue;
+          const double ratio = std::abs(bias) / fine.sd[k];
+          if (!(ratio <= o.bias_fraction)) level.meets = false;
+          if (!(ratio <= worst_ratio)) {
+            worst_ratio = ratio;
+            worst = ParameterName(free[k]);
+          }
+        }
+        level.note = level.status == ModelErrorStatus::kEstimated
+                         ? fmt::format("largest bias {:.2g} sd ({})", worst_ratio, worst)
+                         : "order not observed: " + order.problem;
+      }
+    }
+    choice.levels.push_back(level);
+    if (level.meets || finest) {
+      choice.resolution = h;
+      choice.criterion_met = level.meets;
+      choice.reason =
+          level.meets
+              ? fmt::format("{:.3g} mm: predicted bias within {:g} of each statistical standard "
+                            "uncertainty ({})", h * 1e3, o.bias_fraction, level.note)
+              : fmt::format("{:.3g} mm, the finest tried: the criterion (bias <= {:g} sd) is not "
+                            "met ({}); the model error is in the total interval",
+                            h * 1e3, o.bias_fraction, level.note);
+      break;
+    }
+  }
+  choice.wall_s = clock.Seconds();
+  return choice;
+}
+
+}  // namespace bridgefit::inverse

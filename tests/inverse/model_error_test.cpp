@@ -1,0 +1,260 @@
+// The model error in every interval (issue 17, inverse/model_error.hpp),
+// against oracles: the bias predicted from two coarser solves against the
+// actual difference from a much finer solve, and the predicted parameter
+// bias against the actual error of a fit to data made by the finer model.
+// Cases made here (not the issue's): CT and DCB, isotropic and orthotropic,
+// linear, exponential and cubic laws.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <iostream>
+#include <map>
+#include <memory>
+
+#include <fmt/format.h>
+
+#include "bridgefit/inverse/model_error.hpp"
+#include "bridgefit/inverse/reduced_forward.hpp"
+#include "bridgefit/inverse/resolution.hpp"
+#include "bridgefit/models/reduced.hpp"
+
+namespace bridgefit::inverse {
+namespace {
+
+Scene Ct(bool orthotropic) {
+  Scene s;
+  s.source = "model_error_test CT";
+  s.specimen.type = SpecimenType::kCT;
+  s.specimen.width = 0.040;
+  s.specimen.height = 0.048;
+  s.specimen.thickness = 0.010;
+  s.specimen.notch = 0.016;
+  s.specimen.plane = PlaneCondition::kPlaneStress;
+  if (orthotropic) {
+    s.material.orthotropic = true;
+    s.material.E1 = 11e9;
+    s.material.E2 = 0.9e9;
+    s.material.G12 = 0.75e9;
+    s.material.nu12 = 0.35;
+  } else {
+    s.material.E = 4e9;
+    s.material.nu = 0.3;
+  }
+  return s;
+}
+
+Scene Dcb(bool orthotropic) {
+  Scene s;
+  s.source = "model_error_test DCB";
+  s.specimen.type = SpecimenType::kDCB;
+  s.specimen.width = 0.025;
+  s.specimen.height = orthotropic ? 0.008 : 0.010;
+  s.specimen.length = 0.200;
+  s.specimen.notch = 0.045;
+  s.specimen.plane = PlaneCondition::kPlaneStress;
+  if (orthotropic) {
+    s.material.orthotropic = true;
+    s.material.E1 = 40e9;
+    s.material.E2 = 8e9;
+    s.material.G12 = 3e9;
+    s.material.nu12 = 0.3;
+  } else {
+    s.material.E = 4e9;
+    s.material.nu = 0.3;
+  }
+  return s;
+}
+
+std::unique_ptr<SimulationForwardModel> Model(const Scene& scene, double h, double a_max) {
+  models::ReducedOptions options;
+  options.mesh.resolution = h;
+  options.mesh.max_crack_length = a_max;
+  return MakeReducedForwardModel(scene, options);
+}
+
+struct Case {
+  std::string name;
+  Scene scene;
+  laws::LawShape shape;
+  LawParameters truth;
+  double a_first, a_last;  // data window [m]
+  double h;                // the fit's element size [m]
+  double h_reference;      // the much finer solve [m]
+};
+
+// The four specimens with a law each; windows that reach steady state.
+std::vector<Case> Cases() {
+  return {
+      {"CT isotropic, linear", Ct(false), laws::MakeLinearShape(), {1.2e6, 300.0, 800.0},
+       0.0165, 0.027, 1e-3, 0.125e-3},
+      {"CT orthotropic, exponential", Ct(true), laws::MakeExponentialShape(3.0),
+       {1.5e6, 400.0, 300.0}, 0.0165, 0.027, 1e-3, 0.125e-3},
+      {"DCB isotropic, linear", Dcb(false), laws::MakeLinearShape(), {0.8e6, 400.0, 1000.0},
+       0.046, 0.090, 1e-3, 0.25e-3},
+      {"DCB orthotropic, cubic", Dcb(true), laws::MakeCubicShape(), {2.0e6, 600.0, 400.0},
+       0.046, 0.080, 1e-3, 0.25e-3},
+  };
+}
+
+FitData Window(const Case& c) {
+  FitData data;
+  data.kind = RKind::kEnergy;
+  for (double a = c.a_first; a <= c.a_last + 1e-12; a += 0.5e-3) data.crack_length.push_back(a);
+  return data;
+}
+
+double Rms(const std::vector<double>& v) {
+  double sum = 0.0;
+  for (double x : v) sum += x * x;
+  return std::sqrt(sum / std::max<std::size_t>(1, v.size()));
+}
+
+// The predicted bias of the model's R (from h, 2h, 4h) against its actual
+// difference from the much finer solve, at the same parameters.
+TEST(ModelError, PredictedRBiasMatchesAFinerSolve) {
+  for (const Case& c : Cases()) {
+    SCOPED_TRACE(c.name);
+    // Each model grows two of its elements past the data (as the pipeline's).
+    const auto fine = Model(c.scene, c.h, c.a_last + 2 * c.h);
+    const auto coarse = Model(c.scene, 2 * c.h, c.a_last + 4 * c.h);
+    const auto coarser = Model(c.scene, 4 * c.h, c.a_last + 8 * c.h);
+    const auto reference = Model(c.scene, c.h_reference, c.a_last + 2 * c.h);
+    FitData data = Window(c);
+    const ForwardPrediction truth = reference->Predict(c.shape, c.truth, data.crack_length, data.kind);
+    ASSERT_TRUE(truth.ok()) << truth.message;
+    data.R = truth.R;
+    for (double r : truth.R) data.R_uncertainty.push_back(0.002 * r);
+    // A "fit" that landed on the truth: the error model at those parameters.
+    FitSummary fit;
+    fit.target = FitTarget::kRCurve;
+    fit.best_parameters = {c.truth.sigma_c, c.truth.J_B, c.truth.J_tip_c};
+    fit.chi2 = 0.0;
+    const ModelErrorEstimate e = EstimateModelError(*fine, coarse.get(), coarser.get(), c.h,
+                                                    c.shape, data, FitOptions(), fit);
+    const ForwardPrediction at_h = fine->Predict(c.shape, c.truth, data.crack_length, data.kind);
+    ASSERT_TRUE(at_h.ok()) << at_h.message;
+    ASSERT_TRUE(e.estimated()) << e.reason;
+    ASSERT_EQ(e.output_bias.size(), at_h.R.size());
+    std::vector<double> actual(at_h.R.size()), miss(at_h.R.size());
+    for (std::size_t i = 0; i < actual.size(); ++i) {
+      actual[i] = at_h.R[i] - truth.R[i];
+      miss[i] = e.output_bias[i] - actual[i];
+    }
+    double dot = 0.0;
+    for (std::size_t i = 0; i < actual.size(); ++i) dot += actual[i] * e.output_bias[i];
+    std::cout << fmt::format("{}: {}; actual rms {:.3g} J/m^2 (predicted / actual {:.2f})\n",
+                             c.name, e.Summary(), Rms(actual), e.output_bias_rms / Rms(actual));
+    // Same direction, and never much below the actual difference (the
+    // finer solve has its own error, an eighth to a quarter of it at order
+    // 1); conservative, but within a factor 3.
+    EXPECT_GT(dot, 0.0);
+    EXPECT_GT(e.output_bias_rms, 0.8 * Rms(actual));
+    EXPECT_LT(e.output_bias_rms, 3.0 * Rms(actual));
+  }
+}
+
+// A fit at h to noise-free data of the much finer model: the statistical
+// interval (0.3% uncertainties) can be narrower than the model's bias; the
+// total interval covers the truth. (The predicted bias need not point the
+// way of the actual error: on the CT case sigma_c is 1.584 MPa at 2 mm,
+// 1.396 at 1 mm and the truth 1.5 - the estimates cross the converged value
+// - and the observed order, 3.1, is not trusted, so F_s = 3; docs/FIT.md.)
+TEST(ModelError, TotalIntervalCoversTheFinerModelsTruth) {
+  const std::vector<Case> cases = Cases();
+  int covered_only_by_total = 0;
+  for (int index : {1, 2}) {  // CT orthotropic exponential; DCB isotropic linear
+    const Case& c = cases[index];
+    SCOPED_TRACE(c.name);
+    const auto fine = Model(c.scene, c.h, c.a_last + 2 * c.h);
+    const auto coarse = Model(c.scene, 2 * c.h, c.a_last + 4 * c.h);
+    const auto coarser = Model(c.scene, 4 * c.h, c.a_last + 8 * c.h);
+    const auto reference = Model(c.scene, c.h_reference, c.a_last + 2 * c.h);
+    FitData data = Window(c);
+    const ForwardPrediction truth = reference->Predict(c.shape, c.truth, data.crack_length, data.kind);
+    ASSERT_TRUE(truth.ok()) << truth.message;
+    data.R = truth.R;
+    for (double r : truth.R) data.R_uncertainty.push_back(0.003 * r);
+    FitOptions options;
+    options.starts = 2;
+    options.profile_likelihood = false;
+    FitSummary fit = FitBridgingLaw(*fine, c.shape, data, options);
+    ASSERT_TRUE(fit.converged) << fit.stop_reason;
+    const ModelErrorEstimate e = EstimateModelError(*fine, coarse.get(), coarser.get(), c.h,
+                                                    c.shape, data, options, fit);
+    ASSERT_TRUE(e.estimated()) << e.reason;
+    ApplyModelError(e, fit);
+    std::cout << c.name << ": " << e.Summary() << "\n" << fit.BriefReport();
+    const double truths[] = {c.truth.sigma_c, c.truth.J_B, c.truth.J_tip_c};
+    const ParameterEstimate* estimates[] = {&fit.sigma_c, &fit.J_B, &fit.J_tip_c};
+    for (int i = 0; i < kParameterCount; ++i) {
+      const ParameterEstimate& p = *estimates[i];
+      if (!p.identified || !std::isfinite(p.value)) continue;
+      SCOPED_TRACE(ParameterName(i));
+      const double error = p.value - truths[i];
+      const double sd = (p.statistical_ci95_high - p.statistical_ci95_low) / (2 * 1.96);
+      std::cout << fmt::format("  {}: error {:+.4g}, predicted bias {:+.4g}, statistical sd {:.3g}\n",
+                               ParameterName(i), error, p.model_bias, sd);
+      EXPECT_LE(p.ci95_low, truths[i]);
+      EXPECT_GE(p.ci95_high, truths[i]);
+      covered_only_by_total +=
+          truths[i] < p.statistical_ci95_low || truths[i] > p.statistical_ci95_high;
+    }
+  }
+  // The model error matters here: some statistical interval misses the
+  // truth (else this test could not fail).
+  EXPECT_GE(covered_only_by_total, 1);
+}
+
+// --resolution auto on noise-free data of a much finer model: a looser
+// criterion never picks a finer size, the chosen size's predicted bias meets
+// the criterion, and the estimate there lies within its total interval of
+// the truth (the model error is what the criterion bounds).
+TEST(ModelError, AutoResolutionMeetsItsCriterion) {
+  const Case c = Cases()[2];  // DCB isotropic, linear
+  const auto reference = Model(c.scene, c.h_reference, c.a_last + 2 * c.h);
+  FitData data = Window(c);
+  const ForwardPrediction truth = reference->Predict(c.shape, c.truth, data.crack_length, data.kind);
+  ASSERT_TRUE(truth.ok()) << truth.message;
+  data.R = truth.R;
+  for (double r : truth.R) data.R_uncertainty.push_back(0.003 * r);
+  std::map<double, std::unique_ptr<SimulationForwardModel>> cache;
+  const ModelAtResolution model_at = [&](double h) -> const ForwardModel* {
+    auto& m = cache[h];
+    if (!m) m = Model(c.scene, h, c.a_last + 2 * h);
+    return m.get();
+  };
+  FitOptions options;
+  options.starts = 2;
+  options.profile_likelihood = false;
+  ResolutionOptions strict;
+  strict.coarsest = 2.5e-3;  // a quarter of the arm
+  strict.finest = 0.3e-3;
+  const FitSummary pilot = FitBridgingLaw(*model_at(strict.coarsest), c.shape, data, options);
+  ASSERT_TRUE(pilot.converged) << pilot.stop_reason;
+  const ResolutionChoice chosen = ChooseResolution(model_at, c.shape, data, options, pilot, strict);
+  ResolutionOptions loose = strict;
+  loose.bias_fraction = 3.0;
+  const ResolutionChoice coarser = ChooseResolution(model_at, c.shape, data, options, pilot, loose);
+  std::cout << "strict: " << chosen.reason << "\nloose: " << coarser.reason << "\n";
+  for (const ResolutionLevel& l : chosen.levels)
+    std::cout << fmt::format("  {:.3g} mm: sigma_c {:.5g} (bias {:+.3g}, sd {:.3g}), {}\n",
+                             l.resolution * 1e3, l.estimate[kSigmaC], l.bias[kSigmaC],
+                             l.sd[kSigmaC], l.note);
+  ASSERT_FALSE(chosen.levels.empty());
+  EXPECT_GE(coarser.resolution, chosen.resolution);
+  if (chosen.criterion_met) {
+    const ResolutionLevel& at = chosen.levels.back();
+    for (int i : {kSigmaC, kJB, kJTipC}) {
+      EXPECT_LE(std::abs(at.bias[i]), strict.bias_fraction * at.sd[i]) << ParameterName(i);
+    }
+    // The estimate there against the truth: within the total interval's
+    // half-width beyond the statistical one (1.96 sd + F_s |bias|).
+    const double truths[] = {c.truth.sigma_c, c.truth.J_B, c.truth.J_tip_c};
+    for (int i : {kSigmaC, kJB, kJTipC})
+      EXPECT_LE(std::abs(at.estimate[i] - truths[i]), 1.96 * at.sd[i] + 1.25 * std::abs(at.bias[i]))
+          << ParameterName(i);
+  }
+}
+
+}  // namespace
+}  // namespace bridgefit::inverse
