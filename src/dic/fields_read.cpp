@@ -406,10 +406,18 @@ FieldFile ReadFieldFile(const std::filesystem::path& path) {
 
 double PointSpacing(const DisplacementField& f) {
   // Median over valid points of the distance to the nearest other point,
-  // found on a coarse bucket grid.
+  // found on a coarse bucket grid. Exact repeats of a point are left out
+  // first: a point whose only neighbours are its repeats made the ring
+  // search scan the whole grid (found by fuzzing).
   std::vector<size_t> idx;
   for (size_t i = 0; i < f.size(); ++i)
     if (f.ok(i)) idx.push_back(i);
+  std::sort(idx.begin(), idx.end(), [&f](size_t a, size_t b) {
+    return f.x[a] != f.x[b] ? f.x[a] < f.x[b] : f.y[a] < f.y[b];
+  });
+  idx.erase(std::unique(idx.begin(), idx.end(),
+                        [&f](size_t a, size_t b) { return f.x[a] == f.x[b] && f.y[a] == f.y[b]; }),
+            idx.end());
   if (idx.size() < 2) return 0;
   double xmin = 1e300, xmax = -1e300, ymin = 1e300, ymax = -1e300;
   for (size_t i : idx) {
@@ -441,9 +449,9 @@ double PointSpacing(const DisplacementField& f) {
     // Rings of buckets until a neighbour is found and no closer one can be
     // further out.
     for (int ring = 1; ring <= std::max(gx, gy); ++ring) {
+      // The ring's own cells only (8 ring of them; ring 1 includes the centre).
       for (int dy = -ring; dy <= ring; ++dy)
-        for (int dx = -ring; dx <= ring; ++dx) {
-          if (std::max(std::abs(dx), std::abs(dy)) != ring && ring > 1) continue;
+        for (int dx = -ring; dx <= ring; dx += (ring > 1 && std::abs(dy) != ring) ? 2 * ring : 1) {
           const int X = cx + dx, Y = cy + dy;
           if (X < 0 || Y < 0 || X >= gx || Y >= gy) continue;
           for (size_t j : buckets[static_cast<size_t>(Y) * gx + X]) {

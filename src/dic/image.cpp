@@ -71,6 +71,15 @@ class StderrCapture {
   int saved_ = -1;
 };
 
+// PNG, TIFF (classic and BigTIFF, either byte order), BMP, JPEG, PBM/PGM/PPM.
+bool HasSupportedImageSignature(std::string_view b) {
+  auto starts = [&b](std::string_view magic) { return b.substr(0, magic.size()) == magic; };
+  using namespace std::string_view_literals;
+  return starts("\x89PNG\r\n\x1a\n"sv) || starts("II*\0"sv) || starts("MM\0*"sv) ||
+         starts("II+\0"sv) || starts("MM\0+"sv) || starts("BM"sv) || starts("\xff\xd8\xff"sv) ||
+         (b.size() >= 2 && b[0] == 'P' && b[1] >= '1' && b[1] <= '6');
+}
+
 }  // namespace
 
 Image ReadImage(const fs::path& path) {
@@ -86,6 +95,12 @@ Image ReadImage(const fs::path& path) {
 }
 
 Image DecodeImage(std::string_view bytes, const std::string& name, const InputLimits& limits) {
+  // Only the formats a DIC camera writes reach a decoder (fuzzing found an
+  // OpenEXR header that ended the process inside OpenCV's EXR codec).
+  if (!bytes.empty() && !HasSupportedImageSignature(bytes))
+    throw Error(ErrorKind::kInput, "unsupported image format (unknown file signature)",
+                {.file = name,
+                 .expected = "PNG, TIFF, BMP, JPEG or PGM/PPM (8- or 16-bit grayscale)"});
   cv::Mat mat;
   std::string codec_text;
   {
@@ -97,6 +112,10 @@ Image DecodeImage(std::string_view bytes, const std::string& name, const InputLi
       // before decoding; the CLI sets that to the limit below.
       if (!bytes.empty()) mat = cv::imdecode(buffer, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
     } catch (const cv::Exception& e) {
+      codec_text = capture.Release();
+      throw Error(ErrorKind::kInput, std::string("cannot decode image: ") + e.what(),
+                  {.file = name, .value = codec_text});
+    } catch (const std::exception& e) {  // a codec's own exception (bad_alloc, ...)
       codec_text = capture.Release();
       throw Error(ErrorKind::kInput, std::string("cannot decode image: ") + e.what(),
                   {.file = name, .value = codec_text});
