@@ -13,15 +13,6 @@
 namespace bridgefit::cli {
 namespace {
 
-nlohmann::json EstimateJson(const inverse::ParameterEstimate& e) {
-  return {{"value", NumberOrNull(e.value)},
-          {"ci95_low", NumberOrNull(e.ci95_low)},
-          {"ci95_high", NumberOrNull(e.ci95_high)},
-          {"lower_bound", NumberOrNull(e.lower_bound)},
-          {"identified", e.identified},
-          {"interval_status", inverse::IntervalStatusName(e.interval_status)}};
-}
-
 nlohmann::json ResultJson(const campaign::CampaignResult& r, const std::string& out_dir) {
   nlohmann::json specimens = nlohmann::json::array();
   for (const campaign::SpecimenOutcome& s : r.specimens) {

@@ -56,22 +56,6 @@ struct ReductionFlags : RCurveFlags {
   std::string columns, units;
 };
 
-nlohmann::json EstimateJson(const inverse::ParameterEstimate& e) {
-  return {{"value", NumberOrNull(e.value)},
-          {"ci95_low", NumberOrNull(e.ci95_low)},
-          {"ci95_high", NumberOrNull(e.ci95_high)},
-          {"lower_bound", NumberOrNull(e.lower_bound)},
-          {"identified", e.identified},
-          {"fixed", e.fixed},
-          {"decided_by", e.decided_by},
-          {"note", e.note},
-          {"interval_status", inverse::IntervalStatusName(e.interval_status)},
-          {"interval_reason", e.interval_reason},
-          // issue 17: ci95_* are the total interval (statistical + model bias)
-          {"statistical_ci95_low", NumberOrNull(e.statistical_ci95_low)},
-          {"statistical_ci95_high", NumberOrNull(e.statistical_ci95_high)},
-          {"model_bias", NumberOrNull(e.model_bias)}};
-}
 
 nlohmann::json ModelErrorJson(const inverse::ModelErrorEstimate& m) {
   nlohmann::json bias;
@@ -436,6 +420,23 @@ class FitCommand final : public Command {
 };
 
 }  // namespace
+
+nlohmann::json EstimateJson(const inverse::ParameterEstimate& e) {
+  return {{"value", NumberOrNull(e.value)},
+          {"ci95_low", NumberOrNull(e.ci95_low)},
+          {"ci95_high", NumberOrNull(e.ci95_high)},
+          {"lower_bound", NumberOrNull(e.lower_bound)},
+          {"identified", e.identified},
+          {"fixed", e.fixed},
+          {"decided_by", e.decided_by},
+          {"note", e.note},
+          {"interval_status", inverse::IntervalStatusName(e.interval_status)},
+          {"interval_reason", e.interval_reason},
+          // issue 17: ci95_* are the total interval (statistical + model bias)
+          {"statistical_ci95_low", NumberOrNull(e.statistical_ci95_low)},
+          {"statistical_ci95_high", NumberOrNull(e.statistical_ci95_high)},
+          {"model_bias", NumberOrNull(e.model_bias)}};
+}
 
 std::unique_ptr<Command> MakeFitCommand() { return std::make_unique<FitCommand>(); }
 

@@ -11,6 +11,10 @@
 
 #include "bridgefit/core/units.hpp"
 
+namespace bridgefit::inverse {
+struct ParameterEstimate;
+}
+
 namespace bridgefit::cli {
 
 // Options every subcommand has.
@@ -46,6 +50,11 @@ void PrintJson(const nlohmann::json& object);
 
 // JSON null for a non-finite number, the number otherwise.
 nlohmann::json NumberOrNull(double value);
+
+// One fitted parameter as JSON (SI): value, total and statistical 95%
+// intervals, model bias, bound, interval status (apps/cmd_fit.cpp; `fit` and
+// `campaign` print the same object).
+nlohmann::json EstimateJson(const inverse::ParameterEstimate& e);
 
 // Parses `count` comma-separated numbers ("1.0,0.2,0.6"); anything else is
 // a usage error (exit 2) naming the option.

@@ -162,12 +162,7 @@ CampaignManifest ParseCampaignManifest(std::string_view text, const fs::path& pa
 }
 
 CampaignManifest ReadCampaignManifest(const fs::path& path) {
-  const std::string text = ReadFileLimited(path, InputLimits::FromEnvironment().max_text_bytes,
-                                           InputLimits::kTextBytesVariable, "campaign manifest");
-  if (text.find('\0') != std::string::npos)
-    throw Error(ErrorKind::kInput, "the campaign manifest is not text (binary data)",
-                {.file = path.string(), .expected = "a TOML text file"});
-  return ParseCampaignManifest(text, path);
+  return ParseCampaignManifest(detail::ReadTomlText(path, "campaign manifest"), path);
 }
 
 }  // namespace bridgefit::io

@@ -189,14 +189,10 @@ Scene ParseScene(std::string_view text, const std::string& source_name) {
 }
 
 Scene ReadSceneFile(const std::filesystem::path& path) {
-  const std::string text = ReadFileLimited(path, InputLimits::FromEnvironment().max_text_bytes,
-                                           InputLimits::kTextBytesVariable, "scene file");
+  const std::string text = detail::ReadTomlText(path, "scene file");
   if (text.find_first_not_of(" \t\r\n") == std::string::npos)
     throw Error(ErrorKind::kInput, "the scene file is empty",
                 {.file = path.string(), .expected = "a scene with [specimen] and [material]"});
-  if (text.find('\0') != std::string::npos)
-    throw Error(ErrorKind::kInput, "the scene file is not text (binary data)",
-                {.file = path.string(), .expected = "a TOML text file"});
   return ParseScene(text, path.string());
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 // Typed, unit-checked reading of one TOML table with line numbers in every
 // error (private to bf_io: the scene file and the campaign manifest share it).
+#include <filesystem>
 #include <optional>
 #include <set>
 #include <string>
@@ -10,9 +11,21 @@
 #include <toml++/toml.h>
 
 #include "bridgefit/core/error.hpp"
+#include "bridgefit/core/input_limits.hpp"
 #include "bridgefit/core/units.hpp"
 
 namespace bridgefit::io::detail {
+
+// A TOML file's text, read within the text-size limit; binary data is
+// refused naming the file (`what`: "scene file", "campaign manifest").
+inline std::string ReadTomlText(const std::filesystem::path& path, const std::string& what) {
+  std::string text = ReadFileLimited(path, InputLimits::FromEnvironment().max_text_bytes,
+                                     InputLimits::kTextBytesVariable, what);
+  if (text.find('\0') != std::string::npos)
+    throw Error(ErrorKind::kInput, "the " + what + " is not text (binary data)",
+                {.file = path.string(), .expected = "a TOML text file"});
+  return text;
+}
 
 inline int LineOf(const toml::node& node) { return static_cast<int>(node.source().begin.line); }
 
