@@ -63,6 +63,7 @@ class DesignCommand final : public Command {
     if (!request.IsValid(&why))
       throw Error(ErrorKind::kInput, why, {.file = scene_, .expected = "a scene with [fracture] and [bridging]"});
     const campaign::DesignResult result = campaign::RunDesign(request);
+    if (const std::string w = result.Warning(); !w.empty()) std::cerr << "warning: design: " << w << "\n";
     if (common.json) {
       nlohmann::json sizes = nlohmann::json::array();
       for (const campaign::DesignSize& d : result.sizes)
@@ -71,6 +72,8 @@ class DesignCommand final : public Command {
                          {"points_past_onset", d.points_past}, {"identifies", d.identifies},
                          {"status", RunStatusName(d.status)}, {"message", d.message}});
       PrintJson({{"command", "design"}, {"scene", scene_}, {"sizes", sizes},
+                 {"sizes_unknown_below_smallest", result.UnknownBelowSmallest()},
+                 {"warning", result.Warning()},
                  {"smallest_identifying_size_m",
                   result.smallest >= 0 ? nlohmann::json(result.sizes[result.smallest].size)
                                        : nlohmann::json(nullptr)}});

@@ -96,6 +96,24 @@ DesignResult RunDesign(const DesignRequest& request) {
   return result;
 }
 
+int DesignResult::UnknownBelowSmallest() const {
+  const int end = smallest >= 0 ? smallest : static_cast<int>(sizes.size());
+  int unknown = 0;
+  for (int i = 0; i < end; ++i) unknown += sizes[i].status != RunStatus::kOk;
+  return unknown;
+}
+
+std::string DesignResult::Warning() const {
+  const int unknown = UnknownBelowSmallest();
+  if (unknown == 0) return "";
+  return fmt::format(
+      "the model could not run {} size(s) {} to the end of the window (status in the table): "
+      "whether they identify J_B is unknown, so {}",
+      unknown, smallest >= 0 ? "below the recommended one" : "on the grid",
+      smallest >= 0 ? "the smallest size may be smaller"
+                    : "try a finer --resolution-fraction or other sizes");
+}
+
 std::string DesignResult::BriefReport() const {
   std::ostringstream out;
   const bool ct = !sizes.empty() && sizes[0].scene.specimen.type == SpecimenType::kCT;
@@ -115,6 +133,7 @@ std::string DesignResult::BriefReport() const {
                        ct ? "W" : "L", sizes[smallest].size * 1e3);
   else
     out << "  no size on this grid reaches steady state early enough: try larger sizes\n";
+  if (const std::string w = Warning(); !w.empty()) out << "  warning: " << w << "\n";
   return out.str();
 }
 

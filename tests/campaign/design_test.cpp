@@ -109,5 +109,25 @@ TEST(Design, ScalingKeepsTheShapeAndRefusesBadRequests) {
   EXPECT_NE(why.find("[bridging]"), std::string::npos) << why;
 }
 
+// A size whose model run stopped early is unknown, never "bound only": the
+// recommendation then says it may be too large (the exponential law's reduced
+// model stops early on some DCB sizes).
+TEST(Design, SizesThatDidNotRunMakeTheRecommendationUncertain) {
+  DesignResult r;
+  r.sizes.resize(4);
+  r.sizes[0].status = RunStatus::kNotConverged;
+  r.sizes[2].identifies = true;
+  r.sizes[3].status = RunStatus::kNotConverged;  // above: does not matter
+  r.smallest = 2;
+  EXPECT_EQ(r.UnknownBelowSmallest(), 1);
+  EXPECT_NE(r.Warning().find("may be smaller"), std::string::npos) << r.Warning();
+  r.sizes[0].status = RunStatus::kOk;
+  EXPECT_EQ(r.UnknownBelowSmallest(), 0);
+  EXPECT_TRUE(r.Warning().empty());
+  r.smallest = -1;  // none identifies: every size counts
+  EXPECT_EQ(r.UnknownBelowSmallest(), 1);
+  EXPECT_FALSE(r.Warning().empty());
+}
+
 }  // namespace
 }  // namespace bridgefit::campaign

@@ -48,6 +48,12 @@ struct DesignSize {
 struct DesignResult {
   std::vector<DesignSize> sizes;
   int smallest = -1;  // index of the smallest identifying size; -1: none on the grid
+  // Sizes below the smallest identifying one (all sizes when none identifies)
+  // whose model run stopped early: for them the answer is unknown, so the
+  // smallest size may be smaller than `smallest` says.
+  int UnknownBelowSmallest() const;
+  // Empty, or a sentence saying why the recommendation may be wrong.
+  std::string Warning() const;
   std::string BriefReport() const;
 };
 
