@@ -7,6 +7,7 @@
 #include "bridgefit/inverse/reduced_forward.hpp"
 #include "bridgefit/models/reduced.hpp"
 #include "bridgefit/mpm/growth.hpp"
+#include "bridgefit/specimen/calibrations.hpp"
 #include "bridgefit/specimen/crack_plane.hpp"
 
 namespace bridgefit::pipeline {
@@ -49,15 +50,67 @@ inverse::SimulationForwardModel::Reducer ModelRecordReducer(
   };
 }
 
+namespace {
+
+// The crack length a record reaches at its largest displacement when its
+// crack readings stop before it (a NaN tail, a camera that ran out): the
+// measured growth per unit displacement over the last fifth of the measured
+// displacement range, extrapolated (linearly: under displacement control the
+// crack grows as a concave function of the displacement, so this errs long,
+// the safe side for a model that must follow the record). NaN: no readings.
+double CrackAtLastDisplacement(const ExperimentRecord& record) {
+  std::vector<std::size_t> measured;
+  double d_max = -INFINITY;
+  for (std::size_t i = 0; i < record.size(); ++i) {
+    if (!std::isfinite(record.displacement[i])) continue;
+    d_max = std::max(d_max, record.displacement[i]);
+    if (std::isfinite(record.crack_length[i])) measured.push_back(i);
+  }
+  if (measured.size() < 2) return NAN;
+  double d_last = -INFINITY, d_first = INFINITY, a_last = -INFINITY;
+  for (std::size_t i : measured) {
+    d_first = std::min(d_first, record.displacement[i]);
+    if (record.displacement[i] > d_last) d_last = record.displacement[i];
+    a_last = std::max(a_last, record.crack_length[i]);
+  }
+  if (!(d_max > d_last)) return a_last;
+  const double from = d_last - 0.2 * (d_last - d_first);
+  double n = 0, sd = 0, sa = 0, sdd = 0, sda = 0;
+  for (std::size_t i : measured) {
+    const double d = record.displacement[i], a = record.crack_length[i];
+    if (d < from) continue;
+    n += 1, sd += d, sa += a, sdd += d * d, sda += d * a;
+  }
+  const double denominator = n * sdd - sd * sd;
+  const double slope = n >= 2 && denominator > 0.0 ? (n * sda - sd * sa) / denominator : 0.0;
+  return a_last + std::max(slope, 0.0) * (d_max - d_last);
+}
+
+// The longest crack the scene's specimen model takes at element size h: 0.95
+// W (CT, the calibrations' range) or L - 2 h (DCB).
+double ModelCrackLimit(const SpecimenSpec& specimen, double h) {
+  return specimen.type == SpecimenType::kCT ? specimen::kCtMaxRelativeCrack * specimen.width
+                                            : specimen.length - 2.0 * h;
+}
+
+}  // namespace
+
 FitModels::FitModels(const FitRequest& request, const FitInput& input,
                      const inverse::FitData& data, bool load_fit, inverse::RKind kind)
     : request_(request), input_(input), kind_(kind) {
   // The models must grow past the data: its crack lengths, and for a record
   // the measured ones (an equivalent crack length trails them).
   data_end_ = *std::max_element(data.crack_length.begin(), data.crack_length.end());
-  if (input.record && input.record->has_crack_length())
+  if (input.record && input.record->has_crack_length()) {
     for (double a : input.record->crack_length)
       if (std::isfinite(a)) data_end_ = std::max(data_end_, a);
+    // A load fit follows the record to its last row, crack readings or not
+    // (issue 15: with the last 55 readings missing, a model that stopped at
+    // the last reading failed for every law weaker than the data's, and the
+    // fit settled on a tough law 40x above the clean record's chi^2).
+    const double reached = CrackAtLastDisplacement(*input.record);
+    if (load_fit && std::isfinite(reached)) data_end_ = std::max(data_end_, reached);
+  }
   // A load-displacement fit follows the model to the record's last
   // displacement, which a tougher trial law reaches with a shorter crack and
   // a weaker one with a longer crack: a tenth of the growth beyond.
@@ -104,8 +157,11 @@ std::unique_ptr<inverse::SimulationForwardModel> FitModels::MakeReduced(const Sc
                                                                         double margin) const {
   models::ReducedOptions reduced;
   reduced.mesh.resolution = resolution;
+  // Past the data, but inside what the specimen's model takes (a record's
+  // crack near the back edge, or one extrapolated past it).
   reduced.mesh.max_crack_length =
-      std::max(data_end_ + margin, scene.run.max_crack_length.value_or(0.0));
+      std::max(std::min(data_end_ + margin, ModelCrackLimit(scene.specimen, resolution)),
+               scene.run.max_crack_length.value_or(0.0));
   auto simulation = inverse::MakeReducedForwardModel(scene, reduced);
   if (kind_ == inverse::RKind::kAsData)
     simulation->SetReducer(ModelRecordReducer(input_.reduction_options));

@@ -144,6 +144,26 @@ TEST(PipelineLoadFit, AlongTheCrackSeparatesModulusAndSeriesSpring) {
   EXPECT_LT(run.summary.J_B.lower_bound, 500.0);
 }
 
+// The negative-series warning is said when the record resolves it, not for
+// the calibration's own scatter: the synthetic record made without a spring
+// gets no warning; the same record with a spring of -1% of its median
+// compliance subtracted (a model too compliant at long cracks, as the issue's
+// real records showed) gets it, with C_s held at 0.
+TEST(PipelineLoadFit, NegativeSeriesComplianceIsWarnedOnlyWhenResolved) {
+  FitRequest request = LoadFitRequest(Modified("record.csv", 1.0, 0.0));
+  request.calibration = inverse::ComplianceCalibrationMode::kAlongCrack;
+  const FitRun plain = RunFit(request);
+  ASSERT_TRUE(plain.calibration.along_crack.has_value());
+  EXPECT_EQ(plain.calibration.note, "");
+  EXPECT_LT(plain.calibration.series_compliance, 1e-3 * 4.5e-7);
+  // Median compliance of the sample's growth rows: about 4.5e-7 m/N.
+  request.record = Modified("record.csv", 1.0, -0.01 * 4.5e-7);
+  const FitRun negative = RunFit(request);
+  EXPECT_EQ(negative.calibration.series_compliance, 0.0);
+  EXPECT_NE(negative.calibration.note.find("negative series compliance"), std::string::npos)
+      << negative.calibration.note;
+}
+
 // No crack-length readings at all: the R curve that starts the fit comes from
 // the compliance (equivalent crack), the load-displacement rows decide. The
 // sample's noisy record without its crack_length column: sigma_c within 5%,
