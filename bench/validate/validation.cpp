@@ -1,0 +1,270 @@
+// The validation campaign's draw, run and per-case check (validation.hpp).
+
+#include "validation.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <random>
+
+#include <fmt/format.h>
+
+#include "bridgefit/core/error.hpp"
+#include "bridgefit/core/input_limits.hpp"
+#include "bridgefit/inverse/fit.hpp"
+#include "bridgefit/io/csv.hpp"
+#include "bridgefit/pipeline/fit.hpp"
+#include "bridgefit/pipeline/synth.hpp"
+#include "bridgefit/specimen/crack_plane.hpp"
+
+namespace bridgefit::validate {
+namespace {
+
+// Uniform and log-uniform draws from one engine.
+struct Draw {
+  std::mt19937_64 rng;
+  double Uniform(double low, double high) {
+    return std::uniform_real_distribution<double>(low, high)(rng);
+  }
+  double LogUniform(double low, double high) {
+    return std::exp(Uniform(std::log(low), std::log(high)));
+  }
+  bool Chance(double p) { return Uniform(0.0, 1.0) < p; }
+  template <class T>
+  T Pick(const std::vector<T>& items) {
+    return items[std::uniform_int_distribution<std::size_t>(0, items.size() - 1)(rng)];
+  }
+};
+
+// CT, W 50-100 mm (H = 1.2 W, B 10-20 mm, a0 0.3-0.4 W), stopped between
+// 30% and 95% of the way from a0 to 0.9 W (the reduction's validity limit).
+void DrawCt(Draw& d, Scene& s) {
+  SpecimenSpec& sp = s.specimen;
+  sp.type = SpecimenType::kCT;
+  sp.width = d.Uniform(0.050, 0.100);
+  sp.height = 1.2 * sp.width;
+  sp.thickness = d.Uniform(0.010, 0.020);
+  sp.notch = d.Uniform(0.30, 0.40) * sp.width;
+  sp.plane = PlaneCondition::kPlaneStress;
+  s.run.max_crack_length = sp.notch + d.Uniform(0.30, 0.95) * (0.9 * sp.width - sp.notch);
+}
+
+// DCB, arm h 5-12 mm, L 150-250 mm, b 20-25 mm, a0 40-60 mm, stopped
+// between 30% and 95% of the way from a0 to L - 4 h.
+void DrawDcb(Draw& d, Scene& s) {
+  SpecimenSpec& sp = s.specimen;
+  sp.type = SpecimenType::kDCB;
+  sp.width = d.Uniform(0.020, 0.025);
+  sp.height = d.Uniform(0.005, 0.012);
+  sp.length = d.Uniform(0.150, 0.250);
+  sp.notch = d.Uniform(0.040, 0.060);
+  sp.plane = PlaneCondition::kPlaneStress;
+  const double end = sp.length - 4.0 * sp.height;
+  s.run.max_crack_length = sp.notch + d.Uniform(0.30, 0.95) * (end - sp.notch);
+}
+
+// Isotropic: MDF-like, E 2-4 GPa. Orthotropic: wood loaded across the grain
+// with the crack along it (E1 along the crack 8-14 GPa, E2 0.5-1.2 GPa,
+// G12 0.5-0.9 GPa, nu12 0.3-0.45).
+void DrawMaterial(Draw& d, Scene& s) {
+  MaterialSpec& m = s.material;
+  m.density = d.Uniform(500.0, 800.0);
+  m.orthotropic = d.Chance(0.35);
+  if (!m.orthotropic) {
+    m.E = d.Uniform(2e9, 4e9);
+    m.nu = d.Uniform(0.2, 0.35);
+    return;
+  }
+  m.E1 = d.Uniform(8e9, 14e9);
+  m.E2 = d.Uniform(0.5e9, 1.2e9);
+  m.G12 = d.Uniform(0.5e9, 0.9e9);
+  m.nu12 = d.Uniform(0.30, 0.45);
+}
+
+// Law family with its default shape; sigma_c 0.3-3 MPa, J_B 100-1500 J/m^2,
+// J_tip,c 300-3000 J/m^2 (log-uniform): bridging zones from a few mm to
+// longer than the ligament, so some tests reach steady state and some stop
+// before it.
+void DrawLaw(Draw& d, Scene& s) {
+  const laws::LawFamily family =
+      d.Pick<laws::LawFamily>({laws::LawFamily::kLinear, laws::LawFamily::kCubic,
+                               laws::LawFamily::kExponential, laws::LawFamily::kTriangular});
+  BridgingSpec b;
+  b.shape = *laws::DefaultShape(family);
+  laws::LawScales given;
+  given.sigma_c = d.LogUniform(0.3e6, 3e6);
+  given.J_B = d.LogUniform(100.0, 1500.0);
+  b.scales = laws::CompleteScales(b.shape, given);
+  s.bridging = b;
+  s.fracture = FractureSpec{d.LogUniform(300.0, 3000.0)};
+}
+
+// The warnings `bridgefit fit` gives for the whole run (stderr lines, exit
+// status, sentences the output marks as warnings): not converged, the
+// reduction's warnings, a model error not estimated, a model note (the
+// compliance calibration's warning).
+std::vector<std::string> CaseWarnings(const pipeline::FitRun& run) {
+  std::vector<std::string> out;
+  if (!run.summary.converged) out.push_back("not converged: " + run.summary.stop_reason);
+  for (const std::string& w : run.input.reduction_warnings) out.push_back("reduction: " + w);
+  if (run.model_error.status != inverse::ModelErrorStatus::kEstimated)
+    out.push_back("model error: " + run.model_error.Summary());
+  if (!run.model_note.empty()) out.push_back("model note: " + run.model_note);
+  return out;
+}
+
+ParameterCheck CheckParameter(const inverse::ParameterEstimate& e, double truth, bool case_warned) {
+  ParameterCheck c;
+  c.truth = truth;
+  c.value = e.value;
+  c.low = e.ci95_low;
+  c.high = e.ci95_high;
+  c.stat_low = e.statistical_ci95_low;
+  c.stat_high = e.statistical_ci95_high;
+  c.lower_bound = e.lower_bound;
+  c.identified = e.identified;
+  c.interval_status = inverse::IntervalStatusName(e.interval_status);
+  // An interval that is not reliable is a warning on stderr (an open one
+  // is printed as NaN ends: no claim, so no coverage either).
+  c.warned = case_warned || !e.interval_reliable();
+  c.has_interval = e.identified && std::isfinite(e.value) && std::isfinite(c.low) &&
+                   std::isfinite(c.high);
+  c.error_ratio = NAN;
+  c.width_ratio = NAN;
+  if (c.has_interval) {
+    c.covered = c.low <= truth && truth <= c.high;
+    const double half = truth >= c.value ? c.high - c.value : c.value - c.low;
+    c.error_ratio = std::abs(c.value - truth) / std::max(half, 1e-300);
+    const double stat_width = c.stat_high - c.stat_low;
+    if (std::isfinite(stat_width) && stat_width > 0.0) c.width_ratio = (c.high - c.low) / stat_width;
+    c.failure = c.error_ratio > 2.0;
+  }
+  // A reported lower bound must never exceed the truth.
+  c.bound_above_truth = std::isfinite(c.lower_bound) && c.lower_bound > truth * (1.0 + 1e-9);
+  c.failure = c.failure || c.bound_above_truth;
+  c.silent_failure = c.failure && !c.warned;
+  return c;
+}
+
+// The request `bridgefit fit RECORD --scene S --law FAMILY` makes (apps/
+// cmd_fit.cpp defaults: BOBYQA, 4 starts, profiles, --resolution auto), with
+// the route's flags: --rcurve-method mbt, or --fit-to load-displacement
+// --calibrate-compliance=crack. The scene given to the fit holds no truth
+// beyond the specimen and material a user would know.
+pipeline::FitRequest FitRequestFor(const ValidationCase& spec, ExperimentRecord record,
+                                   int threads) {
+  pipeline::FitRequest request;
+  request.record = std::move(record);
+  request.scene.source = "validation case " + std::to_string(spec.index);
+  request.scene.specimen = spec.scene.specimen;
+  request.scene.material = spec.scene.material;
+  request.scene_path = request.scene.source;
+  request.law = spec.scene.bridging->shape.family;
+  request.fit.threads = threads;
+  if (spec.route == Route::kMbt) {
+    request.reduction.method = experiment::RMethod::kMbt;
+    request.reduction_given = true;
+  } else if (spec.route == Route::kLoad) {
+    request.target = inverse::FitTarget::kLoad;
+    request.calibration = inverse::ComplianceCalibrationMode::kAlongCrack;
+  }
+  return request;
+}
+
+double Seconds(std::chrono::steady_clock::time_point since) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
+}
+
+}  // namespace
+
+const char* RouteName(Route route) {
+  switch (route) {
+    case Route::kEnergy: return "energy";
+    case Route::kMbt: return "mbt";
+    case Route::kLoad: return "load";
+  }
+  return "?";
+}
+
+std::string ValidationCase::Label() const {
+  const SpecimenSpec& sp = scene.specimen;
+  const bool ct = sp.type == SpecimenType::kCT;
+  return fmt::format("#{} {} {}={:.0f}mm {} {} {}", index, ct ? "CT" : "DCB", ct ? "W" : "h",
+                     (ct ? sp.width : sp.height) * 1e3, scene.material.orthotropic ? "ortho" : "iso",
+                     laws::LawFamilyName(scene.bridging->shape.family), RouteName(route));
+}
+
+ValidationCase DrawCase(std::uint64_t campaign_seed, int index, const DrawOptions& options) {
+  ValidationCase c;
+  c.index = index;
+  // One engine per case, seeded from (campaign, index): a case draws the
+  // same whatever the number of cases or jobs.
+  std::seed_seq seq{campaign_seed, static_cast<std::uint64_t>(index), std::uint64_t{17}};
+  Draw d{std::mt19937_64(seq)};
+  c.seed = d.rng();
+  c.scene.source = "validation case " + std::to_string(index);
+  const bool ct = !d.Chance(options.dcb_fraction);
+  if (ct) DrawCt(d, c.scene);
+  else DrawDcb(d, c.scene);
+  DrawMaterial(d, c.scene);
+  DrawLaw(d, c.scene);
+  // Routes: CT energy 70% / load 30%; DCB energy 40% / MBT 35% / load 25%.
+  const double r = d.Uniform(0.0, 1.0);
+  if (ct) c.route = r < 0.7 ? Route::kEnergy : Route::kLoad;
+  else c.route = r < 0.4 ? Route::kEnergy : (r < 0.75 ? Route::kMbt : Route::kLoad);
+  if (options.energy_only) c.route = Route::kEnergy;
+  c.load_noise = d.LogUniform(0.002, 0.01);
+  c.displacement_noise = d.LogUniform(0.3e-6, 3e-6);
+  c.crack_noise = d.LogUniform(0.05e-3, 0.3e-3);
+  c.generation_resolution = specimen::DefaultResolution(c.scene.specimen) / 4.0;
+  c.scene.Validate();
+  return c;
+}
+
+CaseResult RunCase(const ValidationCase& spec, int threads) {
+  CaseResult result;
+  result.spec = spec;
+  try {
+    const auto t0 = std::chrono::steady_clock::now();
+    pipeline::SynthRequest synth;
+    synth.scene = spec.scene;
+    synth.seed = spec.seed;
+    synth.resolution = spec.generation_resolution;
+    synth.load_noise = spec.load_noise;
+    synth.displacement_noise = spec.displacement_noise;
+    synth.crack_noise = spec.crack_noise;
+    synth.frames = 0;
+    const pipeline::SynthTest test = pipeline::MakeSyntheticTest(synth);
+    result.truth_steady_state = test.simulation.steady_state_reached;
+    result.max_crack_length = test.simulation.points.back().crack_length;
+    result.truth_R_rise = test.simulation.points.back().R / spec.scene.fracture->J_tip_c - 1.0;
+    // The record read back from the CSV `bridgefit synth` writes, as the
+    // CLI reads it (rounded to the written digits).
+    const io::CsvTable table = io::ParseCsvTable(test.record_csv, spec.Label(), InputLimits{});
+    ExperimentRecord record = io::RecordFromCsvTable(table, io::RecordColumns{});
+    record.source = spec.Label();
+    result.generate_s = Seconds(t0);
+
+    const auto t1 = std::chrono::steady_clock::now();
+    const pipeline::FitRun run = pipeline::RunFit(FitRequestFor(spec, std::move(record), threads));
+    result.fit_s = Seconds(t1);
+    const inverse::FitSummary& s = run.summary;
+    result.fit_steady_state = s.steady_state_reached;
+    result.bridging_detected = s.bridging_detected;
+    result.converged = s.converged;
+    result.fit_resolution = run.resolution;
+    result.data_points = s.data_points;
+    result.warnings = CaseWarnings(run);
+    const bool case_warned = !result.warnings.empty();
+    const laws::LawScales& truth = spec.scene.bridging->scales;
+    result.parameters[0] = CheckParameter(s.sigma_c, truth.sigma_c, case_warned);
+    result.parameters[1] = CheckParameter(s.J_B, truth.J_B, case_warned);
+    result.parameters[2] = CheckParameter(s.J_tip_c, spec.scene.fracture->J_tip_c, case_warned);
+    result.ran = true;
+  } catch (const std::exception& e) {
+    result.error = e.what();
+  }
+  return result;
+}
+
+}  // namespace bridgefit::validate
