@@ -234,6 +234,7 @@ CaseResult RunCase(const ValidationCase& spec, int threads) {
     synth.displacement_noise = spec.displacement_noise;
     synth.crack_noise = spec.crack_noise;
     synth.frames = 0;
+    result.generation_failed = true;  // until the record is made
     const pipeline::SynthTest test = pipeline::MakeSyntheticTest(synth);
     result.truth_steady_state = test.simulation.steady_state_reached;
     result.max_crack_length = test.simulation.points.back().crack_length;
@@ -244,6 +245,7 @@ CaseResult RunCase(const ValidationCase& spec, int threads) {
     ExperimentRecord record = io::RecordFromCsvTable(table, io::RecordColumns{});
     record.source = spec.Label();
     result.generate_s = Seconds(t0);
+    result.generation_failed = false;
 
     const auto t1 = std::chrono::steady_clock::now();
     const pipeline::FitRun run = pipeline::RunFit(FitRequestFor(spec, std::move(record), threads));

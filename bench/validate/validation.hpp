@@ -77,6 +77,7 @@ struct CaseResult {
   ValidationCase spec;
   bool ran = false;            // generation and fit returned
   std::string error;           // what threw, when !ran
+  bool generation_failed = false;  // the truth's own run threw (no test to fit)
   bool truth_steady_state = false;  // the generating run reached steady state
   bool fit_steady_state = false;
   bool bridging_detected = false;
@@ -116,7 +117,8 @@ struct CampaignStats {
   int truth_steady = 0, fit_steady = 0, steady_agree = 0;
   int bridging_detected = 0;
   int bridging_missed_large = 0;  // not detected though R rose >= 10% of J_tip,c
-  int errors = 0;                 // generation or fit threw (loud)
+  int errors = 0;                 // the fit threw (loud: the user gets an error)
+  int generation_failures = 0;    // the truth's run threw: no test, not counted
   int converged = 0, warned_cases = 0;
   std::array<ParameterStats, 3> parameters{};
   int silent_failures = 0;

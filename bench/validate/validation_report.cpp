@@ -89,7 +89,7 @@ CampaignStats Summarise(const std::vector<CaseResult>& results) {
     s.generate_s += r.generate_s;
     s.fit_s += r.fit_s;
     if (!r.ran) {
-      ++s.errors;
+      ++(r.generation_failed ? s.generation_failures : s.errors);
       continue;
     }
     ++s.ran;
@@ -156,10 +156,10 @@ std::string CaseCsvRow(const CaseResult& r) {
 
 std::string SummaryTable(const CampaignStats& s) {
   std::string t = fmt::format(
-      "cases {} (ran {}, threw {}), converged {}, cases with a warning {}, bridging detected {} "
+      "cases {} (ran {}, fit threw {}, generation threw {}), converged {}, cases with a warning {}, bridging detected {} "
       "(missed with the true R rise >= 0.1 J_tip,c: {})\n"
       "steady state: truth {} / fit {} / agree {}; generation {:.0f} s, fits {:.0f} s (summed)\n",
-      s.cases, s.ran, s.errors, s.converged, s.warned_cases, s.bridging_detected,
+      s.cases, s.ran, s.errors, s.generation_failures, s.converged, s.warned_cases, s.bridging_detected,
       s.bridging_missed_large, s.truth_steady,
       s.fit_steady, s.steady_agree, s.generate_s, s.fit_s);
   t += fmt::format("{:<8} {:>5} {:>5} {:>8} {:>15} {:>8} {:>9} {:>7} {:>6} {:>7} {:>9} {:>7}\n",
@@ -182,7 +182,9 @@ std::string FailureList(const std::vector<CaseResult>& results, bool silent_only
   std::string out;
   for (const CaseResult& r : results) {
     if (!r.ran) {
-      if (!silent_only) out += fmt::format("{}: error: {}\n", r.spec.Label(), r.error);
+      if (!silent_only)
+        out += fmt::format("{}: {} threw: {}\n", r.spec.Label(),
+                           r.generation_failed ? "generation" : "fit", r.error);
       continue;
     }
     for (int p = 0; p < 3; ++p) {

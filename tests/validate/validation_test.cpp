@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <cmath>
 #include <thread>
 #include <vector>
 
@@ -18,6 +19,22 @@ namespace {
 
 constexpr std::uint64_t kSeed = 2026;
 constexpr int kCases = 10;
+
+// The smallest m with P(misses > m) <= alpha for misses ~ binomial(n, p).
+int AllowedMisses(int n, double p, double alpha) {
+  double cdf = 0.0;
+  for (int m = 0; m <= n; ++m) {
+    cdf += std::exp(std::lgamma(n + 1.0) - std::lgamma(m + 1.0) - std::lgamma(n - m + 1.0) +
+                    m * std::log(p) + (n - m) * std::log1p(-p));
+    if (1.0 - cdf <= alpha) return m;
+  }
+  return n;
+}
+
+TEST(Validation, AllowedMissesIsTheBinomialTail) {
+  EXPECT_EQ(AllowedMisses(15, 0.05, 0.05), 2);  // P(X >= 3) = 0.036, P(X >= 2) = 0.171
+  EXPECT_EQ(AllowedMisses(30, 0.05, 0.05), 4);  // P(X >= 5) = 0.016, P(X >= 4) = 0.061
+}
 
 std::vector<CaseResult> RunSubset() {
   DrawOptions draw;
@@ -38,21 +55,25 @@ TEST(Validation, CiSubsetHasNoSilentFailureAndCovers) {
   const std::vector<CaseResult> results = RunSubset();
   const CampaignStats stats = Summarise(results);
   std::cout << SummaryTable(stats) << FailureList(results, false);
+  EXPECT_EQ(stats.generation_failures, 0) << FailureList(results, false);
   EXPECT_EQ(stats.errors, 0) << FailureList(results, false);
   EXPECT_EQ(stats.silent_failures, 0) << FailureList(results, true);
-  // Coverage pooled over the parameters reported identified. With n
-  // estimates each covering with probability 0.95, the misses are binomial;
-  // for n around 20-30 P(misses > n/10) is about 0.05-0.08 at the nominal
-  // rate, while a 90%-or-worse true coverage fails it about half the time.
-  // The seed is fixed, so the check is deterministic; it is not widened.
+  // Coverage pooled over the estimates reported identified with a finite
+  // total interval. At the nominal 95% the misses among n such estimates are
+  // binomial(n, 0.05); the test allows the largest number of misses whose
+  // upper tail still exceeds 5%, i.e. it fails a correct product at most 5%
+  // of the time over seeds (n = 15 here: at most 2 misses, 87%). The seed is
+  // fixed, so the check is deterministic; nothing is widened to pass it.
   int identified = 0, covered = 0;
   for (const ParameterStats& p : stats.parameters) {
     identified += p.identified;
     covered += p.covered;
   }
   ASSERT_GE(identified, 10);
-  EXPECT_LE(identified - covered, identified / 10)
-      << covered << " of " << identified << " intervals cover the truth";
+  const int allowed = AllowedMisses(identified, 0.05, 0.05);
+  EXPECT_LE(identified - covered, allowed)
+      << covered << " of " << identified << " intervals cover the truth (at most " << allowed
+      << " misses allowed)";
 }
 
 }  // namespace
