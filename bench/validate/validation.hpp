@@ -44,7 +44,7 @@ struct ValidationCase {
 // What a campaign draws from. The CI subset takes CT energy cases only
 // (the cheapest: a few seconds each).
 struct DrawOptions {
-  double dcb_fraction = 0.15;  // DCB cases cost ~10x a CT (longer record, finer mesh)
+  double dcb_fraction = 0.12;  // DCB cases cost ~10x a CT (longer record, finer mesh)
   bool energy_only = false;    // every case on the energy route
 };
 
@@ -136,8 +136,8 @@ std::string FailureList(const std::vector<CaseResult>& results, bool silent_only
 // least 10% of J_tip,c over the record (a verdict against the truth).
 std::string MissedBridgingList(const std::vector<CaseResult>& results);
 // A gnuplot script drawing OUT_BASE.png: coverage per parameter with its
-// Wilson interval and the 90-98% acceptance band, and the histogram of
-// error / half-width. Reads OUT_BASE_coverage.dat and the case CSV.
+// Wilson interval and the 90-98% acceptance band, and the cumulative
+// distribution of error / half-width. Reads OUT_BASE_coverage.dat and the case CSV.
 std::string CoverageData(const CampaignStats& s);
 std::string GnuplotScript(const std::string& base);
 
