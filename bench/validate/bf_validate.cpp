@@ -7,6 +7,8 @@
 // OUT/validation_summary.txt (table and every failure), and
 // OUT/validation.gp / OUT/validation.png (gnuplot, when found). Exit status:
 // 0 with no silent failure, 1 with some, 2 for a usage error.
+//   bf_validate --scene SEED INDEX   prints case INDEX as a scene TOML with
+//                                    the synth and fit commands that rerun it
 #include <atomic>
 #include <chrono>
 #include <cstdio>
@@ -25,6 +27,11 @@ using namespace bridgefit::validate;
 int main(int argc, char** argv) {
   if (argc > 1 && (std::string(argv[1]) == "-h" || std::string(argv[1]) == "--help")) {
     std::printf("usage: bf_validate [cases=300] [seed=17] [jobs=2] [out_dir=out/validate] [first=0] [max_wall_s=0]\n");
+    return 0;
+  }
+  if (argc == 4 && std::string(argv[1]) == "--scene") {  // bf_validate --scene SEED INDEX
+    std::fputs(ReproductionToml(DrawCase(std::strtoull(argv[2], nullptr, 10), std::atoi(argv[3]))).c_str(),
+               stdout);
     return 0;
   }
   const int cases = argc > 1 ? std::atoi(argv[1]) : 300;

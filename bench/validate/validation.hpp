@@ -135,6 +135,9 @@ std::string FailureList(const std::vector<CaseResult>& results, bool silent_only
 // Cases whose fit reported no bridging although the truth's R rose by at
 // least 10% of J_tip,c over the record (a verdict against the truth).
 std::string MissedBridgingList(const std::vector<CaseResult>& results);
+// The case's truth as a scene TOML, with the `bridgefit synth` and
+// `bridgefit fit` commands that rerun it from the shell (comments at the top).
+std::string ReproductionToml(const ValidationCase& spec);
 // A gnuplot script drawing OUT_BASE.png: coverage per parameter with its
 // Wilson interval and the 90-98% acceptance band, and the cumulative
 // distribution of error / half-width. Reads OUT_BASE_coverage.dat and the case CSV.
