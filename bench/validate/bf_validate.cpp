@@ -7,6 +7,7 @@
 // OUT/validation_summary.txt (table and every failure), and
 // OUT/validation.gp / OUT/validation.png (gnuplot, when found). Exit status:
 // 0 with no silent failure, 1 with some, 2 for a usage error.
+//   bf_validate 22,37,40 [seed] [jobs] [out_dir]   runs the listed cases only
 //   bf_validate --scene SEED INDEX   prints case INDEX as a scene TOML with
 //                                    the synth and fit commands that rerun it
 #include <atomic>
@@ -16,6 +17,7 @@
 #include <filesystem>
 #include <fstream>
 #include <mutex>
+#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -26,7 +28,9 @@ using namespace bridgefit::validate;
 
 int main(int argc, char** argv) {
   if (argc > 1 && (std::string(argv[1]) == "-h" || std::string(argv[1]) == "--help")) {
-    std::printf("usage: bf_validate [cases=300] [seed=17] [jobs=2] [out_dir=out/validate] [first=0] [max_wall_s=0]\n");
+    std::printf(
+        "usage: bf_validate [cases=300 | i,j,k] [seed=17] [jobs=2] [out_dir=out/validate] "
+        "[first=0] [max_wall_s=0]\n       bf_validate --scene SEED INDEX\n");
     return 0;
   }
   if (argc == 4 && std::string(argv[1]) == "--scene") {  // bf_validate --scene SEED INDEX
@@ -34,12 +38,22 @@ int main(int argc, char** argv) {
                stdout);
     return 0;
   }
-  const int cases = argc > 1 ? std::atoi(argv[1]) : 300;
+  // The first argument is a count, or a list of case indices ("22,37,40").
+  std::vector<int> indices;
+  const std::string first_arg = argc > 1 ? argv[1] : "300";
+  const bool listed = first_arg.find(',') != std::string::npos;
+  if (listed) {
+    std::stringstream stream(first_arg);
+    for (std::string item; std::getline(stream, item, ',');) indices.push_back(std::atoi(item.c_str()));
+  }
+  const int cases = listed ? static_cast<int>(indices.size()) : std::atoi(first_arg.c_str());
   const unsigned long long seed = argc > 2 ? std::strtoull(argv[2], nullptr, 10) : 17;
   const int jobs = argc > 3 ? std::max(1, std::atoi(argv[3])) : 2;
   const std::filesystem::path out = argc > 4 ? argv[4] : "out/validate";
   const int first = argc > 5 ? std::atoi(argv[5]) : 0;
   const double max_wall_s = argc > 6 ? std::atof(argv[6]) : 0.0;
+  if (!listed)
+    for (int i = 0; i < cases; ++i) indices.push_back(first + i);
   if (cases <= 0) {
     std::fprintf(stderr, "bf_validate: cases must be positive\n");
     return 2;
@@ -62,7 +76,7 @@ int main(int argc, char** argv) {
   auto worker = [&] {
     for (int i = next++; i < cases; i = next++) {
       if (max_wall_s > 0.0 && elapsed() > max_wall_s) break;
-      const ValidationCase spec = DrawCase(seed, first + i);
+      const ValidationCase spec = DrawCase(seed, indices[i]);
       results[i] = RunCase(spec, jobs > 1 ? 1 : 0);
       std::lock_guard<std::mutex> lock(io);
       finished[i] = 1;
