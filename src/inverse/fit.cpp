@@ -163,6 +163,17 @@ std::optional<FitSummary> RefitWithoutOutliers(const FitContext& c, const std::v
   return std::nullopt;
 }
 
+// sum r_i r_(i+1) / sum r_i^2; NaN for fewer than 3 values or all zero.
+double LagOneAutocorrelation(const std::vector<double>& r) {
+  if (r.size() < 3) return NAN;
+  double num = 0.0, den = 0.0;
+  for (std::size_t i = 0; i < r.size(); ++i) {
+    den += r[i] * r[i];
+    if (i + 1 < r.size()) num += r[i] * r[i + 1];
+  }
+  return den > 0.0 ? num / den : NAN;
+}
+
 // Stage 3: the optimum's curves and residuals into the summary. Returns the
 // noise scale s^2 of the intervals and tests.
 double RecordOptimum(const FitContext& c, const LocalResult& best, const ForwardPrediction& prediction,
@@ -183,8 +194,13 @@ double RecordOptimum(const FitContext& c, const LocalResult& best, const Forward
   }
   const std::vector<double>& values = load_fit ? data.load : data.R;
   const std::vector<double>& model_values = load_fit ? prediction.load : prediction.R;
+  const std::vector<double>& u = load_fit ? data.load_uncertainty : data.R_uncertainty;
   double sum_sq = 0.0;
-  for (int i = 0; i < m; ++i) sum_sq += std::pow(model_values[i] - values[i], 2);
+  std::vector<double> scaled(m);
+  for (int i = 0; i < m; ++i) {
+    sum_sq += std::pow(model_values[i] - values[i], 2);
+    scaled[i] = (model_values[i] - values[i]) / (weighted ? u[i] : 1.0);
+  }
   s.rms_residual = std::sqrt(sum_sq / m);
   // Without reported uncertainties the noise scale comes from the residuals.
   const int dof = std::max(1, m - n_free);
@@ -193,7 +209,24 @@ double RecordOptimum(const FitContext& c, const LocalResult& best, const Forward
   // record): the intervals and tests are widened by it (Birge ratio), never
   // narrowed below what the uncertainties give.
   s.reduced_chi2 = best.chi2 / dof;
-  return weighted ? std::max(1.0, s.reduced_chi2) : std::max(s.reduced_chi2, 1e-300);
+  const double birge = weighted ? std::max(1.0, s.reduced_chi2) : std::max(s.reduced_chi2, 1e-300);
+  // Residuals in data order (crack length, or the record's rows) that run
+  // in long same-sign stretches carry fewer independent pieces than points:
+  // errors shared by neighbours (a smoothed record, overlapping increments)
+  // or a smooth misfit the model cannot follow. An AR(1) sequence with
+  // lag-1 correlation rho has the variance of a mean, and so of each
+  // estimate, (1 + rho) / (1 - rho) times the independent one; s^2 is
+  // multiplied by that where rho is significant (> 2 / sqrt(m), the 95%
+  // limit of an uncorrelated sequence's), the effective number of points
+  // kept >= free parameters + 2.
+  s.residual_autocorrelation = LagOneAutocorrelation(scaled);
+  s.interval_inflation = 1.0;
+  const double rho = s.residual_autocorrelation;
+  if (std::isfinite(rho) && rho > 2.0 / std::sqrt(static_cast<double>(m)) && m > n_free + 2)
+    s.interval_inflation = std::min((1.0 + rho) / std::max(1.0 - rho, 1e-12),
+                                    static_cast<double>(m) / (n_free + 2));
+  s.noise_scale2 = birge * s.interval_inflation;
+  return s.noise_scale2;
 }
 
 // Stage 4: covariance from the Jacobian, C = s^2 (J^T J)^-1: every

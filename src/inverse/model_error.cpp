@@ -262,7 +262,9 @@ ModelErrorEstimate EstimateModelError(const ForwardModel& model, const ForwardMo
   e.runs += objective.evaluations();
   std::vector<double> sd(free.size(), NAN);
   if (jacobian_ok) {
-    const double scale2 = used.weighted() ? std::max(1.0, fit.reduced_chi2) : fit.reduced_chi2;
+    const double scale2 = std::isfinite(fit.noise_scale2)
+                              ? fit.noise_scale2
+                              : (used.weighted() ? std::max(1.0, fit.reduced_chi2) : fit.reduced_chi2);
     const Eigen::MatrixXd jtj = jacobian.transpose() * jacobian;
     const Eigen::MatrixXd covariance = scale2 * jtj.completeOrthogonalDecomposition().pseudoInverse();
     for (std::size_t k = 0; k < free.size(); ++k) {
