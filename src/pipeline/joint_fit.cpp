@@ -118,6 +118,23 @@ JointFitRun RunJointFit(const std::vector<FitRequest>& requests,
     out.summary.fitted_crack_length.insert(out.summary.fitted_crack_length.end(),
                                            d.crack_length.begin(), d.crack_length.end());
   out.summary.steady_state_crack_length = NAN;  // one per specimen
+  // The verdict per specimen: which reached steady state at the joint law.
+  if (out.summary.steady_state_reached) {
+    const inverse::LawParameters at = inverse::FittedLaw(out.summary);
+    const inverse::ForwardPrediction p = joint.Predict(out.shape, at, joined.crack_length, joined.kind);
+    std::string reached;
+    std::size_t start = 0;
+    for (std::size_t k = 0; k < counts.size(); start += counts[k], ++k) {
+      bool past = false;
+      for (std::size_t i = start; i < start + counts[k] && i < p.past_steady_state.size(); ++i)
+        past = past || p.past_steady_state[i];
+      if (past) reached += (reached.empty() ? "" : ", ") + names[k];
+    }
+    out.summary.verdict = fmt::format(
+        "steady state reached at the joint law inside the windows of {}: all parameters estimated "
+        "(a specimen's own lower bound on J_B holds at its own J_tip,c)",
+        reached.empty() ? std::string("(none at the optimum)") : reached);
+  }
   out.consistency = inverse::TestConsistency(out.summary.chi2, out.separate_chi2, dof, free,
                                              joined.weighted());
   out.wall_s = clock.Seconds();
