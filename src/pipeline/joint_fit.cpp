@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <array>
+#include <cmath>
 #include <deque>
 #include <memory>
 
@@ -26,6 +28,31 @@ std::string CannotJoin(const FitRequest& request, const FitRun& run, const FitRu
       run.shape.peak_ratio != first.shape.peak_ratio)
     return "its law shape differs from the first specimen's (give every specimen the same law)";
   return "";
+}
+
+// The start that ended lowest (its end holds every free parameter, J_B
+// included where the summary gives only a bound); null without starts.
+const inverse::StartResult* BestStart(const inverse::FitSummary& s) {
+  const inverse::StartResult* best = nullptr;
+  for (const inverse::StartResult& start : s.starts)
+    if (std::isfinite(start.cost) && (!best || start.cost < best->cost)) best = &start;
+  return best;
+}
+
+// chi^2 of `data` under `model` at physical parameters p (infinite when the
+// model fails).
+double Chi2(const inverse::ForwardModel& model, const laws::LawShape& shape,
+            const inverse::FitData& data, const std::array<double, inverse::kParameterCount>& p) {
+  const inverse::ForwardPrediction prediction =
+      model.Predict(shape, {p[inverse::kSigmaC], p[inverse::kJB], p[inverse::kJTipC]},
+                    data.crack_length, data.kind);
+  if (!prediction.ok() || prediction.R.size() != data.R.size()) return INFINITY;
+  double chi2 = 0.0;
+  for (std::size_t i = 0; i < data.R.size(); ++i) {
+    const double u = data.weighted() ? data.R_uncertainty[i] : 1.0;
+    chi2 += std::pow((prediction.R[i] - data.R[i]) / u, 2);
+  }
+  return chi2;
 }
 
 // A separate fit's chi^2 at its bridged optimum (its starts' lowest): the
@@ -86,14 +113,29 @@ JointFitRun RunJointFit(const std::vector<FitRequest>& requests,
   std::vector<inverse::FitData> alone_data = parts;
   for (inverse::FitData& d : alone_data)
     if (!joined.weighted()) d.R_uncertainty.clear();
+  std::vector<std::array<double, inverse::kParameterCount>> separate_optima;
   for (std::size_t k = 0; k < runs.size(); ++k) {
     const inverse::FitSummary s =
         inverse::FitBridgingLaw(*model_of[k], out.shape, alone_data[k], alone);
     out.separate_chi2.push_back(OptimumChi2(s));
     out.separate_points.push_back(s.data_points);
     dof.push_back(std::max(1, s.data_points - free));
+    if (const inverse::StartResult* best = BestStart(s)) separate_optima.push_back(best->end);
   }
   const inverse::JointForwardModel joint(model_of, counts, offsets);
+  // The joint fit's first start: the specimens' own optima, the one the
+  // joined data like best (the joint optimum usually lies near one of them;
+  // a start read off the joined R curves alone ended in a local minimum on
+  // the bundled DCBs). Its other starts are the options' as usual.
+  double best_chi2 = INFINITY;
+  for (const auto& optimum : separate_optima) {
+    const double chi2 = Chi2(joint, out.shape, joined, optimum);
+    if (chi2 < best_chi2) {
+      best_chi2 = chi2;
+      for (int i = 0; i < inverse::kParameterCount; ++i)
+        if (!options.fixed[i]) options.initial[i] = optimum[i];
+    }
+  }
   out.summary = inverse::FitBridgingLaw(joint, out.shape, joined, options);
   // Each specimen alone also from the joint optimum: a separate fit that
   // stopped above it would shrink the likelihood ratio (no power).
@@ -102,9 +144,7 @@ JointFitRun RunJointFit(const std::vector<FitRequest>& requests,
       // The joint's best start's end: every free parameter, J_B included
       // where the summary reports it as a bound only.
       inverse::FitOptions from_joint = alone;
-      const inverse::StartResult* best = nullptr;
-      for (const inverse::StartResult& start : out.summary.starts)
-        if (!best || start.cost < best->cost) best = &start;
+      const inverse::StartResult* best = BestStart(out.summary);
       if (!best) break;
       for (int i = 0; i < inverse::kParameterCount; ++i)
         if (!options.fixed[i] && std::isfinite(best->end[i])) from_joint.initial[i] = best->end[i];
@@ -148,6 +188,8 @@ std::string JointFitRun::BriefReport() const {
                                  specimens.size(), names, laws::LawFamilyName(shape.family), wall_s);
   text += summary.BriefReport();
   text += "  consistency: " + consistency.Summary() + "\n";
+  text += "  note: the joint intervals are statistical (with the correlated-residual widening); "
+          "the model's discretisation error is estimated in each specimen's own fit, not here\n";
   return text;
 }
 
