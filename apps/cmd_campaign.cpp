@@ -55,6 +55,11 @@ nlohmann::json ResultJson(const campaign::CampaignResult& r, const std::string& 
              {"p_value", NumberOrNull(t.p_value)},
              {"consistent", t.consistent()},
              {"consistency", t.Summary()},
+             {"flagged", r.joint->flagged},
+             {"p_value_without_flagged",
+              r.joint->summary_without_flagged
+                  ? NumberOrNull(r.joint->consistency_without_flagged.p_value)
+                  : nlohmann::json()},
              {"wall_s", r.joint->wall_s}};
   } else if (!r.joint_error.empty()) {
     joint = {{"error", r.joint_error}};
