@@ -516,10 +516,12 @@ void SteadyStateAndBounds(const FitContext& c, const LocalResult& best, const st
              .decided_by = "PHYSICS 7 bound from the fitted R at the last point", .note = evidence};
     s.delta_c = {.lower_bound = s.bounds.delta_c_lower, .identified = false,
                  .decided_by = "PHYSICS 7 bound: fitted notch-root COD at the last point",
-                 .note = fmt::format("delta_c >= delta_root({:.4g} mm) = {:.4g} mm{}", a_max * 1e3,
-                                     s.bounds.delta_c_lower * 1e3,
-                                     std::isfinite(u.delta_c_sd) || std::isfinite(u.delta_c_profile_min)
-                                         ? " (lowered for its uncertainty, one-sided 95%)"
+                 .note = fmt::format("delta_c >= delta_root({:.4g} mm) = {:.4g} mm at the fit{}",
+                                     a_max * 1e3, prediction.delta_root[last] * 1e3,
+                                     s.bounds.delta_c_lower < prediction.delta_root[last]
+                                         ? fmt::format(", lowered to {:.4g} mm for its uncertainty "
+                                                       "(one-sided 95%)",
+                                                       s.bounds.delta_c_lower * 1e3)
                                          : "")};
     s.verdict = fmt::format(
         "steady state not reached within the data (a <= {:.4g} mm): sigma_c estimated from the "
