@@ -363,6 +363,8 @@ class FitCommand final : public Command {
     }
     out["data_points"] = s.data_points;
     out["reduced_chi2"] = NumberOrNull(s.reduced_chi2);
+    out["residual_autocorrelation"] = NumberOrNull(s.residual_autocorrelation);
+    out["interval_inflation"] = NumberOrNull(s.interval_inflation);
     out["model_error"] = ModelErrorJson(run.model_error);
     out["resolution_m"] = NumberOrNull(run.resolution);
     if (run.resolution_choice) {

@@ -235,6 +235,11 @@ std::string FitSummary::BriefReport() const {
   if (reduced_chi2 > 1.5 && std::isfinite(reduced_chi2))
     out += fmt::format("  reduced chi^2 {:.3g}: the data scatter more than their uncertainties say; "
                        "intervals widened by it\n", reduced_chi2);
+  if (interval_inflation > 1.0)
+    out += fmt::format("  residuals correlated (lag-1 rho {:.2f} over {} points): intervals widened "
+                       "x {:.3g} (about {:.0f} independent points)\n",
+                       residual_autocorrelation, data_points, std::sqrt(interval_inflation),
+                       data_points / interval_inflation);
   out += line("sigma_c", sigma_c, 1e6, "MPa");
   out += line("J_B", J_B, 1.0, "J/m^2");
   out += line("delta_c", delta_c, 1e-3, "mm");

@@ -29,7 +29,10 @@ bool ModelErrorOptions::IsValid(std::string* why) const {
     if (why) *why = text;
     return false;
   };
-  if (!(refinement_ratio > 1.0)) return fail("refinement_ratio must exceed 1");
+  // Below 1: one finer solve (the fallback when a coarser one fails); the
+  // order is then assumed.
+  if (!(refinement_ratio > 0.0 && refinement_ratio != 1.0))
+    return fail("refinement_ratio must be positive and not 1");
   if (!(min_order > 0.0 && max_order > min_order)) return fail("need 0 < min_order < max_order");
   if (!(assumed_order > 0.0)) return fail("assumed_order must be positive");
   if (!(safety_factor >= 1.0 && unverified_safety_factor >= safety_factor))
@@ -41,9 +44,12 @@ std::string ModelErrorEstimate::Summary() const {
   if (status == ModelErrorStatus::kNotEstimated)
     return "model error not estimated: " + reason + "; the intervals are the noise's alone";
   const bool load = quantity == "load";
-  std::string text = fmt::format(
-      "model error ({} model at {:.3g} mm, from {:.3g} and {:.3g} mm): ", model, resolution * 1e3,
-      coarse_resolution * 1e3, coarser_resolution * 1e3);
+  std::string text =
+      coarse_resolution < resolution
+          ? fmt::format("model error ({} model at {:.3g} mm, from one finer solve at {:.3g} mm): ",
+                        model, resolution * 1e3, coarse_resolution * 1e3)
+          : fmt::format("model error ({} model at {:.3g} mm, from {:.3g} and {:.3g} mm): ", model,
+                        resolution * 1e3, coarse_resolution * 1e3, coarser_resolution * 1e3);
   if (status == ModelErrorStatus::kEstimated)
     text += std::isfinite(observed_order)
                 ? fmt::format("observed order {:.2f}, order {:.2f} used", observed_order, order_used)
@@ -180,6 +186,8 @@ ModelErrorEstimate EstimateModelError(const ForwardModel& model, const ForwardMo
   };
   if (std::string why; !error_options.IsValid(&why)) return give_up("invalid options: " + why);
   if (!coarse) return give_up("no coarser solve of the " + e.model + " model");
+  // A finer solve has no third one: its order is assumed.
+  if (error_options.refinement_ratio < 1.0) coarser = nullptr;
   if (!std::isfinite(fit.best_parameters[kJTipC]) || fit.chi2 >= kFailedCost)
     return give_up("the fit failed");
 
@@ -195,6 +203,7 @@ ModelErrorEstimate EstimateModelError(const ForwardModel& model, const ForwardMo
   if (y_h.empty()) return give_up("the fitted model's run failed: " + why);
   const std::vector<double> y_2h = PredictAt(*coarse, shape, p, used, &why);
   ++e.runs;
+  e.coarse_failed = y_2h.empty();
   if (y_2h.empty())
     return give_up(fmt::format("the coarser solve at {:.3g} mm failed: {}",
                                e.coarse_resolution * 1e3, why));
@@ -253,7 +262,9 @@ ModelErrorEstimate EstimateModelError(const ForwardModel& model, const ForwardMo
   e.runs += objective.evaluations();
   std::vector<double> sd(free.size(), NAN);
   if (jacobian_ok) {
-    const double scale2 = used.weighted() ? std::max(1.0, fit.reduced_chi2) : fit.reduced_chi2;
+    const double scale2 = std::isfinite(fit.noise_scale2)
+                              ? fit.noise_scale2
+                              : (used.weighted() ? std::max(1.0, fit.reduced_chi2) : fit.reduced_chi2);
     const Eigen::MatrixXd jtj = jacobian.transpose() * jacobian;
     const Eigen::MatrixXd covariance = scale2 * jtj.completeOrthogonalDecomposition().pseudoInverse();
     for (std::size_t k = 0; k < free.size(); ++k) {
@@ -275,6 +286,7 @@ ModelErrorEstimate EstimateModelError(const ForwardModel& model, const ForwardMo
   };
   std::vector<double> p_2h, p_4h;
   if (!refit(*coarse, &p_2h)) {
+    e.coarse_failed = true;
     e.status = ModelErrorStatus::kNotEstimated;
     e.reason = fmt::format("the fit with the {:.3g} mm model failed", e.coarse_resolution * 1e3);
     e.wall_s = clock.Seconds();

@@ -105,7 +105,10 @@ ResolutionChoice ChooseResolution(const ModelAtResolution& model_at, const laws:
     choice.wall_s = clock.Seconds();
     return choice;
   }
-  const double scale2 = used.weighted() ? std::max(1.0, pilot.reduced_chi2) : pilot.reduced_chi2;
+  const double scale2 =
+      std::isfinite(pilot.noise_scale2)
+          ? pilot.noise_scale2
+          : (used.weighted() ? std::max(1.0, pilot.reduced_chi2) : pilot.reduced_chi2);
 
   // Sizes s_j = coarsest r^(2 - j); candidates j >= 2 (inside the limits).
   std::map<int, Rung> rungs;

@@ -81,6 +81,8 @@ void WriteSummaryAttributes(io::H5Writer& file, const std::string& g, const FitR
   file.WriteAttribute(g, "steady_state_reached", s.steady_state_reached ? 1.0 : 0.0);
   file.WriteAttribute(g, "bridging_detected", s.bridging_detected ? 1.0 : 0.0);
   file.WriteAttribute(g, "reduced_chi2", s.reduced_chi2);
+  file.WriteAttribute(g, "residual_autocorrelation", s.residual_autocorrelation);
+  file.WriteAttribute(g, "interval_inflation", s.interval_inflation);
   file.WriteAttribute(g, "fit_to", inverse::FitTargetName(s.target));
 }
 

@@ -183,6 +183,37 @@ TEST(PipelineFit, AsDataWithTheEnergyMethodMatchesTheEnergyKind) {
   EXPECT_LT(as_data.summary.J_B.lower_bound, 500.0);
 }
 
+// A record reduced by a method whose R is not the model's (here LEFM on the
+// MDF CT) is compared like with like by default (as-data), and the fit then
+// covers the truth (measured 2026-12-02 on the noise-free record: as-data
+// sigma_c 0.257 [0, 0.679] MPa, J_tip,c 2283 [2089, 2564]; the same R as
+// elastic-zone R gave 1.60 [1.46, 1.77] MPa and J_B >= 808, truth 0.45 MPa,
+// 2210 and 500 J/m^2); the same R curve handed in as a curve is compared with
+// the model's R as its kind says, and the summary says so with the way out.
+TEST(PipelineFit, NonEnergyMethodsAreComparedLikeWithLike) {
+  FitRequest request = RecordRequest();
+  request.reduction.method = experiment::RMethod::kLefm;
+  request.fit.profile_likelihood = true;  // the Jacobian alone is singular here
+  const FitRun run = RunFit(request);
+  EXPECT_EQ(run.r_kind, inverse::RKind::kAsData);
+  EXPECT_EQ(run.model_note.find("method:"), std::string::npos) << run.model_note;
+  const inverse::ParameterEstimate& s = run.summary.sigma_c;
+  std::printf("lefm as-data: sigma_c %.4g [%.4g, %.4g] MPa\n", s.value * 1e-6, s.ci95_low * 1e-6,
+              s.ci95_high * 1e-6);
+  EXPECT_LE(s.ci95_low, 0.45e6);
+  EXPECT_GE(s.ci95_high, 0.45e6);
+
+  FitRequest curve = RecordRequest();
+  curve.input_path.clear();
+  curve.reduction_given = false;
+  curve.rcurve = run.input.curve;
+  const FitRun from_curve = RunFit(curve);
+  EXPECT_NE(from_curve.model_note.find("method: this R curve comes from the lefm method"),
+            std::string::npos)
+      << from_curve.model_note;
+  EXPECT_NE(from_curve.BriefReport().find("--r-kind as-data"), std::string::npos);
+}
+
 // Bad input: an Error of the right kind naming the field, before any fit.
 template <class F>
 Error Thrown(F&& f) {

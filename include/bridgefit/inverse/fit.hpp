@@ -173,6 +173,14 @@ struct FitSummary {
   // chi^2 / (points - free parameters) at the optimum; with reported
   // uncertainties the intervals are widened by it when it exceeds 1.
   double reduced_chi2 = NAN;
+  // Lag-1 autocorrelation of the (weighted) residuals in data order, and the
+  // factor (1 + rho) / (1 - rho) on s^2 where it is significant (1 where
+  // not; docs/FIT.md "Correlated residuals").
+  double residual_autocorrelation = NAN;
+  double interval_inflation = 1.0;
+  // s^2 of the intervals and tests: the Birge ratio (weighted data) or the
+  // residual variance (unweighted) x interval_inflation.
+  double noise_scale2 = NAN;
   int data_points = 0;
   bool bridging_detected = true;
   std::string verdict;            // one sentence for the report

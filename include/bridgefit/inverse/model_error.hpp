@@ -35,7 +35,11 @@ enum class ModelErrorStatus {
 const char* ModelErrorStatusName(ModelErrorStatus status);
 
 struct ModelErrorOptions {
-  double refinement_ratio = 2.0;  // coarse element size / fine (and coarser / coarse)
+  // Coarse element size / fine (and coarser / coarse). Below 1 the one
+  // "coarse" model is finer than the fit's (the fallback where a coarser
+  // solve fails): Richardson's beta = (p_rh - p_h) / (r^p - 1) holds for
+  // either side, with the order assumed (no third solve) and F_s = 3.
+  double refinement_ratio = 2.0;
   double min_order = 0.5;         // an observed order outside [min, max] is not trusted
   double max_order = 3.0;
   // The model's asymptotic order: the reduced model converges with order
@@ -74,6 +78,7 @@ struct ModelErrorEstimate {
   // Statistical standard uncertainty of each free estimate from the fit's
   // Jacobian (s^2 (J^T J)^-1, s^2 as the fit's), NaN where not computed.
   std::array<double, kParameterCount> statistical_sd = {NAN, NAN, NAN};
+  bool coarse_failed = false;  // not estimated because the r h solve or fit failed
   int runs = 0;        // forward runs spent (coarser solves and the Jacobian)
   double wall_s = 0.0;
 

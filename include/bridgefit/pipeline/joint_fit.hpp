@@ -1,0 +1,47 @@
+#pragma once
+// The joint fit of a campaign (issue 19, docs/CAMPAIGN.md "Joint fit"): one
+// bridging law for every specimen, each specimen's R curve predicted by its
+// own model (its scene, its element size), and the likelihood-ratio test of
+// whether one law describes them all.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bridgefit/inverse/fit.hpp"
+#include "bridgefit/inverse/joint.hpp"
+#include "bridgefit/laws/law.hpp"
+#include "bridgefit/pipeline/fit.hpp"
+
+namespace bridgefit::pipeline {
+
+struct JointFitRun {
+  std::vector<std::string> specimens;      // those joined, in order
+  inverse::FitSummary summary;             // the shared law's fit
+  laws::LawShape shape;
+  inverse::ConsistencyTest consistency;
+  // Per specimen: its chi^2 at the joint law over its own optimum's, in
+  // units of s^2, and that difference's chi^2 tail on k degrees of freedom.
+  std::vector<double> specimen_statistic, specimen_p_value;
+  // Not one law: the specimens set aside one at a time (the one the joint
+  // law misses most) until the rest is consistent or two are left, and the
+  // joint fit of the rest.
+  std::vector<std::string> flagged;
+  std::optional<inverse::FitSummary> summary_without_flagged;
+  inverse::ConsistencyTest consistency_without_flagged;
+  double wall_s = 0.0;
+  std::string BriefReport() const;
+};
+
+// Specimens already fitted one by one (their requests and runs, same order as
+// `names`), R-curve fits of one law shape and one R kind with the reduced or
+// analytic model (--model auto: its reduced model). Each model is rebuilt as
+// the specimen's own fit used it (element size, scene); the specimens are
+// re-fitted alone with the joint fit's options (no outlier removal) so the
+// likelihood ratio compares like with like. Throws Error (kInput) for
+// specimens that cannot be joined, naming the specimen.
+JointFitRun RunJointFit(const std::vector<FitRequest>& requests,
+                        const std::vector<const FitRun*>& runs,
+                        const std::vector<std::string>& names);
+
+}  // namespace bridgefit::pipeline
