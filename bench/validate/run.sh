@@ -22,5 +22,5 @@ export OMP_NUM_THREADS=1
 start=$(date +%s)
 status=0
 "$build/bench/bf_validate" "$cases" "$seed" "$jobs" "$out" 0 "${VALIDATE_MAX_WALL_S:-0}" || status=$?
-echo "wall: $(( $(date +%s) - start )) s on $(nproc) cores; outputs in $out"
+echo "wall: $(( $(date +%s) - start )) s on $(nproc --all) cores; outputs in $out"
 exit "$status"
