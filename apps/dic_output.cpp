@@ -81,14 +81,19 @@ void PrintDicResult(const dic::CrackSequenceResult& result, const dic::CrackSequ
     out["points_per_frame"] = result.points;
     out["wall_s"] = result.wall_s;
     out["points_per_s"] = result.points_per_s;
+    // The *_px values are in the images' pixels, or for `crack` in the
+    // fields' own coordinate unit (e.g. mm): said here, not guessed.
+    out["length_unit"] = field_unit;
     out["scale_m_per_px"] = m_per_px;
     out["offset_m"] = opt.offset_m;
     PrintJson(out);
   } else {
     std::cout << result.BriefReport() << "\n";
     std::cout << fmt::format("{:>5} {:>14} {:>10} {:>10} {:>9} {:>9} {:>9} {:>6}  {}\n", "frame",
-                             "a [mm]", "+- [mm]", "a [px]", "tip_x", "tip_y", "method", "valid",
-                             "image");
+                             "a [mm]", "+- [mm]", "a [" + field_unit + "]", "tip_x", "tip_y",
+                             "method", "valid", "image");
+    if (field_unit != "px")
+      std::cout << fmt::format("(a, tip_x and tip_y in the fields' unit, {})\n", field_unit);
     for (size_t k = 0; k < result.frames.size(); ++k) {
       const auto& f = result.frames[k];
       if (f.has_length)

@@ -441,7 +441,9 @@ void SteadyStateAndBounds(const FitContext& c, const LocalResult& best, const st
     int past = 0;
     const std::vector<double>& axis = p.crack_length_physical.empty() ? data.crack_length
                                                                       : p.crack_length_physical;
-    if (p.steady_state_reached)
+    if (!p.past_steady_state.empty())
+      past = static_cast<int>(std::count(p.past_steady_state.begin(), p.past_steady_state.end(), 1));
+    else if (p.steady_state_reached)
       for (double a : axis) past += a >= p.steady_state_crack_length;
     return p.steady_state_reached && past >= 3;
   };

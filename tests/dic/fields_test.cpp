@@ -196,5 +196,36 @@ TEST(Fields, FailedPointsHonoured) {
   EXPECT_DOUBLE_EQ(g.m_per_unit, 1e-6);
 }
 
+// `bridgefit crack` on fields in mm: its *_px values are in the fields' unit,
+// and the output says so (JSON `length_unit`, the table's column header)
+// rather than labelling millimetres as pixels.
+TEST(CrackCli, OutputNamesTheFieldsUnit) {
+  const fs::path dir = fs::temp_directory_path() / ("bf_crack_cli_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  for (int k = 0; k < 2; ++k)
+    WriteFieldFile(dir / ("frame_" + std::to_string(k + 1) + ".csv"),
+                   KnownTipField(25.0 + 10.0 * k, "mm", 1e-3), FieldFormat::kCsv);
+  auto run = [&](const std::string& extra) {
+    const std::string cmd = std::string("\"") + BRIDGEFIT_CLI + "\" crack \"" + dir.string() +
+                            "\" --crack-line=-10,0.5,80,0.5 --threshold 0.001mm " + extra + " 2>&1";
+    std::string out;
+    FILE* pipe = popen(cmd.c_str(), "r");
+    char buf[4096];
+    size_t got;
+    while (pipe && (got = fread(buf, 1, sizeof buf, pipe)) > 0) out.append(buf, got);
+    const int status = pipe ? pclose(pipe) : -1;
+    EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 0) << cmd << "\n" << out;
+    return out;
+  };
+  const std::string json = run("--json");
+  EXPECT_NE(json.find("\"length_unit\": \"mm\""), std::string::npos) << json;
+  const std::string table = run("");
+  EXPECT_NE(table.find("a [mm]"), std::string::npos) << table;
+  EXPECT_NE(table.find("in the fields' unit, mm"), std::string::npos) << table;
+  EXPECT_EQ(table.find("a [px]"), std::string::npos) << table;
+  fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace bridgefit::dic

@@ -41,6 +41,10 @@ struct ForwardPrediction {
   // equivalent crack length), for steady state and the PHYSICS 7 bounds.
   std::vector<double> crack_length_physical;  // [m]
   std::vector<double> R_physical;             // [J/m^2]
+  // Per point, 1 where it lies past the steady state of its own specimen
+  // (a joint model of several specimens, inverse/joint.hpp); empty: the
+  // points are compared with steady_state_crack_length.
+  std::vector<char> past_steady_state;
   // PredictLoad only: the model's load at the data's displacements [N].
   std::vector<double> load;
   bool ok() const { return status == RunStatus::kOk; }
