@@ -31,34 +31,29 @@ nlohmann::json ModelErrorJson(const inverse::ModelErrorEstimate& m) {
           {"wall_s", m.wall_s}};
 }
 
-nlohmann::json FitRunJson(const pipeline::FitRun& run, const std::string& input_path) {
-  const FitSummary& s = run.summary;
-  const pipeline::FitInput& input = run.input;
+namespace {
+
+// "model_check": --model auto's check and correction.
+nlohmann::json ModelCheckJson(const pipeline::FitRun& run) {
   const inverse::ModelCheckResult& model_check = run.model_check;
-  const inverse::ComplianceCalibrationResult& calibration = run.calibration;
-  nlohmann::json out;
-  out["model"] = s.model;
-  out["model_note"] = run.model_note;
-  if (run.model_checked) {
-    out["model_check"] = {
-        {"outcome", model_check.outcome},
-        {"cheap_model", model_check.cheap_model},
-        {"accurate_model", model_check.accurate_model},
-        {"mpm_cell_m", run.mpm_cell},
-        {"tolerance", run.check.tolerance},
-        {"accurate_ok", model_check.accurate_ok},
-        {"corrected", model_check.corrected},
-        {"corrections", model_check.corrections},
-        {"accurate_runs", model_check.accurate_runs},
-        {"cheap_fit_s", model_check.cheap_fit_s},
-        {"accurate_s", model_check.accurate_s},
-        {"correction_fit_s", model_check.correction_fit_s},
-        {"discrepancy_at_cheap_optimum", NumberOrNull(model_check.discrepancy_at_cheap_optimum)},
-        {"discrepancy_final", NumberOrNull(model_check.discrepancy_final)}};
-  }
-  out["optimizer"] = s.optimizer;
-  out["law"] = s.law;
-  out["r_kind"] = inverse::RKindName(run.r_kind);
+  return {{"outcome", model_check.outcome},
+          {"cheap_model", model_check.cheap_model},
+          {"accurate_model", model_check.accurate_model},
+          {"mpm_cell_m", run.mpm_cell},
+          {"tolerance", run.check.tolerance},
+          {"accurate_ok", model_check.accurate_ok},
+          {"corrected", model_check.corrected},
+          {"corrections", model_check.corrections},
+          {"accurate_runs", model_check.accurate_runs},
+          {"cheap_fit_s", model_check.cheap_fit_s},
+          {"accurate_s", model_check.accurate_s},
+          {"correction_fit_s", model_check.correction_fit_s},
+          {"discrepancy_at_cheap_optimum", NumberOrNull(model_check.discrepancy_at_cheap_optimum)},
+          {"discrepancy_final", NumberOrNull(model_check.discrepancy_final)}};
+}
+
+// "data": what the fit was given (and how a record was reduced).
+nlohmann::json DataJson(const pipeline::FitInput& input, const std::string& input_path) {
   nlohmann::json data_json = {{"path", input_path},
                               {"kind", input.from_record ? "record" : "rcurve"},
                               {"rcurve_method", input.curve.method},
@@ -87,74 +82,52 @@ nlohmann::json FitRunJson(const pipeline::FitRun& run, const std::string& input_
     data_json["warnings"] = r.warnings;
     data_json["reduction_wall_s"] = r.wall_s;
   }
-  out["data"] = std::move(data_json);
-  out["evaluations"] = s.evaluations;
-  out["failed_evaluations"] = s.failed_evaluations;
-  out["wall_s"] = s.wall_s;
-  out["converged"] = s.converged;
-  out["stop_reason"] = s.stop_reason;
-  out["steady_state_reached"] = s.steady_state_reached;
-  out["steady_state_crack_length_m"] = NumberOrNull(s.steady_state_crack_length);
-  out["bridging_detected"] = s.bridging_detected;
-  out["verdict"] = s.verdict;
-  out["fit_to"] = inverse::FitTargetName(s.target);
-  out["rms_residual_J_per_m2"] = NumberOrNull(run.RResidualRms());
-  if (run.load_data) {
-    out["rms_residual_N"] = NumberOrNull(s.rms_residual);
-    out["start_from_r_curve_fit"] = {
-        {"sigma_c_Pa", NumberOrNull(run.start_fit->best_parameters[inverse::kSigmaC])},
-        {"J_B_J_per_m2", NumberOrNull(run.start_fit->best_parameters[inverse::kJB])},
-        {"J_tip_c_J_per_m2", NumberOrNull(run.start_fit->best_parameters[inverse::kJTipC])},
-        {"evaluations", run.start_fit->evaluations},
-        {"wall_s", run.start_fit->wall_s}};
-    out["load_noise_N"] = NumberOrNull(
-        input.reduction ? input.reduction->load_noise : NAN);
-    out["compliance_calibration"] =
-        calibration.calibrated()
-            ? nlohmann::json{{"mode", inverse::ComplianceCalibrationModeName(calibration.mode)},
-                             {"modulus_factor", calibration.modulus_factor},
-                             {"series_compliance_m_per_N", calibration.series_compliance},
-                             {"along_crack",
-                              calibration.along_crack
-                                  ? nlohmann::json{{"rms_relative", calibration.along_crack->fit.rms_relative},
-                                                   {"rows", calibration.along_crack->fit.rows},
-                                                   {"crack_min_m", calibration.along_crack->fit.crack_min},
-                                                   {"crack_max_m", calibration.along_crack->fit.crack_max},
-                                                   {"rounds", calibration.along_crack->rounds}}
-                                  : nlohmann::json()},
-                             {"modulus_factor_initial_slope", NumberOrNull(calibration.initial_slope_factor)},
-                             {"refinement_fits", calibration.fits},
-                             {"refinement_wall_s", calibration.wall_s},
-                             {"model_initial_compliance_m_per_N", calibration.model_initial_compliance},
-                             {"record_initial_compliance_m_per_N", input.initial_compliance}}
-            : nlohmann::json();
-  }
-  out["data_points"] = s.data_points;
-  out["reduced_chi2"] = NumberOrNull(s.reduced_chi2);
-  out["residual_autocorrelation"] = NumberOrNull(s.residual_autocorrelation);
-  out["interval_inflation"] = NumberOrNull(s.interval_inflation);
-  out["model_error"] = ModelErrorJson(run.model_error);
-  out["resolution_m"] = NumberOrNull(run.resolution);
-  if (run.resolution_choice) {
-    nlohmann::json levels = nlohmann::json::array();
-    for (const inverse::ResolutionLevel& l : run.resolution_choice->levels)
-      levels.push_back({{"resolution_m", l.resolution},
-                        {"evaluated", l.evaluated},
-                        {"status", inverse::ModelErrorStatusName(l.status)},
-                        {"meets", l.meets},
-                        {"bias", {NumberOrNull(l.bias[0]), NumberOrNull(l.bias[1]), NumberOrNull(l.bias[2])}},
-                        {"sd", {NumberOrNull(l.sd[0]), NumberOrNull(l.sd[1]), NumberOrNull(l.sd[2])}},
-                        {"note", l.note}});
-    out["resolution_auto"] = {{"resolution_m", run.resolution_choice->resolution},
-                              {"criterion_met", run.resolution_choice->criterion_met},
-                              {"reason", run.resolution_choice->reason},
-                              {"wall_s", run.resolution_choice->wall_s},
-                              {"levels", std::move(levels)}};
-  }
-  out["sigma_c_Pa"] = EstimateJson(s.sigma_c);
-  out["J_B_J_per_m2"] = EstimateJson(s.J_B);
-  out["delta_c_m"] = EstimateJson(s.delta_c);
-  out["J_tip_c_J_per_m2"] = EstimateJson(s.J_tip_c);
+  return data_json;
+}
+
+// "compliance_calibration" of a load-displacement fit (null when not calibrated).
+nlohmann::json CalibrationJson(const pipeline::FitRun& run) {
+  const inverse::ComplianceCalibrationResult& calibration = run.calibration;
+  if (!calibration.calibrated()) return nlohmann::json();
+  nlohmann::json along_crack;
+  if (calibration.along_crack)
+    along_crack = {{"rms_relative", calibration.along_crack->fit.rms_relative},
+                   {"rows", calibration.along_crack->fit.rows},
+                   {"crack_min_m", calibration.along_crack->fit.crack_min},
+                   {"crack_max_m", calibration.along_crack->fit.crack_max},
+                   {"rounds", calibration.along_crack->rounds}};
+  return {{"mode", inverse::ComplianceCalibrationModeName(calibration.mode)},
+          {"modulus_factor", calibration.modulus_factor},
+          {"series_compliance_m_per_N", calibration.series_compliance},
+          {"along_crack", along_crack},
+          {"modulus_factor_initial_slope", NumberOrNull(calibration.initial_slope_factor)},
+          {"refinement_fits", calibration.fits},
+          {"refinement_wall_s", calibration.wall_s},
+          {"model_initial_compliance_m_per_N", calibration.model_initial_compliance},
+          {"record_initial_compliance_m_per_N", run.input.initial_compliance}};
+}
+
+// "resolution_auto": how --resolution auto chose the element size.
+nlohmann::json ResolutionAutoJson(const inverse::ResolutionChoice& choice) {
+  nlohmann::json levels = nlohmann::json::array();
+  for (const inverse::ResolutionLevel& l : choice.levels)
+    levels.push_back({{"resolution_m", l.resolution},
+                      {"evaluated", l.evaluated},
+                      {"status", inverse::ModelErrorStatusName(l.status)},
+                      {"meets", l.meets},
+                      {"bias", {NumberOrNull(l.bias[0]), NumberOrNull(l.bias[1]), NumberOrNull(l.bias[2])}},
+                      {"sd", {NumberOrNull(l.sd[0]), NumberOrNull(l.sd[1]), NumberOrNull(l.sd[2])}},
+                      {"note", l.note}});
+  return {{"resolution_m", choice.resolution},
+          {"criterion_met", choice.criterion_met},
+          {"reason", choice.reason},
+          {"wall_s", choice.wall_s},
+          {"levels", std::move(levels)}};
+}
+
+// "starts", "outliers_removed" and "law_comparison": the optimiser's record.
+void AddSearchJson(const pipeline::FitRun& run, nlohmann::json& out) {
+  const FitSummary& s = run.summary;
   nlohmann::json starts = nlohmann::json::array();
   for (const inverse::StartResult& start : s.starts)
     starts.push_back({{"start", start.start}, {"end", start.end}, {"chi2", NumberOrNull(start.cost)},
@@ -174,6 +147,54 @@ nlohmann::json FitRunJson(const pipeline::FitRun& run, const std::string& input_
                         {"chi2", NumberOrNull(c.summary.chi2)},
                         {"converged", c.summary.converged}});
   out["law_comparison"] = std::move(families);
+}
+
+}  // namespace
+
+nlohmann::json FitRunJson(const pipeline::FitRun& run, const std::string& input_path) {
+  const FitSummary& s = run.summary;
+  nlohmann::json out;
+  out["model"] = s.model;
+  out["model_note"] = run.model_note;
+  if (run.model_checked) out["model_check"] = ModelCheckJson(run);
+  out["optimizer"] = s.optimizer;
+  out["law"] = s.law;
+  out["r_kind"] = inverse::RKindName(run.r_kind);
+  out["data"] = DataJson(run.input, input_path);
+  out["evaluations"] = s.evaluations;
+  out["failed_evaluations"] = s.failed_evaluations;
+  out["wall_s"] = s.wall_s;
+  out["converged"] = s.converged;
+  out["stop_reason"] = s.stop_reason;
+  out["steady_state_reached"] = s.steady_state_reached;
+  out["steady_state_crack_length_m"] = NumberOrNull(s.steady_state_crack_length);
+  out["bridging_detected"] = s.bridging_detected;
+  out["verdict"] = s.verdict;
+  out["fit_to"] = inverse::FitTargetName(s.target);
+  out["rms_residual_J_per_m2"] = NumberOrNull(run.RResidualRms());
+  if (run.load_data) {
+    out["rms_residual_N"] = NumberOrNull(s.rms_residual);
+    out["start_from_r_curve_fit"] = {
+        {"sigma_c_Pa", NumberOrNull(run.start_fit->best_parameters[inverse::kSigmaC])},
+        {"J_B_J_per_m2", NumberOrNull(run.start_fit->best_parameters[inverse::kJB])},
+        {"J_tip_c_J_per_m2", NumberOrNull(run.start_fit->best_parameters[inverse::kJTipC])},
+        {"evaluations", run.start_fit->evaluations},
+        {"wall_s", run.start_fit->wall_s}};
+    out["load_noise_N"] = NumberOrNull(run.input.reduction ? run.input.reduction->load_noise : NAN);
+    out["compliance_calibration"] = CalibrationJson(run);
+  }
+  out["data_points"] = s.data_points;
+  out["reduced_chi2"] = NumberOrNull(s.reduced_chi2);
+  out["residual_autocorrelation"] = NumberOrNull(s.residual_autocorrelation);
+  out["interval_inflation"] = NumberOrNull(s.interval_inflation);
+  out["model_error"] = ModelErrorJson(run.model_error);
+  out["resolution_m"] = NumberOrNull(run.resolution);
+  if (run.resolution_choice) out["resolution_auto"] = ResolutionAutoJson(*run.resolution_choice);
+  out["sigma_c_Pa"] = EstimateJson(s.sigma_c);
+  out["J_B_J_per_m2"] = EstimateJson(s.J_B);
+  out["delta_c_m"] = EstimateJson(s.delta_c);
+  out["J_tip_c_J_per_m2"] = EstimateJson(s.J_tip_c);
+  AddSearchJson(run, out);
   out["parameter_order"] = {"sigma_c_Pa", "J_B_J_per_m2", "J_tip_c_J_per_m2"};
   return out;
 }
