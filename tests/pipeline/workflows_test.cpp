@@ -3,7 +3,8 @@
 // (R = J_tip,c + sigma_c delta / 2, the CLI test's oracle); the R-curve run
 // equals experiment::ComputeRCurve on the same record and its files read back
 // to the same curve; the simulation CSV read back equals the points; every
-// CSV is written by its one writer and read by io::ReadCsvTable.
+// CSV is written by its one writer and read by io::ReadCsvTable; the MPM runs
+// equal mpm::SimulateGrowth and write their HDF5 + XDMF and history.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -11,6 +12,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include "bridgefit/core/error.hpp"
@@ -200,6 +202,49 @@ TEST(SimulateWorkflow, ReducedModelNeedsFractureAndGrowth) {
     EXPECT_EQ(e.kind(), ErrorKind::kInput);
     EXPECT_EQ(e.context().field, "run.grow");
   }
+}
+
+TEST(SimulateWorkflow, MpmGrowthIsTheGrowthSimulationOfTheScene) {
+  const Scene scene =
+      io::ReadSceneFile(fs::path(BRIDGEFIT_SOURCE_DIR) / "tests" / "data" / "scenes" / "ct_mdf.toml");
+  mpm::GrowthOptions options;
+  options.cell = 5e-3;
+  options.threads = 1;
+  const mpm::GrowthResult run = SimulateMpmGrowth(scene, options);
+  const std::optional<laws::BridgingLaw> law =
+      scene.bridging ? std::optional<laws::BridgingLaw>(scene.bridging->Law()) : std::nullopt;
+  const mpm::GrowthResult direct =
+      mpm::SimulateGrowth(scene, law ? &*law : nullptr, scene.fracture->J_tip_c, options);
+  ASSERT_EQ(run.result.status, RunStatus::kOk) << run.result.message;
+  ASSERT_EQ(run.result.points.size(), direct.result.points.size());
+  for (std::size_t i = 0; i < direct.result.points.size(); ++i)
+    EXPECT_EQ(run.result.points[i].R, direct.result.points[i].R) << i;
+  const std::string text = MpmGrowthBriefReport(run);
+  EXPECT_EQ(text.rfind("model mpm (ok), quasi-static ", 0), 0u) << text;
+  EXPECT_NE(text.find(SimulationTable(run.result)), std::string::npos);
+}
+
+TEST(SimulateWorkflow, MpmStationaryRunWritesItsFilesAndHistory) {
+  const Scene scene = io::ReadSceneFile(fs::path(BRIDGEFIT_SOURCE_DIR) / "tests" / "data" /
+                                        "mpm" / "ct_stationary.toml");
+  mpm::SolverOptions options;
+  options.threads = 1;
+  options.target_displacement = *scene.run.load_point_displacement;
+  WorkDir dir;
+  const fs::path h5 = dir.path / "run.h5";
+  const MpmStationaryRun run = SimulateMpmStationary(scene, 5e-3, 2, options, h5.string());
+  ASSERT_EQ(run.summary.status, RunStatus::kOk) << run.summary.message;
+  EXPECT_TRUE(fs::exists(h5));
+  EXPECT_TRUE(fs::exists(run.xdmf_path)) << run.xdmf_path;
+  EXPECT_EQ(run.contour_cells, options.contour_cells);
+  EXPECT_FALSE(run.description.empty());
+  ASSERT_FALSE(run.summary.history.empty());
+  // The history CSV: one row per sample, one J column per contour.
+  const fs::path csv = dir.path / "history.csv";
+  WriteMpmHistoryCsv(csv.string(), run.summary, run.contour_cells);
+  const io::CsvTable table = io::ReadCsvTable(csv);
+  EXPECT_EQ(table.rows(), run.summary.history.size());
+  EXPECT_EQ(table.names.size(), 6 + run.contour_cells.size());
 }
 
 TEST(SimulateWorkflow, MpmHistoryCsvNamesEachContour) {
