@@ -40,7 +40,31 @@ nlohmann::json ResultJson(const campaign::CampaignResult& r, const std::string& 
                           {"campaign_lower_bound", NumberOrNull(p.campaign_lower_bound * p.scale)},
                           {"bound_from", p.bound_from}, {"outliers", p.outliers},
                           {"note", p.note}});
-  return {{"command", "campaign"}, {"manifest", r.manifest.path.string()},
+  nlohmann::json joint;
+  if (r.joint) {
+    const inverse::FitSummary& f = r.joint->summary;
+    const inverse::ConsistencyTest& t = r.joint->consistency;
+    joint = {{"specimens", r.joint->specimens},
+             {"parameters_si", {{"sigma_c_Pa", EstimateJson(f.sigma_c)},
+                                {"J_B_J_per_m2", EstimateJson(f.J_B)},
+                                {"delta_c_m", EstimateJson(f.delta_c)},
+                                {"J_tip_c_J_per_m2", EstimateJson(f.J_tip_c)}}},
+             {"verdict", f.verdict},
+             {"likelihood_ratio", NumberOrNull(t.statistic)},
+             {"degrees_of_freedom", t.degrees_of_freedom},
+             {"p_value", NumberOrNull(t.p_value)},
+             {"consistent", t.consistent()},
+             {"consistency", t.Summary()},
+             {"flagged", r.joint->flagged},
+             {"p_value_without_flagged",
+              r.joint->summary_without_flagged
+                  ? NumberOrNull(r.joint->consistency_without_flagged.p_value)
+                  : nlohmann::json()},
+             {"wall_s", r.joint->wall_s}};
+  } else if (!r.joint_error.empty()) {
+    joint = {{"error", r.joint_error}};
+  }
+  return {{"command", "campaign"}, {"manifest", r.manifest.path.string()}, {"joint", joint},
           {"name", r.manifest.name}, {"out", out_dir}, {"jobs", r.jobs},
           {"wall_s", r.wall_s}, {"failed", r.Failed()}, {"specimens", specimens},
           {"statistics", statistics}};
@@ -61,12 +85,16 @@ class CampaignCommand final : public Command {
     sub.add_option("--jobs", jobs_, "Specimens fitted at once (0: the machine's cores)")
         ->default_val(0)
         ->check(CLI::NonNegativeNumber);
+    sub.add_flag("--joint", joint_,
+                 "Also fit one law to every converged specimen at once, with a likelihood-ratio "
+                 "test of whether one law describes them all (joint.csv)");
   }
 
   int Run(const CommonOptions& common) override {
     const io::CampaignManifest manifest = io::ReadCampaignManifest(manifest_);
     campaign::CampaignOptions options;
     options.jobs = jobs_;
+    options.joint = joint_;
     if (!common.quiet) options.progress = [](const std::string& line) { std::cerr << line << "\n"; };
     const campaign::CampaignResult result = campaign::RunCampaign(manifest, options);
     campaign::WriteCampaignOutputs(result, out_);
@@ -86,6 +114,7 @@ class CampaignCommand final : public Command {
  private:
   std::string manifest_, out_;
   int jobs_ = 0;
+  bool joint_ = false;
 };
 
 }  // namespace

@@ -206,6 +206,27 @@ int CampaignResult::Failed() const {
   return n;
 }
 
+namespace {
+
+// --joint: every converged specimen into one fit; an error is kept as the
+// campaign's joint_error (the separate fits stand).
+void RunJoint(CampaignResult& result, const CampaignOptions& options) {
+  std::vector<pipeline::FitRequest> requests;
+  std::vector<const pipeline::FitRun*> runs;
+  std::vector<std::string> names;
+  for (const SpecimenOutcome& s : result.specimens)
+    if (s.ok()) requests.push_back(s.request), runs.push_back(&*s.run), names.push_back(s.name);
+  if (options.progress)
+    options.progress(fmt::format("joint fit of {} converged specimens ...", runs.size()));
+  try {
+    result.joint = pipeline::RunJointFit(requests, runs, names);
+  } catch (const Error& e) {
+    result.joint_error = e.what();
+  }
+}
+
+}  // namespace
+
 CampaignResult RunCampaign(const io::CampaignManifest& manifest, const CampaignOptions& options) {
   std::string why;
   if (!options.IsValid(&why)) throw Error(ErrorKind::kUsage, why, {.field = "--jobs"});
@@ -271,6 +292,7 @@ CampaignResult RunCampaign(const io::CampaignManifest& manifest, const CampaignO
         estimates.push_back({s.name, s.run->summary.*p.member});
     result.statistics.push_back(Summarise(p.name, p.unit, p.scale, estimates));
   }
+  if (options.joint) RunJoint(result, options);
   return result;
 }
 

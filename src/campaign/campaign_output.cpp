@@ -2,6 +2,7 @@
 // fit file per specimen, written by the fit file's owner).
 #include <cmath>
 #include <sstream>
+#include <tuple>
 
 #include <fmt/format.h>
 
@@ -99,6 +100,33 @@ std::string StatisticsCsv(const CampaignResult& r) {
 
 }  // namespace
 
+namespace {
+
+// One row per parameter of the joint fit (value or lower bound, total 95%
+// interval) with the consistency test's figures repeated on each row.
+std::string JointCsv(const pipeline::JointFitRun& joint) {
+  std::ostringstream out;
+  out << "parameter,unit,value,ci95_low,ci95_high,lower_bound,specimens,likelihood_ratio,"
+         "degrees_of_freedom,p_value,consistent\n";
+  const inverse::FitSummary& f = joint.summary;
+  const std::tuple<const char*, const char*, double, const inverse::ParameterEstimate*> rows[] = {
+      {"sigma_c", "MPa", 1e-6, &f.sigma_c}, {"J_B", "J/m^2", 1.0, &f.J_B},
+      {"delta_c", "mm", 1e3, &f.delta_c}, {"J_tip_c", "J/m^2", 1.0, &f.J_tip_c}};
+  auto number = [](double v, double scale) {
+    return std::isfinite(v) ? fmt::format("{:.6g}", v * scale) : std::string();
+  };
+  const inverse::ConsistencyTest& t = joint.consistency;
+  for (const auto& [name, unit, scale, e] : rows)
+    out << fmt::format("{},{},{},{},{},{},{},{},{},{},{}\n", name, unit, number(e->value, scale),
+                       number(e->ci95_low, scale), number(e->ci95_high, scale),
+                       number(e->lower_bound, scale), joint.specimens.size(),
+                       number(t.statistic, 1.0), t.degrees_of_freedom, number(t.p_value, 1.0),
+                       t.consistent() ? 1 : 0);
+  return out.str();
+}
+
+}  // namespace
+
 std::string CampaignResult::BriefReport() const {
   std::ostringstream out;
   out << fmt::format("campaign '{}': {} specimens, {} ran on {} thread(s) in {:.1f} s, {} failed\n",
@@ -127,6 +155,8 @@ std::string CampaignResult::BriefReport() const {
     out << "\n";
     if (!p.note.empty()) out << "             " << p.note << "\n";
   }
+  if (joint) out << joint->BriefReport();
+  if (!joint_error.empty()) out << "  joint fit not run: " << joint_error << "\n";
   return out.str();
 }
 
@@ -139,6 +169,7 @@ void WriteCampaignOutputs(const CampaignResult& result, const std::filesystem::p
   for (const SpecimenOutcome& s : result.specimens)
     if (s.ran()) pipeline::WriteFitFile((dir / "specimens" / (s.name + ".h5")).string(), s.request, *s.run);
   WriteTextFileAtomic(dir / "statistics.csv", StatisticsCsv(result));
+  if (result.joint) WriteTextFileAtomic(dir / "joint.csv", JointCsv(*result.joint));
   WriteTextFileAtomic(dir / "summary.csv", SummaryCsv(result));
 }
 

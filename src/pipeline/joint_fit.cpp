@@ -2,6 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <deque>
 #include <memory>
 
@@ -28,6 +31,31 @@ std::string CannotJoin(const FitRequest& request, const FitRun& run, const FitRu
   return "";
 }
 
+// The start that ended lowest (its end holds every free parameter, J_B
+// included where the summary gives only a bound); null without starts.
+const inverse::StartResult* BestStart(const inverse::FitSummary& s) {
+  const inverse::StartResult* best = nullptr;
+  for (const inverse::StartResult& start : s.starts)
+    if (std::isfinite(start.cost) && (!best || start.cost < best->cost)) best = &start;
+  return best;
+}
+
+// chi^2 of `data` under `model` at physical parameters p (infinite when the
+// model fails).
+double Chi2(const inverse::ForwardModel& model, const laws::LawShape& shape,
+            const inverse::FitData& data, const std::array<double, inverse::kParameterCount>& p) {
+  const inverse::ForwardPrediction prediction =
+      model.Predict(shape, {p[inverse::kSigmaC], p[inverse::kJB], p[inverse::kJTipC]},
+                    data.crack_length, data.kind);
+  if (!prediction.ok() || prediction.R.size() != data.R.size()) return INFINITY;
+  double chi2 = 0.0;
+  for (std::size_t i = 0; i < data.R.size(); ++i) {
+    const double u = data.weighted() ? data.R_uncertainty[i] : 1.0;
+    chi2 += std::pow((prediction.R[i] - data.R[i]) / u, 2);
+  }
+  return chi2;
+}
+
 // A separate fit's chi^2 at its bridged optimum (its starts' lowest): the
 // summary's chi^2 is the flat model's where the fit found no bridging.
 double OptimumChi2(const inverse::FitSummary& s) {
@@ -36,6 +64,130 @@ double OptimumChi2(const inverse::FitSummary& s) {
   return best;
 }
 
+
+// The specimens' models and data, fitted alone once; joint fits of any
+// subset of them (the whole campaign, then without flagged specimens).
+class JointFitter {
+ public:
+  struct Result {
+    inverse::FitSummary summary;
+    inverse::ConsistencyTest consistency;
+    std::vector<double> statistic, p_value;  // per member
+  };
+
+  JointFitter(std::vector<const inverse::ForwardModel*> models, std::vector<inverse::FitData> data,
+              laws::LawShape shape, inverse::FitOptions options)
+      : models_(std::move(models)), data_(std::move(data)), shape_(std::move(shape)),
+        options_(std::move(options)) {
+    options_.outlier_threshold = 0.0;  // like with like: the same points alone and together
+    alone_ = options_;
+    alone_.profile_likelihood = false;
+    alone_.progress = false;
+    for (int i = 0; i < inverse::kParameterCount; ++i) free_ += !options_.fixed[i];
+    std::vector<inverse::FitData> parts = data_;
+    std::vector<double> offsets;
+    weighted_ = inverse::JoinFitData(parts, &offsets).weighted();
+    // Uncertainties dropped for all when one specimen lacks them.
+    for (inverse::FitData& d : data_)
+      if (!weighted_) d.R_uncertainty.clear();
+    for (std::size_t k = 0; k < models_.size(); ++k) {
+      const inverse::FitSummary s = inverse::FitBridgingLaw(*models_[k], shape_, data_[k], alone_);
+      chi2_.push_back(OptimumChi2(s));
+      dof_.push_back(std::max(1, s.data_points - free_));
+      const inverse::StartResult* best = BestStart(s);
+      optima_.push_back(best ? best->end : std::array<double, inverse::kParameterCount>{NAN, NAN, NAN});
+    }
+  }
+
+  Result Fit(const std::vector<std::size_t>& members) {
+    std::vector<const inverse::ForwardModel*> models;
+    std::vector<inverse::FitData> parts;
+    std::vector<std::size_t> counts;
+    for (std::size_t k : members)
+      models.push_back(models_[k]), parts.push_back(data_[k]), counts.push_back(data_[k].R.size());
+    std::vector<double> offsets;
+    const inverse::FitData joined = inverse::JoinFitData(parts, &offsets);
+    const inverse::JointForwardModel joint(models, counts, offsets);
+    // First start: the members' own optimum the joined data like best (the
+    // joint optimum usually lies near one; a start read off the joined R
+    // curves alone ended in a local minimum on the bundled DCBs).
+    inverse::FitOptions options = options_;
+    double best_chi2 = INFINITY;
+    for (std::size_t k : members) {
+      const double chi2 = Chi2(joint, shape_, joined, optima_[k]);
+      if (chi2 < best_chi2) {
+        best_chi2 = chi2;
+        for (int i = 0; i < inverse::kParameterCount; ++i)
+          if (!options.fixed[i]) options.initial[i] = optima_[k][i];
+      }
+    }
+    Result r;
+    r.summary = inverse::FitBridgingLaw(joint, shape_, joined, options);
+    const inverse::StartResult* best = BestStart(r.summary);
+    // Each member alone also from the joint optimum: a separate fit that
+    // stopped above it would shrink the likelihood ratio (no power).
+    if (best)
+      for (std::size_t k : members) {
+        inverse::FitOptions from_joint = alone_;
+        for (int i = 0; i < inverse::kParameterCount; ++i)
+          if (!options_.fixed[i] && std::isfinite(best->end[i])) from_joint.initial[i] = best->end[i];
+        chi2_[k] = std::min(chi2_[k], OptimumChi2(inverse::FitBridgingLaw(*models_[k], shape_,
+                                                                           data_[k], from_joint)));
+      }
+    std::vector<double> chi2;
+    std::vector<int> dof;
+    for (std::size_t k : members) chi2.push_back(chi2_[k]), dof.push_back(dof_[k]);
+    r.consistency = inverse::TestConsistency(r.summary.chi2, chi2, dof, free_, weighted_);
+    // Each member's chi^2 at the joint law over its own optimum's.
+    for (std::size_t k : members) {
+      const double at_joint = best ? Chi2(*models_[k], shape_, data_[k], best->end) : NAN;
+      const double statistic = std::max(0.0, at_joint - chi2_[k]) / r.consistency.noise_scale2;
+      r.statistic.push_back(statistic);
+      r.p_value.push_back(inverse::ChiSquareSurvival(statistic, free_));
+    }
+    // The verdict per specimen: which reached steady state at the joint law.
+    r.summary.fitted_crack_length.clear();
+    for (const inverse::FitData& d : parts)
+      r.summary.fitted_crack_length.insert(r.summary.fitted_crack_length.end(),
+                                           d.crack_length.begin(), d.crack_length.end());
+    r.summary.steady_state_crack_length = NAN;  // one per specimen
+    if (r.summary.steady_state_reached) {
+      const inverse::ForwardPrediction p =
+          joint.Predict(shape_, inverse::FittedLaw(r.summary), joined.crack_length, joined.kind);
+      std::vector<std::size_t> reached;
+      std::size_t start = 0;
+      for (std::size_t j = 0; j < members.size(); start += counts[j], ++j)
+        for (std::size_t i = start; i < start + counts[j] && i < p.past_steady_state.size(); ++i)
+          if (p.past_steady_state[i]) {
+            reached.push_back(j);
+            break;
+          }
+      reached_ = reached;
+    }
+    return r;
+  }
+  // Members (positions in the last Fit's list) past steady state at its law.
+  const std::vector<std::size_t>& reached() const { return reached_; }
+  int free() const { return free_; }
+
+ private:
+  std::vector<const inverse::ForwardModel*> models_;
+  std::vector<inverse::FitData> data_;
+  laws::LawShape shape_;
+  inverse::FitOptions options_, alone_;
+  int free_ = 0;
+  bool weighted_ = false;
+  std::vector<double> chi2_;  // each specimen alone, at its lowest optimum found
+  std::vector<int> dof_;
+  std::vector<std::array<double, inverse::kParameterCount>> optima_;
+  std::vector<std::size_t> reached_;
+};
+
+std::string Names(const std::vector<std::string>& names) {
+  std::string text;
+  for (const std::string& n : names) text += (text.empty() ? "" : ", ") + n;
+  return text;
+}
 
 }  // namespace
 
@@ -55,7 +207,6 @@ JointFitRun RunJointFit(const std::vector<FitRequest>& requests,
   std::deque<FitRequest> rebuilt;
   std::vector<std::unique_ptr<FitModels>> models;
   std::vector<const inverse::ForwardModel*> model_of;
-  std::vector<std::size_t> counts;
   std::vector<inverse::FitData> parts;
   for (std::size_t k = 0; k < runs.size(); ++k) {
     const std::string why = CannotJoin(requests[k], *runs[k], *runs.front());
@@ -68,69 +219,66 @@ JointFitRun RunJointFit(const std::vector<FitRequest>& requests,
                                                  runs[k]->r_kind));
     models.back()->Build(1.0, 0.0);
     model_of.push_back(&models.back()->model());
-    counts.push_back(runs[k]->data.R.size());
     parts.push_back(runs[k]->data);
   }
-  std::vector<double> offsets;
-  const inverse::FitData joined = inverse::JoinFitData(parts, &offsets);
-  inverse::FitOptions options = requests.front().fit;
-  options.outlier_threshold = 0.0;  // like with like: the same points alone and together
-  inverse::FitOptions alone = options;
-  alone.profile_likelihood = false;
-  alone.progress = false;
-  std::vector<int> dof;
-  int free = 0;
-  for (int i = 0; i < inverse::kParameterCount; ++i) free += !options.fixed[i];
-  // Each specimen's data on its own crack lengths with the joined data's
-  // weighting (uncertainties dropped for all when one specimen lacks them).
-  std::vector<inverse::FitData> alone_data = parts;
-  for (inverse::FitData& d : alone_data)
-    if (!joined.weighted()) d.R_uncertainty.clear();
-  for (std::size_t k = 0; k < runs.size(); ++k) {
-    const inverse::FitSummary s =
-        inverse::FitBridgingLaw(*model_of[k], out.shape, alone_data[k], alone);
-    out.separate_chi2.push_back(OptimumChi2(s));
-    out.separate_points.push_back(s.data_points);
-    dof.push_back(std::max(1, s.data_points - free));
+  JointFitter fitter(model_of, parts, out.shape, requests.front().fit);
+  std::vector<std::size_t> members(runs.size());
+  for (std::size_t k = 0; k < members.size(); ++k) members[k] = k;
+  const JointFitter::Result all = fitter.Fit(members);
+  out.summary = all.summary;
+  out.consistency = all.consistency;
+  out.specimen_statistic = all.statistic;
+  out.specimen_p_value = all.p_value;
+  if (out.summary.steady_state_reached) {
+    std::vector<std::string> reached;
+    for (std::size_t j : fitter.reached()) reached.push_back(names[j]);
+    out.summary.verdict = fmt::format(
+        "steady state reached at the joint law inside the windows of {}: all parameters estimated "
+        "(a specimen's own lower bound on J_B holds at its own J_tip,c)",
+        reached.empty() ? std::string("(none at the optimum)") : Names(reached));
   }
-  const inverse::JointForwardModel joint(model_of, counts, offsets);
-  out.summary = inverse::FitBridgingLaw(joint, out.shape, joined, options);
-  // Each specimen alone also from the joint optimum: a separate fit that
-  // stopped above it would shrink the likelihood ratio (no power).
-  if (std::isfinite(out.summary.chi2))
-    for (std::size_t k = 0; k < runs.size(); ++k) {
-      // The joint's best start's end: every free parameter, J_B included
-      // where the summary reports it as a bound only.
-      inverse::FitOptions from_joint = alone;
-      const inverse::StartResult* best = nullptr;
-      for (const inverse::StartResult& start : out.summary.starts)
-        if (!best || start.cost < best->cost) best = &start;
-      if (!best) break;
-      for (int i = 0; i < inverse::kParameterCount; ++i)
-        if (!options.fixed[i] && std::isfinite(best->end[i])) from_joint.initial[i] = best->end[i];
-      const inverse::FitSummary s =
-          inverse::FitBridgingLaw(*model_of[k], out.shape, alone_data[k], from_joint);
-      out.separate_chi2[k] = std::min(out.separate_chi2[k], OptimumChi2(s));
-    }
-  // The summary's crack lengths on the specimens' own axes, not the joined one.
-  out.summary.fitted_crack_length.clear();
-  for (const inverse::FitData& d : parts)
-    out.summary.fitted_crack_length.insert(out.summary.fitted_crack_length.end(),
-                                           d.crack_length.begin(), d.crack_length.end());
-  out.summary.steady_state_crack_length = NAN;  // one per specimen
-  out.consistency = inverse::TestConsistency(out.summary.chi2, out.separate_chi2, dof, free,
-                                             joined.weighted());
+  // Not one law: the specimen the joint law misses most is set aside and the
+  // rest fitted again, until the rest is consistent or two are left. One
+  // specimen of another law pulls the joint law off the others too, so the
+  // worst is taken one at a time rather than every p below a limit.
+  JointFitter::Result rest = all;
+  while (!rest.consistency.consistent() && members.size() >= 3) {
+    const std::size_t worst =
+        std::max_element(rest.statistic.begin(), rest.statistic.end()) - rest.statistic.begin();
+    out.flagged.push_back(names[members[worst]]);
+    members.erase(members.begin() + static_cast<std::ptrdiff_t>(worst));
+    rest = fitter.Fit(members);
+  }
+  if (!out.flagged.empty()) {
+    out.consistency_without_flagged = rest.consistency;
+    out.summary_without_flagged = rest.summary;
+  }
   out.wall_s = clock.Seconds();
   return out;
 }
 
 std::string JointFitRun::BriefReport() const {
-  std::string names;
-  for (const std::string& s : specimens) names += (names.empty() ? "" : ", ") + s;
   std::string text = fmt::format("joint fit of {} specimens ({}), one {} law, {:.2f} s:\n",
-                                 specimens.size(), names, laws::LawFamilyName(shape.family), wall_s);
+                                 specimens.size(), Names(specimens),
+                                 laws::LawFamilyName(shape.family), wall_s);
   text += summary.BriefReport();
   text += "  consistency: " + consistency.Summary() + "\n";
+  for (std::size_t k = 0; k < specimen_p_value.size(); ++k)
+    text += fmt::format("  {:<16} chi^2 at the joint law - its own optimum's: {:.3g} s^2, p = {:.3g}{}\n",
+                        specimens[k], specimen_statistic[k], specimen_p_value[k],
+                        std::find(flagged.begin(), flagged.end(), specimens[k]) != flagged.end()
+                            ? "  FLAGGED: set aside, the others are one law without it"
+                            : "");
+  if (summary_without_flagged) {
+    std::vector<std::string> rest;
+    for (const std::string& s : specimens)
+      if (std::find(flagged.begin(), flagged.end(), s) == flagged.end()) rest.push_back(s);
+    text += fmt::format("  without {}: the joint fit of {}:\n", Names(flagged), Names(rest));
+    text += summary_without_flagged->BriefReport();
+    text += "  consistency without them: " + consistency_without_flagged.Summary() + "\n";
+  }
+  text += "  note: the joint intervals are statistical (with the correlated-residual widening); "
+          "the model's discretisation error is estimated in each specimen's own fit, not here\n";
   return text;
 }
 

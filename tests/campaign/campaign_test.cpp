@@ -154,9 +154,10 @@ TEST(Campaign, IdenticalSpecimensGiveTheSingleFitAndAnUnreadableOneFailsAlone) {
   options.jobs = 2;
   int lines = 0;
   options.progress = [&lines](const std::string&) { ++lines; };
+  options.joint = true;
   const CampaignResult r = RunCampaign(manifest, options);
   ASSERT_EQ(r.specimens.size(), 3u);
-  EXPECT_EQ(lines, 6);  // started + finished, per specimen
+  EXPECT_EQ(lines, 7);  // started + finished, per specimen, and the joint fit
   EXPECT_EQ(r.Failed(), 1);
   EXPECT_FALSE(r.specimens[2].ran());
   EXPECT_NE(r.specimens[2].error.find("broken.csv"), std::string::npos) << r.specimens[2].error;
@@ -173,7 +174,23 @@ TEST(Campaign, IdenticalSpecimensGiveTheSingleFitAndAnUnreadableOneFailsAlone) {
   EXPECT_DOUBLE_EQ(jtip.mean, single.summary.J_tip_c.value);
   EXPECT_DOUBLE_EQ(jtip.sd, 0.0);
 
+  // --joint on two copies of one record: one law describes them (the
+  // likelihood ratio is about 0), and the joint optimum is the single fit's.
+  ASSERT_TRUE(r.joint.has_value()) << r.joint_error;
+  EXPECT_EQ(r.joint->specimens, (std::vector<std::string>{"A", "B"}));
+  EXPECT_TRUE(r.joint->consistency.consistent()) << r.joint->consistency.Summary();
+  EXPECT_GT(r.joint->consistency.p_value, 0.5);
+  EXPECT_NEAR(r.joint->summary.J_tip_c.value, single.summary.J_tip_c.value,
+              0.01 * single.summary.J_tip_c.value);
+  EXPECT_NE(r.BriefReport().find("joint fit of 2 specimens (A, B)"), std::string::npos);
+
   WriteCampaignOutputs(r, dir.path / "out");
+  std::ifstream joint_csv(dir.path / "out" / "joint.csv");
+  std::string joint_header, joint_first;
+  std::getline(joint_csv, joint_header);
+  std::getline(joint_csv, joint_first);
+  EXPECT_NE(joint_header.find("p_value"), std::string::npos) << joint_header;
+  EXPECT_EQ(joint_first.rfind("sigma_c,MPa,", 0), 0u) << joint_first;
   EXPECT_TRUE(fs::exists(dir.path / "out" / "specimens" / "A.h5"));
   EXPECT_TRUE(fs::exists(dir.path / "out" / "specimens" / "B.h5"));
   EXPECT_FALSE(fs::exists(dir.path / "out" / "specimens" / "broken.h5"));

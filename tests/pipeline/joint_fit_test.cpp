@@ -80,7 +80,7 @@ const inverse::LawParameters kTruth{1.0e6, 500.0, 2210.0};
 // at most 2 are allowed. The joint J_tip,c interval is narrower than every
 // specimen's alone, sigma_c's than their mean.
 TEST(JointFit, OneLawIsConsistentAndCoversTheTruth) {
-  int covered_sigma = 0, covered_tip = 0, consistent = 0;
+  int covered_sigma = 0, covered_tip = 0, consistent = 0, flagged = 0;
   for (unsigned campaign = 0; campaign < 8; ++campaign) {
     const Campaign c = Make({kTruth, kTruth, kTruth, kTruth}, 100 + 100 * campaign);
     const JointFitRun joint = c.Joint();
@@ -97,6 +97,7 @@ TEST(JointFit, OneLawIsConsistentAndCoversTheTruth) {
     covered_sigma += s.sigma_c.ci95_low <= kTruth.sigma_c && kTruth.sigma_c <= s.sigma_c.ci95_high;
     covered_tip += s.J_tip_c.ci95_low <= kTruth.J_tip_c && kTruth.J_tip_c <= s.J_tip_c.ci95_high;
     consistent += joint.consistency.consistent();
+    flagged += static_cast<int>(joint.flagged.size());
     double sigma_widths = 0.0;
     int sigma_identified = 0;
     for (const FitRun& r : c.runs) {
@@ -114,6 +115,7 @@ TEST(JointFit, OneLawIsConsistentAndCoversTheTruth) {
   EXPECT_GE(covered_sigma, 6);
   EXPECT_GE(covered_tip, 6);
   EXPECT_GE(consistent, 6);
+  EXPECT_LE(flagged, 2);  // 32 specimens at alpha / 4 = 1.25% each: about 0.4 expected
 }
 
 TEST(JointFit, AnotherLawIsNotConsistent) {
@@ -125,6 +127,8 @@ TEST(JointFit, AnotherLawIsNotConsistent) {
   EXPECT_FALSE(joint.consistency.consistent()) << joint.consistency.Summary();
   EXPECT_LT(joint.consistency.p_value, 1e-4);
   EXPECT_NE(joint.consistency.Summary().find("NOT described by one law"), std::string::npos);
+  // The specimen of the other law is the one flagged.
+  EXPECT_EQ(joint.flagged, (std::vector<std::string>{"CT-3"}));
 }
 
 TEST(JointFit, SpecimensThatCannotJoinAreNamed) {

@@ -17,6 +17,7 @@
 #include "bridgefit/inverse/fit.hpp"
 #include "bridgefit/io/campaign_manifest.hpp"
 #include "bridgefit/pipeline/fit.hpp"
+#include "bridgefit/pipeline/joint_fit.hpp"
 
 namespace bridgefit::campaign {
 
@@ -25,6 +26,9 @@ struct CampaignOptions {
   // Called (from any worker, one call at a time) with one line per specimen
   // started and finished.
   std::function<void(const std::string& line)> progress;
+  // After the separate fits: one law for every specimen that converged
+  // (pipeline::RunJointFit) with the likelihood-ratio consistency test.
+  bool joint = false;
   bool IsValid(std::string* why) const;
 };
 
@@ -75,6 +79,10 @@ struct CampaignResult {
   std::vector<ParameterStatistics> statistics;  // sigma_c, J_B, delta_c, J_tip_c
   int jobs = 1;
   double wall_s = 0.0;
+  // --joint: the joint fit, or why it could not run (a specimen that cannot
+  // join, fewer than two converged).
+  std::optional<pipeline::JointFitRun> joint;
+  std::string joint_error;
   int Failed() const;  // specimens that did not run or did not converge
   std::string BriefReport() const;
 };
@@ -88,7 +96,8 @@ std::vector<pipeline::FitRequest> BuildRequests(const io::CampaignManifest& mani
 CampaignResult RunCampaign(const io::CampaignManifest& manifest, const CampaignOptions& options);
 
 // DIR/summary.csv (one row per specimen), DIR/statistics.csv (one row per
-// parameter) and DIR/specimens/<name>.h5 (each a fit file, as `bridgefit fit
+// parameter), with --joint DIR/joint.csv (one row per parameter and the
+// consistency test's figures) and DIR/specimens/<name>.h5 (each a fit file, as `bridgefit fit
 // --out` writes). Every file is written atomically; DIR is created.
 void WriteCampaignOutputs(const CampaignResult& result, const std::filesystem::path& dir);
 

@@ -4,6 +4,7 @@
 // own model (its scene, its element size), and the likelihood-ratio test of
 // whether one law describes them all.
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,9 +19,16 @@ struct JointFitRun {
   std::vector<std::string> specimens;      // those joined, in order
   inverse::FitSummary summary;             // the shared law's fit
   laws::LawShape shape;
-  std::vector<double> separate_chi2;       // each specimen alone, same options
-  std::vector<int> separate_points;
   inverse::ConsistencyTest consistency;
+  // Per specimen: its chi^2 at the joint law over its own optimum's, in
+  // units of s^2, and that difference's chi^2 tail on k degrees of freedom.
+  std::vector<double> specimen_statistic, specimen_p_value;
+  // Not one law: the specimens set aside one at a time (the one the joint
+  // law misses most) until the rest is consistent or two are left, and the
+  // joint fit of the rest.
+  std::vector<std::string> flagged;
+  std::optional<inverse::FitSummary> summary_without_flagged;
+  inverse::ConsistencyTest consistency_without_flagged;
   double wall_s = 0.0;
   std::string BriefReport() const;
 };
