@@ -174,6 +174,8 @@ double LagOneAutocorrelation(const std::vector<double>& r) {
   return den > 0.0 ? num / den : NAN;
 }
 
+constexpr double kOneSided95 = 1.645;  // standard normal quantile
+
 // Stage 3: the optimum's curves and residuals into the summary. Returns the
 // noise scale s^2 of the intervals and tests.
 double RecordOptimum(const FitContext& c, const LocalResult& best, const ForwardPrediction& prediction,
@@ -231,8 +233,8 @@ double RecordOptimum(const FitContext& c, const LocalResult& best, const Forward
 
 // Stage 4: covariance from the Jacobian, C = s^2 (J^T J)^-1: every
 // parameter's value and a first interval.
-void JacobianIntervals(const FitContext& c, const std::vector<double>& full, double scale2,
-                       FitSummary& s) {
+Eigen::MatrixXd JacobianIntervals(const FitContext& c, const std::vector<double>& full,
+                                  double scale2, FitSummary& s) {
   const FitOptions& options = c.options;
   const Objective& objective = c.objective;
   const std::vector<int>& free = c.free;
@@ -259,6 +261,7 @@ void JacobianIntervals(const FitContext& c, const std::vector<double>& full, dou
     e.identified = std::isfinite(sd);
     e.note = std::isfinite(sd) ? "CI from the Jacobian covariance" : "singular Jacobian";
   }
+  return covariance;
 }
 
 // Stage 5: profile likelihood per free parameter, the others re-optimized:
@@ -414,7 +417,8 @@ bool RecordNoBridging(const FitContext& c, const LocalResult& best, const std::v
 // the data window, with the J_B profile bounded above; delta_c from J_B and
 // sigma_c, and the PHYSICS 7 bounds when it is not reached.
 void SteadyStateAndBounds(const FitContext& c, const LocalResult& best, const std::vector<double>& full,
-                          const ForwardPrediction& prediction, double threshold, FitSummary& s) {
+                          const ForwardPrediction& prediction, double threshold,
+                          const Eigen::MatrixXd& covariance, FitSummary& s) {
   const laws::LawShape& shape = c.shape;
   const FitData& data = c.data;
   const FitOptions& options = c.options;
@@ -478,19 +482,47 @@ void SteadyStateAndBounds(const FitContext& c, const LocalResult& best, const st
 
   if (!s.steady_state_reached && !options.fixed[kJB]) {
     // PHYSICS 7: bounds from the last valid point, never point values.
-    // The fitted (smoothed) R at a_max; with as-data the model's own R there.
-    const double R_max = physical ? prediction.R_physical[last] : prediction.R[last];
     const double J_tip = full[kJTipC];
+    // R_max as the elastic-zone R (BridgingRise: an energy R also holds the
+    // back-face effects and can exceed J_tip,c + J_B).
+    const double R_max = J_tip + BridgingRise(c.objective, full, prediction, last);
     s.bounds = laws::BoundsFromTruncatedCurve(R_max, J_tip, prediction.delta_root[last], a_max);
+    // The fitted R_max and J_tip,c carry the noise: a bound read off them
+    // can lie above the truth (issue 19's W = 50 mm CT: 824 and 1118 against
+    // J_B = 500 J/m^2). Each bound is lowered to the lesser of its one-sided
+    // 95% lower confidence limit (1.645 standard uncertainties, delta
+    // method) and its least value over the laws the profiles accept (the
+    // linearisation misses a curved region: 585 against 500 on its own).
+    BoundUncertainty u = TruncationBoundUncertainty(c.objective, full, covariance, last);
+    ProfileBoundMinimum(c.objective, s.profiles, best.chi2, threshold, last, &u);
+    const double J_B_linear = std::isfinite(u.J_B_sd) ? s.bounds.J_B_lower - kOneSided95 * u.J_B_sd : NAN;
+    const double delta_c_linear =
+        std::isfinite(u.delta_c_sd) ? s.bounds.delta_c_lower - kOneSided95 * u.delta_c_sd : NAN;
+    std::string lowered = " (not lowered by its uncertainty: no finite covariance or profile)";
+    if (std::isfinite(J_B_linear) || std::isfinite(u.J_B_profile_min)) {
+      const double J_B_low = std::fmin(J_B_linear, u.J_B_profile_min);
+      lowered = fmt::format(", lowered to {:.4g} for its uncertainty (one-sided 95%: the lesser of "
+                            "1.645 standard uncertainties below and the profiles' least)",
+                            std::max(0.0, J_B_low));
+      s.bounds.J_B_lower = std::max(0.0, std::fmin(s.bounds.J_B_lower, J_B_low));
+    }
+    if (std::isfinite(delta_c_linear) || std::isfinite(u.delta_c_profile_min))
+      s.bounds.delta_c_lower = std::max(
+          0.0, std::fmin(s.bounds.delta_c_lower, std::fmin(delta_c_linear, u.delta_c_profile_min)));
     const std::string evidence = fmt::format(
-        "steady state not reached by a = {:.4g} mm: J_B >= R_max - J_tip,c = {:.4g} - {:.4g}",
-        a_max * 1e3, R_max, J_tip);
+        "steady state not reached by a = {:.4g} mm: J_B >= R_max - J_tip,c = {:.4g} - {:.4g}{}",
+        a_max * 1e3, R_max, J_tip, lowered);
     s.J_B = {.lower_bound = s.bounds.J_B_lower, .identified = false,
              .decided_by = "PHYSICS 7 bound from the fitted R at the last point", .note = evidence};
     s.delta_c = {.lower_bound = s.bounds.delta_c_lower, .identified = false,
                  .decided_by = "PHYSICS 7 bound: fitted notch-root COD at the last point",
-                 .note = fmt::format("delta_c >= delta_root({:.4g} mm) = {:.4g} mm", a_max * 1e3,
-                                     s.bounds.delta_c_lower * 1e3)};
+                 .note = fmt::format("delta_c >= delta_root({:.4g} mm) = {:.4g} mm at the fit{}",
+                                     a_max * 1e3, prediction.delta_root[last] * 1e3,
+                                     s.bounds.delta_c_lower < prediction.delta_root[last]
+                                         ? fmt::format(", lowered to {:.4g} mm for its uncertainty "
+                                                       "(one-sided 95%)",
+                                                       s.bounds.delta_c_lower * 1e3)
+                                         : "")};
     s.verdict = fmt::format(
         "steady state not reached within the data (a <= {:.4g} mm): sigma_c estimated from the "
         "rising R curve; J_B and delta_c are lower bounds (PHYSICS 7)", a_max * 1e3);
@@ -545,11 +577,11 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
 
   if (std::optional<FitSummary> refit = RefitWithoutOutliers(c, residuals, clock)) return *refit;
   const double scale2 = RecordOptimum(c, best, prediction, s);
-  JacobianIntervals(c, full, scale2, s);
+  const Eigen::MatrixXd covariance = JacobianIntervals(c, full, scale2, s);
   const double threshold = 3.84 * scale2;
   ProfileIntervals(c, best, full, threshold, s);
   if (RecordNoBridging(c, best, full, prediction, scale2, s)) return finish();
-  SteadyStateAndBounds(c, best, full, prediction, threshold, s);
+  SteadyStateAndBounds(c, best, full, prediction, threshold, covariance, s);
   return finish();
 }
 

@@ -42,6 +42,7 @@ class Objective {
   }
 
   const std::vector<int>& free() const { return free_; }
+  const laws::LawShape& shape() const { return shape_; }
   int evaluations() const { return evaluations_; }
   int failures() const { return failures_; }
   // Counts of evaluations made on copies of this objective (parallel profiles).
@@ -141,6 +142,35 @@ bool PhysicalJacobian(const Objective& objective, const std::vector<double>& ful
                       Eigen::MatrixXd* jacobian);
 // Sets full[index] to the best of 9 evenly spaced box points.
 void ScanBox(const Objective& objective, int index, std::vector<double>& full);
+// PHYSICS 7's R_max - J_tip,c at the data point `last` for parameters p:
+// the model's elastic-zone rise W(delta_root) where the data's R is an
+// energy R (R_energy also holds the specimen's back-face effects and can
+// exceed J_tip,c + J_B: the reduced model's W = 50 mm CT, sigma_c 1 MPa,
+// J_B 500 J/m^2, has R_energy - J_tip,c = 856 J/m^2 at a = 0.91 W), else the
+// model's R (elastic-zone, or the physical R behind an as-data point) - J_tip,c.
+double BridgingRise(const Objective& objective, const std::vector<double>& p,
+                    const ForwardPrediction& prediction, std::size_t last);
+// Standard uncertainties of the PHYSICS 7 bounds' quantities at the
+// optimum `full`: R(a_last) - J_tip,c and delta_root(a_last) at the data
+// point `last` (the model's physical R there when it has one), by the delta
+// method from the free parameters' covariance (central differences, 2 x free
+// model runs). NaN when the covariance is not finite or a run fails.
+struct BoundUncertainty {
+  double J_B_sd = NAN;      // [J/m^2]
+  double delta_c_sd = NAN;  // [m]
+  // The least of each quantity over the profiles' points inside the 95%
+  // region (statistically acceptable laws; NaN without such points).
+  double J_B_profile_min = NAN;      // [J/m^2]
+  double delta_c_profile_min = NAN;  // [m]
+};
+BoundUncertainty TruncationBoundUncertainty(const Objective& objective,
+                                            const std::vector<double>& full,
+                                            const Eigen::MatrixXd& covariance, std::size_t last);
+// Fills the *_profile_min fields from the profiles' points with chi^2 within
+// `threshold` of `best_chi2` (one model run each).
+void ProfileBoundMinimum(const Objective& objective, const std::vector<Profile>& profiles,
+                         double best_chi2, double threshold, std::size_t last,
+                         BoundUncertainty* out);
 // A first start read off the data (box coordinates of the free parameters).
 std::vector<double> DataInformedStart(const Objective& objective);
 

@@ -164,7 +164,10 @@ TEST(Fit, TruncatedCurveGivesLowerBounds) {
   EXPECT_LT(s.J_B.lower_bound, truth.J_B);
   EXPECT_GT(s.delta_c.lower_bound, 0.0);
   EXPECT_LT(s.delta_c.lower_bound, 2 * truth.J_B / truth.sigma_c);
-  EXPECT_NEAR(s.J_B.lower_bound, s.bounds.R_max - s.J_tip_c.value, 1e-9);
+  // R_max - J_tip,c from the fitted curve, lowered for its own uncertainty
+  // (one-sided 95%; the point value can lie above the truth on noisy data).
+  EXPECT_LE(s.J_B.lower_bound, s.bounds.R_max - s.J_tip_c.value + 1e-9);
+  EXPECT_NE(s.J_B.note.find("lowered to"), std::string::npos) << s.J_B.note;
 }
 
 TEST(Fit, FlatCurveReportsNoBridging) {
