@@ -1,26 +1,22 @@
 // `bridgefit law`: evaluates a bridging law and its R curve (PHYSICS 2-3).
+// Flags (or a scene) -> pipeline::LawRequest -> pipeline::RunLaw -> printing.
 //   bridgefit law --law linear --sigma-c "0.45 MPa" --jb "500 J/m^2" --jtip "2210 J/m^2"
 //   bridgefit law --law cubic --sigma-c 1MPa --delta-c 2mm --jtip 2210J/m^2 --json
 
 #include <cmath>
-#include <fstream>
 #include <iostream>
-#include <sstream>
 
-#include <fmt/format.h>
-
-#include "bridgefit/core/atomic_file.hpp"
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/core/units.hpp"
 #include "bridgefit/io/csv.hpp"
 #include "bridgefit/io/scene_file.hpp"
 #include "bridgefit/laws/law.hpp"
-#include "bridgefit/laws/rcurve_theory.hpp"
+#include "bridgefit/pipeline/law.hpp"
 #include "command.hpp"
+#include "json_output.hpp"
 
 namespace bridgefit::cli {
 namespace {
-
 
 class LawCommand final : public Command {
  public:
@@ -78,9 +74,19 @@ class LawCommand final : public Command {
       throw Error(ErrorKind::kUsage, "J_tip,c must be given and positive",
                   {.field = "--jtip", .value = J_tip_c_,
                    .expected = "a value > 0 such as '2210 J/m^2' (or --scene)"});
-    const laws::LawFamily family = shape.family;
-    const laws::BridgingLaw law{&shape, scales.sigma_c, scales.delta_c};
-    return Report(common, family, shape, scales, J_tip_c, law);
+    pipeline::LawRequest request;
+    request.shape = shape;
+    request.scales = scales;
+    request.J_tip_c = J_tip_c;
+    request.points = points_;
+    const pipeline::LawRun run = pipeline::RunLaw(request);
+    if (!csv_.empty()) pipeline::WriteLawCsv(csv_, run);
+    if (common.json) {
+      PrintJson(LawRunJson(run));
+    } else {
+      std::cout << run.BriefReport();
+    }
+    return 0;
   }
 
  private:
@@ -136,57 +142,6 @@ class LawCommand final : public Command {
     } catch (const Error& e) {  // the scales come from options: a usage error
       throw Error(ErrorKind::kUsage, e.message(), e.context());
     }
-  }
-
-  int Report(const CommonOptions& common, laws::LawFamily family, const laws::LawShape& shape,
-             const laws::LawScales& scales, double J_tip_c, const laws::BridgingLaw& law) const {
-
-    struct Row { double delta, sigma, R, J_ff; };
-    std::vector<Row> rows;
-    for (int i = 0; i < points_; ++i) {
-      const double delta = scales.delta_c * i / (points_ - 1);
-      rows.push_back({delta, law.Traction(delta), laws::ElasticZoneR(law, delta, J_tip_c),
-                      laws::FarFieldJ(law, delta, J_tip_c)});
-    }
-
-    if (!csv_.empty()) {
-      std::string text = "delta [m], sigma [Pa], R [J/m^2], J_ff [J/m^2]\n";
-      for (const Row& r : rows)
-        text += fmt::format("{:.10g}, {:.10g}, {:.10g}, {:.10g}\n", r.delta, r.sigma, r.R, r.J_ff);
-      WriteTextFileAtomic(csv_, text);
-    }
-
-    if (common.json) {
-      nlohmann::json out;
-      out["law"] = std::string(laws::LawFamilyName(family));
-      out["sigma_c_Pa"] = scales.sigma_c;
-      out["delta_c_m"] = scales.delta_c;
-      out["J_B_J_per_m2"] = scales.J_B;
-      out["J_tip_c_J_per_m2"] = J_tip_c;
-      out["shape_area"] = shape.Area();
-      nlohmann::json points = nlohmann::json::array();
-      for (const Row& r : rows)
-        points.push_back({{"delta_m", r.delta}, {"sigma_Pa", r.sigma}, {"R_J_per_m2", r.R},
-                          {"J_ff_J_per_m2", r.J_ff}});
-      out["points"] = std::move(points);
-      PrintJson(out);
-    } else {
-      std::cout << fmt::format(
-          "law {}: sigma_c = {:.6g} MPa, delta_c = {:.6g} mm, J_B = {:.6g} J/m^2, "
-          "J_tip,c = {:.6g} J/m^2, steady-state R = {:.6g} J/m^2\n",
-          laws::LawFamilyName(family), scales.sigma_c / 1e6, scales.delta_c * 1e3, scales.J_B,
-          J_tip_c, J_tip_c + scales.J_B);
-      std::cout << fmt::format("{:>14} {:>14} {:>14} {:>14}\n", "delta [mm]", "sigma [MPa]",
-                               "R [J/m^2]", "J_ff [J/m^2]");
-      const int stride = std::max(1, points_ / 20);
-      for (int i = 0; i < points_; ++i) {
-        if (i % stride != 0 && i != points_ - 1) continue;
-        const Row& r = rows[i];
-        std::cout << fmt::format("{:14.6g} {:14.6g} {:14.6g} {:14.6g}\n", r.delta * 1e3,
-                                 r.sigma / 1e6, r.R, r.J_ff);
-      }
-    }
-    return 0;
   }
 
   std::string scene_;

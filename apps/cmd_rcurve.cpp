@@ -11,18 +11,14 @@
 #include <iostream>
 #include <string>
 
-#include <fmt/format.h>
-
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/core/units.hpp"
 #include "bridgefit/experiment/rcurve.hpp"
-#include "bridgefit/io/csv.hpp"
-#include "bridgefit/io/hdf5.hpp"
 #include "bridgefit/io/scene_file.hpp"
+#include "bridgefit/pipeline/rcurve.hpp"
 #include "command.hpp"
+#include "json_output.hpp"
 #include "rcurve_flags.hpp"
-#include "bridgefit/pipeline/dic_file.hpp"
-#include "bridgefit/pipeline/rcurve_file.hpp"
 
 namespace bridgefit::cli {
 namespace {
@@ -116,104 +112,29 @@ class RcurveCommand final : public Command {
                   "the load-block sizes only act with the large-displacement correction",
                   {.field = "--block-offset/--block-half-length",
                    .expected = "--large-displacement"});
-    std::string why;
-    if (!options.IsValid(&why)) throw Error(ErrorKind::kUsage, why);
-
-    ExperimentRecord record = ReadRecord();
-    std::vector<std::string> frame_notes;
-    if (!crack_from_.empty()) {
-      // `bridgefit dic --csv`: one row per frame, its image and crack length.
-      const pipeline::DicCrackLengths frames = pipeline::ReadDicCrackLengths(crack_from_);
-      record = experiment::CrackLengthFromFrames(record, frames.image, frames.crack_length,
-                                                 crack_from_, &frame_notes);
-    }
-    experiment::RCurveResult result = experiment::ComputeRCurve(record, options);
-    result.notes.insert(result.notes.begin(), frame_notes.begin(), frame_notes.end());
-    for (const std::string& warning : result.warnings) std::cerr << "warning: " << warning << "\n";
-
-    if (!out_.empty()) {
-      io::H5Writer file(out_);
-      pipeline::WriteReductionH5(file, record, result, options, scene_);
-      file.Commit();
-    }
-    if (!csv_.empty()) pipeline::WriteRCurveCsv(csv_, result, options);
-
+    pipeline::RCurveRequest request;
+    request.record_path = record_;
+    request.columns = columns_;
+    request.units = units_;
+    request.crack_length_from = crack_from_;
+    request.options = options;
+    request.scene_path = scene_;
+    const pipeline::RCurveRun run = pipeline::RunRCurve(request);
+    for (const std::string& warning : run.result.warnings)
+      std::cerr << "warning: " << warning << "\n";
+    pipeline::WriteRCurveOutputs(request, run, out_, csv_);
     if (common.json) {
-      nlohmann::json out;
-      out["method"] = result.curve.method;
-      out["r_kind"] = result.curve.r_kind;
-      out["source"] = record.source;
-      out["specimen"] = options.specimen.type == SpecimenType::kCT ? "ct" : "dcb";
-      nlohmann::json points = nlohmann::json::array();
-      for (std::size_t i = 0; i < result.curve.size(); ++i)
-        points.push_back({{"crack_length_m", result.curve.crack_length[i]},
-                          {"crack_growth_m", result.crack_growth[i]},
-                          {"R_J_per_m2", result.curve.R[i]},
-                          {"R_uncertainty_J_per_m2", NumberOrNull(result.curve.R_uncertainty[i])},
-                          {"load_N", result.load[i]},
-                          {"record_row", result.rows[i]},
-                          {"displacement_m", result.displacement[i]}});
-      out["points"] = std::move(points);
-      out["initial_crack_length_m"] = NumberOrNull(result.curve.initial_crack_length);
-      out["initiation_R_J_per_m2"] = NumberOrNull(result.curve.initiation_R);
-      const experiment::Initiation& init = result.initiation;
-      out["initiation"] = {{"initial_compliance_m_per_N", NumberOrNull(init.initial_compliance)},
-                           {"nonlinearity_row", init.nonlinearity_row},
-                           {"offset_row", init.offset_row},
-                           {"max_load_row", init.max_load_row},
-                           {"visual_row", init.visual_row},
-                           {"R_nonlinearity_J_per_m2", NumberOrNull(init.R_nonlinearity)},
-                           {"R_offset_J_per_m2", NumberOrNull(init.R_offset)}};
-      out["points_used"] = result.points_used;
-      nlohmann::json dropped = nlohmann::json::array();
-      int total = 0;
-      for (const auto& [reason, count] : DroppedList(record, result)) {
-        dropped.push_back({{"reason", reason}, {"count", count}});
-        total += count;
-      }
-      out["points_dropped"] = std::move(dropped);
-      out["points_dropped_total"] = total;
-      out["rows_read"] = record.rows_read > 0 ? record.rows_read : static_cast<int>(record.size());
-      out["noise"] = {{"load_N", result.load_noise},
-                      {"displacement_m", result.displacement_noise},
-                      {"crack_length_m", result.crack_length_noise},
-                      {"coverage_factor", options.coverage_factor}};
-      nlohmann::json figures = nlohmann::json::object();
-      for (const auto& [key, value] : result.figures) figures[key] = NumberOrNull(value);
-      out["figures"] = std::move(figures);
-      out["notes"] = result.notes;
-      out["warnings"] = result.warnings;
-      out["wall_s"] = result.wall_s;
+      nlohmann::json out = RCurveRunJson(run);
       if (!out_.empty()) out["out"] = out_;
       if (!csv_.empty()) out["csv"] = csv_;
       PrintJson(out);
     } else {
-      std::cout << result.BriefReport() << "\n";
-      for (const auto& [reason, count] : DroppedList(record, result))
-        if (reason.find("on import") != std::string::npos)
-          std::cout << fmt::format("  dropped {:5d}: {}\n", count, reason);
-      std::cout << fmt::format("{:>12} {:>12} {:>14} {:>14}\n", "a [mm]", "da [mm]", "R [J/m^2]",
-                               "+- [J/m^2]");
-      const std::size_t stride = std::max<std::size_t>(1, result.curve.size() / 25);
-      for (std::size_t i = 0; i < result.curve.size(); ++i) {
-        if (i % stride != 0 && i + 1 != result.curve.size()) continue;
-        std::cout << fmt::format("{:12.4f} {:12.4f} {:14.5g} {:14.3g}\n",
-                                 result.curve.crack_length[i] * 1e3, result.crack_growth[i] * 1e3,
-                                 result.curve.R[i], result.curve.R_uncertainty[i]);
-      }
+      std::cout << run.BriefReport();
     }
     return 0;
   }
 
  private:
-  // Import cleaning (io) followed by the reduction's own reasons.
-  static std::vector<std::pair<std::string, int>> DroppedList(
-      const ExperimentRecord& record, const experiment::RCurveResult& result) {
-    return pipeline::DroppedRowList(record, result);
-  }
-
-  ExperimentRecord ReadRecord() const { return pipeline::ReadRecordFile(record_, columns_, units_); }
-
   void ApplySpecimenOptions(experiment::RCurveOptions& o) const {
     if (!type_.empty()) {
       if (type_ == "ct" || type_ == "CT") o.specimen.type = SpecimenType::kCT;

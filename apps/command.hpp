@@ -52,7 +52,7 @@ void PrintJson(const nlohmann::json& object);
 nlohmann::json NumberOrNull(double value);
 
 // One fitted parameter as JSON (SI): value, total and statistical 95%
-// intervals, model bias, bound, interval status (apps/cmd_fit.cpp; `fit` and
+// intervals, model bias, bound, interval status (apps/fit_json.cpp; `fit` and
 // `campaign` print the same object).
 nlohmann::json EstimateJson(const inverse::ParameterEstimate& e);
 

@@ -2,10 +2,7 @@
 // The MPM branch of `bridgefit simulate` (cmd_simulate.cpp calls these).
 
 #include <CLI/CLI.hpp>
-#include <nlohmann/json.hpp>
 #include <string>
-
-#include "bridgefit/core/records.hpp"
 
 #include "bridgefit/scene/scene.hpp"
 #include "command.hpp"
@@ -32,13 +29,5 @@ void RegisterMpmOptions(CLI::App& sub, MpmCliOptions& options);
 int RunMpmSimulation(const Scene& scene, const MpmCliOptions& options,
                      const std::string& out_h5, const std::string& csv,
                      const CommonOptions& common);
-
-// Shared with the reduced branch (cmd_simulate.cpp): the points as CSV,
-// JSON, HDF5 (/simulation) and a table on stdout.
-std::string PointsCsv(const SimulationResult& result);
-nlohmann::json ResultJson(const SimulationResult& result);
-void WriteSimulationH5(const std::string& path, const SimulationResult& result,
-                       const Scene& scene);
-void PrintPointsTable(const SimulationResult& result);
 
 }  // namespace bridgefit::cli

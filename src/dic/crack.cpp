@@ -224,20 +224,10 @@ void SetPosition(const CrackLine& line, TipEstimate* tip) {
   line.FromLocal(tip->s_px, 0.0, &tip->x_px, &tip->y_px);
 }
 
-}  // namespace
-
-CrackTipResult LocateCrackTip(const DisplacementField& field, const CrackTipOptions& o,
-                              TipMethod preferred) {
-  std::string why;
-  if (!o.IsValid(&why)) throw Error(ErrorKind::kUsage, "invalid crack-tip options: " + why);
-  CrackTipResult res;
-  const std::vector<LocalPoint> pts = ValidPoints(field, o.line);
-  res.cod = BuildCodProfile(pts, o);
-  const CodProfile& cod = res.cod;
+// Robust noise of the opening (MAD of consecutive differences, sigma =
+// 1.4826 MAD / sqrt 2) and the threshold an opened station must pass.
+void OpeningNoiseAndThreshold(const CodProfile& cod, const CrackTipOptions& o, CrackTipResult& res) {
   const size_t ns = cod.s_px.size();
-  const double ds = o.station_spacing_px;
-
-  // Robust noise of the opening: MAD of consecutive differences.
   std::vector<double> diffs;
   for (size_t k = 1; k < ns; ++k)
     if (cod.valid[k] && cod.valid[k - 1]) diffs.push_back(cod.opening_px[k] - cod.opening_px[k - 1]);
@@ -248,9 +238,14 @@ CrackTipResult LocateCrackTip(const DisplacementField& field, const CrackTipOpti
     res.noise_px = 1.4826 * Median(absd) / std::sqrt(2.0);
   }
   res.threshold_px = std::max(o.threshold_floor_px, o.noise_factor * res.noise_px);
-  const double thr = res.threshold_px;
+}
 
-  // Jump: the first opened run from the notch side, allowing one-station gaps.
+// The first opened run from the notch side, allowing one-station gaps:
+// its last station (-1 when none). Sets last_station_px and
+// opening_detected (an opening spans at least two stations).
+int FirstOpenedRun(const CodProfile& cod, CrackTipResult& res) {
+  const size_t ns = cod.s_px.size();
+  const double thr = res.threshold_px;
   int first = -1, last = -1, gap = 0;
   for (size_t k = 0; k < ns; ++k) {
     if (!cod.valid[k]) {
@@ -272,126 +267,137 @@ CrackTipResult LocateCrackTip(const DisplacementField& field, const CrackTipOpti
   for (int k = std::max(first, 0); first >= 0 && k <= last; ++k)
     if (cod.valid[k] && cod.opening_px[k] >= thr) ++above;
   res.opening_detected = above >= 2;
-  if (!res.opening_detected) return res;
+  return last;
+}
 
-  {
-    TipEstimate& t = res.jump;
-    t.s_px = cod.s_px[last];
-    size_t next = last + 1;
-    while (next < ns && !cod.valid[next]) ++next;
-    if (next < ns) {
-      const double o1 = cod.opening_px[last], o2 = cod.opening_px[next];
-      const double frac = o1 > o2 ? std::clamp((o1 - thr) / (o1 - o2), 0.0, 1.0) : 0.0;
-      t.s_px = cod.s_px[last] + frac * (cod.s_px[next] - cod.s_px[last]);
-      const double slope = std::abs(o1 - o2) / (cod.s_px[next] - cod.s_px[last]);
-      t.uncertainty_px = std::hypot(ds / std::sqrt(12.0), slope > 0 ? res.noise_px / slope : ds);
-    } else {
-      t.uncertainty_px = ds;
-      res.tip_at_edge = true;  // still open at the last station with data
-    }
-    t.found = true;
-    SetPosition(o.line, &t);
+// Jump tip: where the opening falls through the threshold after the run's
+// last station (linear between stations), +- the station spacing and noise.
+void JumpTip(const CodProfile& cod, int last, const CrackTipOptions& o, CrackTipResult& res) {
+  const size_t ns = cod.s_px.size();
+  const double ds = o.station_spacing_px;
+  const double thr = res.threshold_px;
+  TipEstimate& t = res.jump;
+  t.s_px = cod.s_px[last];
+  size_t next = last + 1;
+  while (next < ns && !cod.valid[next]) ++next;
+  if (next < ns) {
+    const double o1 = cod.opening_px[last], o2 = cod.opening_px[next];
+    const double frac = o1 > o2 ? std::clamp((o1 - thr) / (o1 - o2), 0.0, 1.0) : 0.0;
+    t.s_px = cod.s_px[last] + frac * (cod.s_px[next] - cod.s_px[last]);
+    const double slope = std::abs(o1 - o2) / (cod.s_px[next] - cod.s_px[last]);
+    t.uncertainty_px = std::hypot(ds / std::sqrt(12.0), slope > 0 ? res.noise_px / slope : ds);
+  } else {
+    t.uncertainty_px = ds;
+    res.tip_at_edge = true;  // still open at the last station with data
   }
+  t.found = true;
+  SetPosition(o.line, &t);
+}
 
-  // sqrt COD: COD^2 = A^2 (s_tip - s) on stations behind the jump tip.
-  {
-    std::vector<double> s, o2;
-    for (size_t k = 0; k < ns; ++k)
-      if (cod.valid[k] && static_cast<int>(k) <= last && cod.opening_px[k] >= thr &&
-          cod.s_px[k] >= res.jump.s_px - o.sqrt_window_px) {
-        s.push_back(cod.s_px[k]);
-        o2.push_back(cod.opening_px[k] * cod.opening_px[k]);
-      }
-    if (s.size() >= 3) {
-      const double n = static_cast<double>(s.size());
-      double sm = 0, om = 0;
-      for (size_t k = 0; k < s.size(); ++k) {
-        sm += s[k];
-        om += o2[k];
-      }
-      sm /= n;
-      om /= n;
-      double sxx = 0, sxy = 0;
-      for (size_t k = 0; k < s.size(); ++k) {
-        sxx += (s[k] - sm) * (s[k] - sm);
-        sxy += (s[k] - sm) * (o2[k] - om);
-      }
-      const double beta = sxy / sxx, alpha = om - beta * sm;
-      if (beta < 0) {
-        TipEstimate& t = res.sqrt_cod;
-        t.s_px = -alpha / beta;
-        double sse = 0;
-        for (size_t k = 0; k < s.size(); ++k) {
-          const double e = o2[k] - alpha - beta * s[k];
-          sse += e * e;
-        }
-        const double sigma2 = s.size() > 2 ? sse / (n - 2) : 0;
-        // Delta method on s_tip = -alpha / beta (intercept of the fitted line).
-        const double var_beta = sigma2 / sxx;
-        const double ds_dbeta = (sm - t.s_px) / beta;  // d s_tip / d beta with alpha = om - beta sm
-        t.uncertainty_px = std::sqrt(sigma2 / n / (beta * beta) + ds_dbeta * ds_dbeta * var_beta);
-        t.found = std::isfinite(t.s_px) && t.s_px > 0 && t.s_px < o.line.Length() * 1.5;
-        SetPosition(o.line, &t);
-      }
+// sqrt COD: COD^2 = A^2 (s_tip - s) on stations behind the jump tip.
+void SqrtCodTip(const CodProfile& cod, int last, const CrackTipOptions& o, CrackTipResult& res) {
+  const size_t ns = cod.s_px.size();
+  const double thr = res.threshold_px;
+  std::vector<double> s, o2;
+  for (size_t k = 0; k < ns; ++k)
+    if (cod.valid[k] && static_cast<int>(k) <= last && cod.opening_px[k] >= thr &&
+        cod.s_px[k] >= res.jump.s_px - o.sqrt_window_px) {
+      s.push_back(cod.s_px[k]);
+      o2.push_back(cod.opening_px[k] * cod.opening_px[k]);
     }
-  }
-
-  // Williams: fixed point set around the starting tip, 1-D search in s.
-  {
-    const double s_start = res.sqrt_cod.found ? std::clamp(res.sqrt_cod.s_px, res.jump.s_px - o.fit_radius_px, res.jump.s_px)
-                                              : res.jump.s_px;
-    double xs, ys;
-    o.line.FromLocal(s_start, 0, &xs, &ys);
-    std::vector<const LocalPoint*> set;
-    for (const LocalPoint& p : pts)
-      if (std::hypot(p.x - xs, p.y - ys) <= o.fit_radius_px && std::abs(p.n) >= o.band_half_width_px)
-        set.push_back(&p);
-    res.williams_points = static_cast<int>(set.size());
-    const double lo = std::max(0.0, s_start - 0.5 * o.fit_radius_px);
-    const double hi = std::min(o.line.Length(), s_start + 0.5 * o.fit_radius_px);
-    const double h = std::max(0.5, 0.25 * ds);
-    std::vector<double> grid_s, grid_ssr;
-    for (double s = lo; s <= hi + 1e-9; s += h) {
-      grid_s.push_back(s);
-      grid_ssr.push_back(FitWilliams(set, s, o).ssr);
+  if (s.size() >= 3) {
+    const double n = static_cast<double>(s.size());
+    double sm = 0, om = 0;
+    for (size_t k = 0; k < s.size(); ++k) {
+      sm += s[k];
+      om += o2[k];
     }
-    size_t best = 0;
-    for (size_t k = 1; k < grid_s.size(); ++k)
-      if (grid_ssr[k] < grid_ssr[best]) best = k;
-    if (!grid_s.empty() && std::isfinite(grid_ssr[best])) {
-      // Golden-section refinement on [s_best - h, s_best + h].
-      double a = grid_s[best] - h, c = grid_s[best] + h;
-      const double g = 0.5 * (std::sqrt(5.0) - 1.0);
-      double x1 = c - g * (c - a), x2 = a + g * (c - a);
-      double f1 = FitWilliams(set, x1, o).ssr, f2 = FitWilliams(set, x2, o).ssr;
-      for (int it = 0; it < 30 && c - a > 1e-3; ++it) {
-        if (f1 < f2) {
-          c = x2; x2 = x1; f2 = f1; x1 = c - g * (c - a); f1 = FitWilliams(set, x1, o).ssr;
-        } else {
-          a = x1; x1 = x2; f1 = f2; x2 = a + g * (c - a); f2 = FitWilliams(set, x2, o).ssr;
-        }
+    sm /= n;
+    om /= n;
+    double sxx = 0, sxy = 0;
+    for (size_t k = 0; k < s.size(); ++k) {
+      sxx += (s[k] - sm) * (s[k] - sm);
+      sxy += (s[k] - sm) * (o2[k] - om);
+    }
+    const double beta = sxy / sxx, alpha = om - beta * sm;
+    if (beta < 0) {
+      TipEstimate& t = res.sqrt_cod;
+      t.s_px = -alpha / beta;
+      double sse = 0;
+      for (size_t k = 0; k < s.size(); ++k) {
+        const double e = o2[k] - alpha - beta * s[k];
+        sse += e * e;
       }
-      const double s_tip = 0.5 * (a + c);
-      const WilliamsFit fit = FitWilliams(set, s_tip, o);
-      // Uncertainty: Delta SSR = sigma^2 (one standard deviation), SSR ~ curvature.
-      const double e = std::max(h, 1.0);
-      const double fp = FitWilliams(set, s_tip + e, o).ssr, fm = FitWilliams(set, s_tip - e, o).ssr;
-      const double curv = (fp + fm - 2 * fit.ssr) / (e * e);
-      const double sigma2 = fit.ssr / std::max(1, fit.rows - fit.cols - 1);
-      TipEstimate& t = res.williams;
-      t.s_px = s_tip;
-      t.uncertainty_px = curv > 0 ? std::sqrt(2.0 * sigma2 / curv) : ds;
-      res.k_over_2mu_sqrt_px = fit.c1 * std::sqrt(2.0 * std::numbers::pi) / std::sqrt(o.fit_radius_px);
-      res.williams_residual_px = std::sqrt(fit.ssr / std::max(1, fit.rows));
-      const bool interior = s_tip > lo + 0.5 * h || lo <= 0.0;
-      const bool interior_hi = s_tip < hi - 0.5 * h || hi >= o.line.Length();
-      t.found = std::isfinite(s_tip) && res.k_over_2mu_sqrt_px > 0 && interior && interior_hi;
-      if (!interior_hi || s_tip > res.last_station_px) res.tip_at_edge = true;
+      const double sigma2 = s.size() > 2 ? sse / (n - 2) : 0;
+      // Delta method on s_tip = -alpha / beta (intercept of the fitted line).
+      const double var_beta = sigma2 / sxx;
+      const double ds_dbeta = (sm - t.s_px) / beta;  // d s_tip / d beta with alpha = om - beta sm
+      t.uncertainty_px = std::sqrt(sigma2 / n / (beta * beta) + ds_dbeta * ds_dbeta * var_beta);
+      t.found = std::isfinite(t.s_px) && t.s_px > 0 && t.s_px < o.line.Length() * 1.5;
       SetPosition(o.line, &t);
     }
   }
+}
 
-  // Preferred method, then the fallbacks: Williams -> sqrt -> jump.
+// Williams: fixed point set around the starting tip, 1-D search in s (grid,
+// then golden section) of the least-squares fit of the Williams series.
+void WilliamsTip(const std::vector<LocalPoint>& pts, const CrackTipOptions& o, CrackTipResult& res) {
+  const double ds = o.station_spacing_px;
+  const double s_start = res.sqrt_cod.found ? std::clamp(res.sqrt_cod.s_px, res.jump.s_px - o.fit_radius_px, res.jump.s_px)
+                                            : res.jump.s_px;
+  double xs, ys;
+  o.line.FromLocal(s_start, 0, &xs, &ys);
+  std::vector<const LocalPoint*> set;
+  for (const LocalPoint& p : pts)
+    if (std::hypot(p.x - xs, p.y - ys) <= o.fit_radius_px && std::abs(p.n) >= o.band_half_width_px)
+      set.push_back(&p);
+  res.williams_points = static_cast<int>(set.size());
+  const double lo = std::max(0.0, s_start - 0.5 * o.fit_radius_px);
+  const double hi = std::min(o.line.Length(), s_start + 0.5 * o.fit_radius_px);
+  const double h = std::max(0.5, 0.25 * ds);
+  std::vector<double> grid_s, grid_ssr;
+  for (double s = lo; s <= hi + 1e-9; s += h) {
+    grid_s.push_back(s);
+    grid_ssr.push_back(FitWilliams(set, s, o).ssr);
+  }
+  size_t best = 0;
+  for (size_t k = 1; k < grid_s.size(); ++k)
+    if (grid_ssr[k] < grid_ssr[best]) best = k;
+  if (!grid_s.empty() && std::isfinite(grid_ssr[best])) {
+    // Golden-section refinement on [s_best - h, s_best + h].
+    double a = grid_s[best] - h, c = grid_s[best] + h;
+    const double g = 0.5 * (std::sqrt(5.0) - 1.0);
+    double x1 = c - g * (c - a), x2 = a + g * (c - a);
+    double f1 = FitWilliams(set, x1, o).ssr, f2 = FitWilliams(set, x2, o).ssr;
+    for (int it = 0; it < 30 && c - a > 1e-3; ++it) {
+      if (f1 < f2) {
+        c = x2; x2 = x1; f2 = f1; x1 = c - g * (c - a); f1 = FitWilliams(set, x1, o).ssr;
+      } else {
+        a = x1; x1 = x2; f1 = f2; x2 = a + g * (c - a); f2 = FitWilliams(set, x2, o).ssr;
+      }
+    }
+    const double s_tip = 0.5 * (a + c);
+    const WilliamsFit fit = FitWilliams(set, s_tip, o);
+    // Uncertainty: Delta SSR = sigma^2 (one standard deviation), SSR ~ curvature.
+    const double e = std::max(h, 1.0);
+    const double fp = FitWilliams(set, s_tip + e, o).ssr, fm = FitWilliams(set, s_tip - e, o).ssr;
+    const double curv = (fp + fm - 2 * fit.ssr) / (e * e);
+    const double sigma2 = fit.ssr / std::max(1, fit.rows - fit.cols - 1);
+    TipEstimate& t = res.williams;
+    t.s_px = s_tip;
+    t.uncertainty_px = curv > 0 ? std::sqrt(2.0 * sigma2 / curv) : ds;
+    res.k_over_2mu_sqrt_px = fit.c1 * std::sqrt(2.0 * std::numbers::pi) / std::sqrt(o.fit_radius_px);
+    res.williams_residual_px = std::sqrt(fit.ssr / std::max(1, fit.rows));
+    const bool interior = s_tip > lo + 0.5 * h || lo <= 0.0;
+    const bool interior_hi = s_tip < hi - 0.5 * h || hi >= o.line.Length();
+    t.found = std::isfinite(s_tip) && res.k_over_2mu_sqrt_px > 0 && interior && interior_hi;
+    if (!interior_hi || s_tip > res.last_station_px) res.tip_at_edge = true;
+    SetPosition(o.line, &t);
+  }
+}
+
+// Preferred method, then the fallbacks: Williams -> sqrt -> jump.
+void ChooseTip(TipMethod preferred, const CrackTipOptions& o, CrackTipResult& res) {
   const TipEstimate* chosen = nullptr;
   auto pick = [&](TipMethod m) {
     const TipEstimate& t = m == TipMethod::kWilliams ? res.williams
@@ -408,7 +414,26 @@ CrackTipResult LocateCrackTip(const DisplacementField& field, const CrackTipOpti
   pick(TipMethod::kJump);
   if (chosen) res.tip = *chosen;
   res.methods_disagree = MethodsDisagree(res, o);
-  return res;
+}
+
+}  // namespace
+
+// Stages: opening profile -> noise and threshold -> first opened run -> jump,
+// sqrt-COD and Williams tips -> the preferred tip found.
+CrackTipResult LocateCrackTip(const DisplacementField& field, const CrackTipOptions& o,
+                              TipMethod preferred) {
+  std::string why;
+  if (!o.IsValid(&why)) throw Error(ErrorKind::kUsage, "invalid crack-tip options: " + why);
+  CrackTipResult res;
+  const std::vector<LocalPoint> pts = ValidPoints(field, o.line);
+  res.cod = BuildCodProfile(pts, o);
+  OpeningNoiseAndThreshold(res.cod, o, res);
+  const int last = FirstOpenedRun(res.cod, res);
+  if (!res.opening_detected) return res;
+  JumpTip(res.cod, last, o, res);
+  SqrtCodTip(res.cod, last, o, res);
+  WilliamsTip(pts, o, res);
+  ChooseTip(preferred, o, res);
   return res;
 }
 

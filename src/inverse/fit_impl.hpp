@@ -142,6 +142,24 @@ bool PhysicalJacobian(const Objective& objective, const std::vector<double>& ful
                       Eigen::MatrixXd* jacobian);
 // Sets full[index] to the best of 9 evenly spaced box points.
 void ScanBox(const Objective& objective, int index, std::vector<double>& full);
+// What the stages of one fit share.
+struct FitContext {
+  const ForwardModel& model;
+  const laws::LawShape& shape;
+  const FitData& data;
+  const FitOptions& options;
+  const Objective& objective;
+  const std::vector<int>& free;  // the free parameters' indices
+  int n_free, m;                 // free parameters, data points
+  bool weighted, load_fit;
+};
+
+// Stage 6 of FitBridgingLaw (fit_flat.cpp): the flat R curve (J_B = 0)
+// against the bridged optimum; true when no bridging is reported (the
+// summary then holds the flat answer).
+bool RecordNoBridging(const FitContext& c, const LocalResult& best, const std::vector<double>& full,
+                      const ForwardPrediction& prediction, double scale2, FitSummary& s);
+
 // PHYSICS 7's R_max - J_tip,c at the data point `last` for parameters p:
 // the model's elastic-zone rise W(delta_root) where the data's R is an
 // energy R (R_energy also holds the specimen's back-face effects and can

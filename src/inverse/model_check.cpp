@@ -60,8 +60,168 @@ LawParameters ToLaw(const std::array<double, kParameterCount>& x) {
   return {.sigma_c = x[kSigmaC], .J_B = x[kJB], .J_tip_c = x[kJTipC]};
 }
 
+// Data crack lengths in ascending order (the correction's knots).
+std::vector<double> SortedKnots(const FitData& data) {
+  std::vector<std::size_t> order(data.crack_length.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t a, std::size_t b) { return data.crack_length[a] < data.crack_length[b]; });
+  std::vector<double> knots;
+  for (std::size_t i : order) knots.push_back(data.crack_length[i]);
+  return knots;
+}
+
+// Largest |R_used / R_accurate - 1| over the knots.
+double Discrepancy(const std::vector<double>& used, const std::vector<double>& ra) {
+  double worst = 0.0;
+  for (std::size_t i = 0; i < ra.size(); ++i)
+    if (std::isfinite(ra[i]) && std::isfinite(used[i]) && ra[i] != 0.0)
+      worst = std::max(worst, std::abs(used[i] / ra[i] - 1.0));
+  return worst;
+}
+
+// R of both models at the knots for parameters x (the accurate runs timed
+// and counted in the result); false, with the failing model's message, when
+// either fails.
+class TwoModels {
+ public:
+  TwoModels(const ForwardModel& cheap, const ForwardModel& accurate, const laws::LawShape& shape,
+            const std::vector<double>& knots, RKind kind, ModelCheckResult& r)
+      : cheap_(cheap), accurate_(accurate), shape_(shape), knots_(knots), kind_(kind), r_(r) {}
+  bool Evaluate(const std::array<double, kParameterCount>& x, std::vector<double>& rc,
+                std::vector<double>& ra, std::string* failure) const {
+    const ForwardPrediction c = cheap_.Predict(shape_, ToLaw(x), knots_, kind_);
+    Stopwatch watch;
+    const ForwardPrediction a = accurate_.Predict(shape_, ToLaw(x), knots_, kind_);
+    r_.accurate_s += watch.Seconds();
+    ++r_.accurate_runs;
+    if (!c.ok() || !a.ok()) {
+      *failure = !a.ok() ? r_.accurate_model + ": " + a.message : r_.cheap_model + ": " + c.message;
+      return false;
+    }
+    rc = c.R;
+    ra = a.R;
+    return true;
+  }
+
+ private:
+  const ForwardModel& cheap_;
+  const ForwardModel& accurate_;
+  const laws::LawShape& shape_;
+  const std::vector<double>& knots_;
+  RKind kind_;
+  ModelCheckResult& r_;
+};
+
+// The cheap fit stands: the models agree within the tolerance, or no
+// correction is allowed; each free parameter says so.
+FitSummary AcceptCheapFit(FitSummary fit, const ModelCheckOptions& check, ModelCheckResult& r) {
+  const bool agree = r.discrepancy_at_cheap_optimum <= check.tolerance;
+  const std::string checked = fmt::format("checked by {} (largest R difference {:.2f}% <= {:.2g}%)",
+                                          r.accurate_model, 100 * r.discrepancy_at_cheap_optimum,
+                                          100 * check.tolerance);
+  r.outcome = agree ? "accepted: " + checked
+                    : fmt::format("not corrected (no iterations allowed): the {} R differs by "
+                                  "{:.2f}%",
+                                  r.accurate_model, 100 * r.discrepancy_at_cheap_optimum);
+  for (ParameterEstimate* e : {&fit.sigma_c, &fit.J_B, &fit.delta_c, &fit.J_tip_c})
+    if (!e->fixed) e->decided_by += "; " + (agree ? checked : r.outcome);
+  fit.wall_s += r.accurate_s;
+  return fit;
+}
+
+// The space mapping's iterate: parameters, both models' R there, the last
+// model failure, and whether the last refit moved the parameters little.
+struct MappingState {
+  std::array<double, kParameterCount> x;
+  std::vector<double> rc, ra;
+  std::string failure;
+  bool moved_little = false;
+};
+
+// Output space mapping (R_corrected = R_cheap + R_accurate(x_k) - R_cheap(x_k)):
+// refit until the parameters move less than parameter_tolerance or after
+// max_corrections refits; an accurate-model failure clears r.accurate_ok.
+void SpaceMappingIterations(const ForwardModel& cheap, const TwoModels& models,
+                            const laws::LawShape& shape, const FitData& data,
+                            const FitOptions& options, const ModelCheckOptions& check,
+                            const std::vector<double>& knots, MappingState& state,
+                            ModelCheckResult& r) {
+  std::vector<double> offset(knots.size());
+  FitOptions quick = options;
+  quick.profile_likelihood = false;
+  FitSummary mapped;
+  for (int k = 0; k < check.max_corrections; ++k) {
+    for (std::size_t i = 0; i < knots.size(); ++i) offset[i] = state.ra[i] - state.rc[i];
+    const CorrectedModel surrogate(cheap, r.accurate_model, knots, offset);
+    mapped = FitBridgingLaw(surrogate, shape, data, quick);
+    r.correction_fit_s += mapped.wall_s;
+    ++r.corrections;
+    if (!std::isfinite(mapped.best_parameters[kJTipC])) break;
+    const std::array<double, kParameterCount> next = mapped.best_parameters;
+    double change = 0.0;
+    for (int i = 0; i < kParameterCount; ++i)
+      if (!options.fixed[i] && std::abs(state.x[i]) > 0.0)
+        change = std::max(change, std::abs(next[i] / state.x[i] - 1.0));
+    state.x = next;
+    std::vector<double> rc_next, ra_next;
+    if (!models.Evaluate(state.x, rc_next, ra_next, &state.failure)) {
+      r.accurate_ok = false;
+      break;
+    }
+    // How well the surrogate used in this refit matched the accurate model.
+    std::vector<double> used(knots.size());
+    for (std::size_t i = 0; i < knots.size(); ++i) used[i] = rc_next[i] + offset[i];
+    r.discrepancy_final = Discrepancy(used, ra_next);
+    state.rc = rc_next;
+    state.ra = ra_next;
+    state.moved_little = change < check.parameter_tolerance;
+    if (state.moved_little) break;
+  }
+}
+
+// Final fit of the corrected model with the full options (intervals,
+// profiles, bounds), from the mapped optimum; the outcome and each free
+// parameter's provenance say how it was corrected.
+FitSummary FinalCorrectedFit(const ForwardModel& cheap, const laws::LawShape& shape,
+                             const FitData& data, const FitOptions& options,
+                             const ModelCheckOptions& check, const std::vector<double>& knots,
+                             const MappingState& state, ModelCheckResult& r) {
+  std::vector<double> offset(knots.size());
+  for (std::size_t i = 0; i < knots.size(); ++i) offset[i] = state.ra[i] - state.rc[i];
+  const CorrectedModel final_model(cheap, r.accurate_model, knots, offset);
+  FitOptions last = options;
+  for (int i = 0; i < kParameterCount; ++i)
+    if (!options.fixed[i]) last.initial[i] = state.x[i];
+  FitSummary out = FitBridgingLaw(final_model, shape, data, last);
+  r.correction_fit_s += out.wall_s;
+  r.corrected = true;
+  r.final_parameters = out.best_parameters;
+  r.crack_length = knots;
+  r.R_cheap = state.rc;
+  r.R_accurate = state.ra;
+  r.outcome = fmt::format(
+      "corrected: the {} R differed by {:.2f}% (> {:.2g}%) at the {} optimum; output space "
+      "mapping, {} iteration(s), {} {} run(s){}; the corrected model matches {} within {:.2f}% "
+      "at the last iterate",
+      r.accurate_model, 100 * r.discrepancy_at_cheap_optimum, 100 * check.tolerance,
+      r.cheap_model, r.corrections, r.accurate_runs, r.accurate_model,
+      state.moved_little ? "" : " (iteration limit)", r.accurate_model, 100 * r.discrepancy_final);
+  const std::string decided = fmt::format("{} + {} corrected to {} ({} run(s))", out.optimizer,
+                                          r.cheap_model, r.accurate_model, r.accurate_runs);
+  for (ParameterEstimate* e : {&out.sigma_c, &out.J_B, &out.delta_c, &out.J_tip_c})
+    if (!e->fixed && e->decided_by.find(out.model) != std::string::npos)
+      e->decided_by = decided;
+    else if (!e->fixed)
+      e->decided_by += " (model: " + decided + ")";
+  out.wall_s += r.cheap_fit_s + r.accurate_s + (r.correction_fit_s - out.wall_s);
+  return out;
+}
+
 }  // namespace
 
+// Stages: cheap fit -> both models at its optimum -> accept, or output space
+// mapping iterations -> final fit of the corrected model.
 FitSummary FitWithModelCheck(const ForwardModel& cheap, const ForwardModel& accurate,
                              const laws::LawShape& shape, const FitData& data,
                              const FitOptions& options, const ModelCheckOptions& check,
@@ -86,136 +246,31 @@ FitSummary FitWithModelCheck(const ForwardModel& cheap, const ForwardModel& accu
     r.outcome = "not checked: the " + r.cheap_model + " fit failed";
     return fit;
   }
-  // Data points in ascending crack length (the correction's knots).
-  std::vector<std::size_t> order(data.crack_length.size());
-  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-  std::sort(order.begin(), order.end(),
-            [&](std::size_t a, std::size_t b) { return data.crack_length[a] < data.crack_length[b]; });
-  std::vector<double> knots;
-  for (std::size_t i : order) knots.push_back(data.crack_length[i]);
-
-  // R of both models at x; false when either fails.
-  auto evaluate = [&](const std::array<double, kParameterCount>& x, std::vector<double>& rc,
-                      std::vector<double>& ra, std::string* failure) {
-    const ForwardPrediction c = cheap.Predict(shape, ToLaw(x), knots, data.kind);
-    Stopwatch watch;
-    const ForwardPrediction a = accurate.Predict(shape, ToLaw(x), knots, data.kind);
-    r.accurate_s += watch.Seconds();
-    ++r.accurate_runs;
-    if (!c.ok() || !a.ok()) {
-      *failure = !a.ok() ? r.accurate_model + ": " + a.message : r.cheap_model + ": " + c.message;
-      return false;
-    }
-    rc = c.R;
-    ra = a.R;
-    return true;
-  };
-  auto discrepancy = [&](const std::vector<double>& used, const std::vector<double>& ra) {
-    double worst = 0.0;
-    for (std::size_t i = 0; i < ra.size(); ++i)
-      if (std::isfinite(ra[i]) && std::isfinite(used[i]) && ra[i] != 0.0)
-        worst = std::max(worst, std::abs(used[i] / ra[i] - 1.0));
-    return worst;
-  };
-  std::vector<double> rc, ra;
-  std::string failure;
-  if (!evaluate(fit.best_parameters, rc, ra, &failure)) {
+  const std::vector<double> knots = SortedKnots(data);
+  const TwoModels models(cheap, accurate, shape, knots, data.kind, r);
+  MappingState state;
+  state.x = fit.best_parameters;
+  if (!models.Evaluate(fit.best_parameters, state.rc, state.ra, &state.failure)) {
     r.outcome = "not checked: the accurate model failed at the " + r.cheap_model +
-                " optimum (" + failure + "); the " + r.cheap_model + " fit stands";
+                " optimum (" + state.failure + "); the " + r.cheap_model + " fit stands";
     return fit;
   }
   r.accurate_ok = true;
-  r.discrepancy_at_cheap_optimum = discrepancy(rc, ra);
+  r.discrepancy_at_cheap_optimum = Discrepancy(state.rc, state.ra);
   r.crack_length = knots;
-  r.R_cheap = rc;
-  r.R_accurate = ra;
+  r.R_cheap = state.rc;
+  r.R_accurate = state.ra;
   r.discrepancy_final = r.discrepancy_at_cheap_optimum;
-  const std::string checked = fmt::format("checked by {} (largest R difference {:.2f}% <= {:.2g}%)",
-                                          r.accurate_model, 100 * r.discrepancy_at_cheap_optimum,
-                                          100 * check.tolerance);
-  if (r.discrepancy_at_cheap_optimum <= check.tolerance || check.max_corrections == 0) {
-    r.outcome = r.discrepancy_at_cheap_optimum <= check.tolerance
-                    ? "accepted: " + checked
-                    : fmt::format("not corrected (no iterations allowed): the {} R differs by "
-                                  "{:.2f}%",
-                                  r.accurate_model, 100 * r.discrepancy_at_cheap_optimum);
-    for (ParameterEstimate* e : {&fit.sigma_c, &fit.J_B, &fit.delta_c, &fit.J_tip_c})
-      if (!e->fixed) e->decided_by += "; " + (r.discrepancy_at_cheap_optimum <= check.tolerance
-                                                  ? checked
-                                                  : r.outcome);
-    fit.wall_s += r.accurate_s;
-    return fit;
-  }
+  if (r.discrepancy_at_cheap_optimum <= check.tolerance || check.max_corrections == 0)
+    return AcceptCheapFit(std::move(fit), check, r);
 
-  // Output space mapping.
-  std::array<double, kParameterCount> x = fit.best_parameters;
-  std::vector<double> offset(knots.size());
-  FitOptions quick = options;
-  quick.profile_likelihood = false;
-  FitSummary mapped;
-  bool moved_little = false;
-  for (int k = 0; k < check.max_corrections; ++k) {
-    for (std::size_t i = 0; i < knots.size(); ++i) offset[i] = ra[i] - rc[i];
-    const CorrectedModel surrogate(cheap, r.accurate_model, knots, offset);
-    mapped = FitBridgingLaw(surrogate, shape, data, quick);
-    r.correction_fit_s += mapped.wall_s;
-    ++r.corrections;
-    if (!std::isfinite(mapped.best_parameters[kJTipC])) break;
-    const std::array<double, kParameterCount> next = mapped.best_parameters;
-    double change = 0.0;
-    for (int i = 0; i < kParameterCount; ++i)
-      if (!options.fixed[i] && std::abs(x[i]) > 0.0)
-        change = std::max(change, std::abs(next[i] / x[i] - 1.0));
-    x = next;
-    std::vector<double> rc_next, ra_next;
-    if (!evaluate(x, rc_next, ra_next, &failure)) {
-      r.accurate_ok = false;
-      break;
-    }
-    // How well the surrogate used in this refit matched the accurate model.
-    std::vector<double> used(knots.size());
-    for (std::size_t i = 0; i < knots.size(); ++i) used[i] = rc_next[i] + offset[i];
-    r.discrepancy_final = discrepancy(used, ra_next);
-    rc = rc_next;
-    ra = ra_next;
-    moved_little = change < check.parameter_tolerance;
-    if (moved_little) break;
-  }
+  SpaceMappingIterations(cheap, models, shape, data, options, check, knots, state, r);
   if (!r.accurate_ok) {
-    r.outcome = "correction stopped: the accurate model failed (" + failure + "); the " +
+    r.outcome = "correction stopped: the accurate model failed (" + state.failure + "); the " +
                 r.cheap_model + " fit stands";
     return fit;
   }
-  // Final fit of the corrected model with the full options (intervals,
-  // profiles, bounds), from the mapped optimum.
-  for (std::size_t i = 0; i < knots.size(); ++i) offset[i] = ra[i] - rc[i];
-  const CorrectedModel final_model(cheap, r.accurate_model, knots, offset);
-  FitOptions last = options;
-  for (int i = 0; i < kParameterCount; ++i)
-    if (!options.fixed[i]) last.initial[i] = x[i];
-  FitSummary out = FitBridgingLaw(final_model, shape, data, last);
-  r.correction_fit_s += out.wall_s;
-  r.corrected = true;
-  r.final_parameters = out.best_parameters;
-  r.crack_length = knots;
-  r.R_cheap = rc;
-  r.R_accurate = ra;
-  r.outcome = fmt::format(
-      "corrected: the {} R differed by {:.2f}% (> {:.2g}%) at the {} optimum; output space "
-      "mapping, {} iteration(s), {} {} run(s){}; the corrected model matches {} within {:.2f}% "
-      "at the last iterate",
-      r.accurate_model, 100 * r.discrepancy_at_cheap_optimum, 100 * check.tolerance,
-      r.cheap_model, r.corrections, r.accurate_runs, r.accurate_model,
-      moved_little ? "" : " (iteration limit)", r.accurate_model, 100 * r.discrepancy_final);
-  const std::string decided = fmt::format("{} + {} corrected to {} ({} run(s))", out.optimizer,
-                                          r.cheap_model, r.accurate_model, r.accurate_runs);
-  for (ParameterEstimate* e : {&out.sigma_c, &out.J_B, &out.delta_c, &out.J_tip_c})
-    if (!e->fixed && e->decided_by.find(out.model) != std::string::npos)
-      e->decided_by = decided;
-    else if (!e->fixed)
-      e->decided_by += " (model: " + decided + ")";
-  out.wall_s += r.cheap_fit_s + r.accurate_s + (r.correction_fit_s - out.wall_s);
-  return out;
+  return FinalCorrectedFit(cheap, shape, data, options, check, knots, state, r);
 }
 
 }  // namespace bridgefit::inverse

@@ -2,6 +2,7 @@
 
 #include <fstream>
 #include <numbers>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -34,9 +35,8 @@ double ParseAngle(const Section& section, const char* key) {
   return std::string(unit) == "deg" ? value * std::numbers::pi / 180.0 : value;
 }
 
-}  // namespace
-
-Scene ParseScene(std::string_view text, const std::string& source_name) {
+// The document: valid TOML with only the known sections.
+toml::table ParseRoot(std::string_view text, const std::string& source_name) {
   toml::table root;
   try {
     root = toml::parse(text, source_name);
@@ -52,17 +52,18 @@ Scene ParseScene(std::string_view text, const std::string& source_name) {
                   {.file = source_name, .line = LineOf(value), .field = std::string(key.str()),
                    .expected = "one of [specimen], [material], [fracture], [bridging], [run]"});
   }
+  return root;
+}
 
-  Scene scene;
-  scene.source = source_name;
-
+// [specimen]: CT (W, B, optional height) or DCB (b, h, L), notch, plane.
+SpecimenSpec ParseSpecimen(const toml::table& root, const std::string& source_name) {
   const Section specimen(root, source_name, "specimen",
                          {"type", "width", "height", "thickness", "length", "notch", "plane"});
   if (!specimen.present())
     throw Error(ErrorKind::kInput, "missing required section",
                 {.file = source_name, .field = "specimen", .expected = "a [specimen] table"});
   const std::string type = specimen.String("type", "", true);
-  SpecimenSpec& s = scene.specimen;
+  SpecimenSpec s;
   if (type == "ct") {
     s.type = SpecimenType::kCT;
     s.width = specimen.Quantity("width", Dimension::Length());
@@ -93,13 +94,17 @@ Scene ParseScene(std::string_view text, const std::string& source_name) {
     c.value = plane;
     throw Error(ErrorKind::kInput, "unknown plane condition", c);
   }
+  return s;
+}
 
+// [material]: isotropic (E, nu) or orthotropic (E1, E2, G12, nu12, angle).
+MaterialSpec ParseMaterial(const toml::table& root, const std::string& source_name) {
   const Section material(root, source_name, "material",
                          {"E", "nu", "E1", "E2", "G12", "nu12", "G13", "angle", "density"});
   if (!material.present())
     throw Error(ErrorKind::kInput, "missing required section",
                 {.file = source_name, .field = "material", .expected = "a [material] table"});
-  MaterialSpec& m = scene.material;
+  MaterialSpec m;
   m.orthotropic = material.has("E1") || material.has("E2") || material.has("G12");
   if (m.orthotropic) {
     if (material.has("E") || material.has("nu"))
@@ -117,67 +122,81 @@ Scene ParseScene(std::string_view text, const std::string& source_name) {
     m.G13 = material.OptionalQuantity("G13", Dimension::Stress()).value_or(m.E / (2.0 * (1.0 + m.nu)));
   }
   m.density = material.OptionalQuantity("density", Dimension::Density()).value_or(0.0);
+  return m;
+}
 
-  const Section fracture(root, source_name, "fracture", {"J_tip_c"});
-  if (fracture.present()) scene.fracture = FractureSpec{fracture.Quantity("J_tip_c", Dimension::EnergyPerArea())};
-
+// [bridging]: a law family with its shape options and two of its scales.
+std::optional<BridgingSpec> ParseBridging(const toml::table& root, const std::string& source_name) {
   const Section bridging(root, source_name, "bridging",
                          {"law", "sigma_c", "J_B", "delta_c", "peak_ratio", "alpha", "trilinear",
                           "table"});
-  if (bridging.present()) {
-    BridgingSpec b;
-    const std::string law = bridging.String("law", "linear");
-    laws::LawFamily family;
-    try {
-      family = laws::ParseLawFamily(law);
-    } catch (const Error& e) {
-      throw e.WithContext(bridging.Context("law"));
-    }
-    laws::LawScales given{
-        bridging.OptionalQuantity("sigma_c", Dimension::Stress()).value_or(NAN),
-        bridging.OptionalQuantity("delta_c", Dimension::Length()).value_or(NAN),
-        bridging.OptionalQuantity("J_B", Dimension::EnergyPerArea()).value_or(NAN)};
-    try {
-      switch (family) {
-        case laws::LawFamily::kLinear: b.shape = laws::MakeLinearShape(); break;
-        case laws::LawFamily::kCubic: b.shape = laws::MakeCubicShape(); break;
-        case laws::LawFamily::kTriangular:
-          b.shape = laws::MakeTriangularShape(bridging.Number("peak_ratio", laws::kDefaultPeakRatio));
-          break;
-        case laws::LawFamily::kExponential:
-          b.shape = laws::MakeExponentialShape(bridging.Number("alpha", laws::kDefaultExponentialAlpha));
-          break;
-        case laws::LawFamily::kTrilinear: {
-          const auto v = bridging.Numbers("trilinear", 5);
-          b.shape = laws::MakeTrilinearShape(v[0], v[1], v[2], v[3], v[4]);
-          break;
-        }
-        case laws::LawFamily::kTable: {
-          std::filesystem::path table = bridging.String("table", "", true);
-          if (table.is_relative())
-            table = std::filesystem::path(source_name).parent_path() / table;
-          b.table_file = table.string();
-          // A table is small: refused at its own limit (a scene naming
-          // /dev/zero would otherwise read until memory runs out).
-          const CsvTable csv = ReadCsvTable(table, CsvKind::kLawTable);
-          double sc = 0, dc = 0;
-          b.shape = laws::MakeTableShape(csv.ColumnSi("delta", Dimension::Length()),
-                                         csv.ColumnSi("sigma", Dimension::Stress()), &sc, &dc);
-          if (!std::isfinite(given.sigma_c) && !std::isfinite(given.delta_c) &&
-              !std::isfinite(given.J_B)) {
-            given.sigma_c = sc;
-            given.delta_c = dc;
-          }
-          break;
-        }
-      }
-      b.scales = laws::CompleteScales(b.shape, given);
-    } catch (const Error& e) {
-      ErrorContext c = bridging.Context(e.context().field.empty() ? "law" : e.context().field.c_str());
-      throw e.WithContext(c);
-    }
-    scene.bridging = std::move(b);
+  if (!bridging.present()) return std::nullopt;
+  BridgingSpec b;
+  const std::string law = bridging.String("law", "linear");
+  laws::LawFamily family;
+  try {
+    family = laws::ParseLawFamily(law);
+  } catch (const Error& e) {
+    throw e.WithContext(bridging.Context("law"));
   }
+  laws::LawScales given{
+      bridging.OptionalQuantity("sigma_c", Dimension::Stress()).value_or(NAN),
+      bridging.OptionalQuantity("delta_c", Dimension::Length()).value_or(NAN),
+      bridging.OptionalQuantity("J_B", Dimension::EnergyPerArea()).value_or(NAN)};
+  try {
+    switch (family) {
+      case laws::LawFamily::kLinear: b.shape = laws::MakeLinearShape(); break;
+      case laws::LawFamily::kCubic: b.shape = laws::MakeCubicShape(); break;
+      case laws::LawFamily::kTriangular:
+        b.shape = laws::MakeTriangularShape(bridging.Number("peak_ratio", laws::kDefaultPeakRatio));
+        break;
+      case laws::LawFamily::kExponential:
+        b.shape = laws::MakeExponentialShape(bridging.Number("alpha", laws::kDefaultExponentialAlpha));
+        break;
+      case laws::LawFamily::kTrilinear: {
+        const auto v = bridging.Numbers("trilinear", 5);
+        b.shape = laws::MakeTrilinearShape(v[0], v[1], v[2], v[3], v[4]);
+        break;
+      }
+      case laws::LawFamily::kTable: {
+        std::filesystem::path table = bridging.String("table", "", true);
+        if (table.is_relative())
+          table = std::filesystem::path(source_name).parent_path() / table;
+        b.table_file = table.string();
+        // A table is small: refused at its own limit (a scene naming
+        // /dev/zero would otherwise read until memory runs out).
+        const CsvTable csv = ReadCsvTable(table, CsvKind::kLawTable);
+        double sc = 0, dc = 0;
+        b.shape = laws::MakeTableShape(csv.ColumnSi("delta", Dimension::Length()),
+                                       csv.ColumnSi("sigma", Dimension::Stress()), &sc, &dc);
+        if (!std::isfinite(given.sigma_c) && !std::isfinite(given.delta_c) &&
+            !std::isfinite(given.J_B)) {
+          given.sigma_c = sc;
+          given.delta_c = dc;
+        }
+        break;
+      }
+    }
+    b.scales = laws::CompleteScales(b.shape, given);
+  } catch (const Error& e) {
+    ErrorContext c = bridging.Context(e.context().field.empty() ? "law" : e.context().field.c_str());
+    throw e.WithContext(c);
+  }
+  return b;
+}
+
+}  // namespace
+
+Scene ParseScene(std::string_view text, const std::string& source_name) {
+  const toml::table root = ParseRoot(text, source_name);
+  Scene scene;
+  scene.source = source_name;
+  scene.specimen = ParseSpecimen(root, source_name);
+  scene.material = ParseMaterial(root, source_name);
+
+  const Section fracture(root, source_name, "fracture", {"J_tip_c"});
+  if (fracture.present()) scene.fracture = FractureSpec{fracture.Quantity("J_tip_c", Dimension::EnergyPerArea())};
+  scene.bridging = ParseBridging(root, source_name);
 
   const Section run(root, source_name, "run", {"max_crack_length", "grow", "load_point_displacement"});
   scene.run.max_crack_length = run.OptionalQuantity("max_crack_length", Dimension::Length());

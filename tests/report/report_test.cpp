@@ -1,5 +1,6 @@
-// Report: page, figures and table from a fit file with known content; the
-// page checked in headless Chromium (skipped, with a message, when absent).
+// Report: page, figures and table from a fit file with known content, written
+// by the fit file's writer; the page checked in headless Chromium (skipped,
+// with a message, when absent).
 #include "bridgefit/pipeline/report_file.hpp"
 
 #include <gtest/gtest.h>
@@ -18,6 +19,7 @@
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/dic/image.hpp"
 #include "bridgefit/io/hdf5.hpp"
+#include "bridgefit/pipeline/fit_file.hpp"
 #include "figure_check.hpp"
 
 namespace fs = std::filesystem;
@@ -43,19 +45,6 @@ fs::path TempDir(const std::string& name) {
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
-}
-
-void WriteEstimate(io::H5Writer& f, const std::string& g, double value, double lo, double hi,
-                   double lower_bound, bool identified, const std::string& units) {
-  f.WriteAttribute(g, "units", units);
-  f.WriteAttribute(g, "value", value);
-  f.WriteAttribute(g, "ci95_low", lo);
-  f.WriteAttribute(g, "ci95_high", hi);
-  f.WriteAttribute(g, "lower_bound", lower_bound);
-  f.WriteAttribute(g, "identified", identified ? 1.0 : 0.0);
-  f.WriteAttribute(g, "fixed", 0.0);
-  f.WriteAttribute(g, "decided_by", identified ? "bobyqa + reduced" : "PHYSICS 7 bound");
-  f.WriteAttribute(g, "note", identified ? "CI from the profile likelihood" : "steady state not reached");
 }
 
 // A profile sampled the way the fitter samples it (src/inverse/fit.cpp: step
@@ -105,23 +94,40 @@ SampledProfile SampleProfile(double v0, double sd, double chi2_min, double s2, b
   return p;
 }
 
-void WriteProfile(io::H5Writer& f, const std::string& name, const SampledProfile& p, double s2,
-                  bool flat, const std::string& units) {
-  const std::string g = "/fit/profiles/" + name;
-  f.WriteVector(g + "/value", p.value, units);
-  f.WriteVector(g + "/chi2", p.chi2, "1");
-  f.WriteAttribute(g, "chi2_threshold", 3.84 * s2);
-  f.WriteAttribute(g, "flat", flat ? 1.0 : 0.0);
+inverse::ParameterEstimate Estimate(double value, double lo, double hi, double lower_bound,
+                                    bool identified) {
+  inverse::ParameterEstimate e;
+  e.value = value;
+  e.ci95_low = lo;
+  e.ci95_high = hi;
+  e.lower_bound = lower_bound;
+  e.identified = identified;
+  e.decided_by = identified ? "bobyqa + reduced" : "PHYSICS 7 bound";
+  e.note = identified ? "CI from the profile likelihood" : "steady state not reached";
+  return e;
 }
 
-// A fit file in the layout of `bridgefit fit --out` (docs/FORMATS.md), shaped
+inverse::Profile MakeProfile(int parameter, const SampledProfile& p, double s2, bool flat) {
+  inverse::Profile profile;
+  profile.parameter = parameter;
+  for (std::size_t i = 0; i < p.value.size(); ++i)
+    profile.points.push_back({p.value[i], p.chi2[i], true, {}});
+  profile.chi2_threshold = 3.84 * s2;
+  profile.flat = flat;
+  return profile;
+}
+
+// A fit file written by the fit file's own writer (pipeline::WriteFitFile,
+// the layout of `bridgefit fit --out`, docs/FORMATS.md) from a run shaped
 // like the MDF sample's load fit (chi^2 about 665, reduced chi^2 1.6):
 // sigma_c 0.45 MPa identified from its profile, delta_c >= 1.5 mm, J_B >= 340
-// J/m^2 (its profile open above), J_tip,c 2210 J/m^2 from its profile.
+// J/m^2 (its profile open above), J_tip,c 2210 J/m^2 from its profile. The
+// report reads it with pipeline::ReadFitView: writer and reader tested together.
 fs::path WriteFitFile(const fs::path& dir, bool with_record = false, bool load_fit = false,
                       bool jb_open = false) {
   const fs::path path = dir / "fit.h5";
-  io::H5Writer f(path);
+  pipeline::FitRequest request;
+  pipeline::FitRun run;
   if (with_record) {
     // Linear loading then growth: 30 rows of load, displacement, crack length.
     ExperimentRecord record;
@@ -130,7 +136,7 @@ fs::path WriteFitFile(const fs::path& dir, bool with_record = false, bool load_f
       record.load.push_back(i < 10 ? 100.0 * i : 1000.0 - 20.0 * (i - 10));
       record.crack_length.push_back(i < 10 ? 0.030 : 0.030 + 0.001 * (i - 10));
     }
-    io::WriteRecordH5(f, record, "/experiment");
+    run.input.record = record;
   }
   std::vector<double> a, R, fa, fR;
   for (int i = 0; i < 30; ++i) {
@@ -139,46 +145,52 @@ fs::path WriteFitFile(const fs::path& dir, bool with_record = false, bool load_f
     fa.push_back(a.back());
     fR.push_back(2210 + 400 * (1 - std::exp(-i / 8.0)));
   }
+  run.input.label = "rcurve.csv";
+  run.input.curve.method = "energy";
+  run.input.curve.crack_length = a;
+  run.input.curve.R = R;
+  run.data.crack_length = a;
+  run.data.R = R;
   const double s2 = 1.6, chi2_min = 665.0;
   const SampledProfile sigma = SampleProfile(0.45e6, 0.0102e6, chi2_min, s2);
   const SampledProfile jtip = SampleProfile(2210, 10.2, chi2_min, s2);
   const SampledProfile jb = SampleProfile(450, 60, chi2_min, s2, true, 5000);
-  const std::string g = "/fit";
-  f.WriteAttribute(g, "model", "reduced");
-  f.WriteAttribute(g, "optimizer", "ceres-lm");
-  f.WriteAttribute(g, "law", "linear");
-  f.WriteAttribute(g, "verdict", "sigma_c identified; J_B and delta_c are lower bounds");
-  f.WriteAttribute(g, "converged", 1.0);
-  f.WriteAttribute(g, "steady_state_reached", 0.0);
-  f.WriteAttribute(g, "bridging_detected", 1.0);
-  f.WriteAttribute(g, "rms_residual_J_per_m2", 7.0);
-  f.WriteAttribute(g, "reduced_chi2", s2);
-  f.WriteAttribute(g, "wall_s", 1.5);
-  f.WriteVector(g + "/crack_length", a, "m");
-  f.WriteVector(g + "/R", R, "J/m^2");
-  f.WriteVector(g + "/fitted_crack_length", fa, "m");
-  f.WriteVector(g + "/fitted_R", fR, "J/m^2");
-  f.WriteVector(g + "/outlier_crack_length", {}, "m");
-  f.WriteVector(g + "/outlier_R", {}, "J/m^2");
-  WriteEstimate(f, g + "/parameters/sigma_c", 0.45e6, sigma.low, sigma.high, NAN, true, "Pa");
-  WriteEstimate(f, g + "/parameters/delta_c", 2.0e-3, NAN, NAN, 1.5e-3, false, "m");
+  inverse::FitSummary& f = run.summary;
+  f.model = "reduced";
+  f.optimizer = "ceres-lm";
+  f.law = "linear";
+  f.verdict = "sigma_c identified; J_B and delta_c are lower bounds";
+  f.converged = true;
+  f.steady_state_reached = false;
+  f.bridging_detected = true;
+  f.rms_residual = 7.0;
+  f.reduced_chi2 = s2;
+  f.wall_s = 1.5;
+  f.fitted_crack_length = fa;
+  f.fitted_R = fR;
+  f.sigma_c = Estimate(0.45e6, sigma.low, sigma.high, NAN, true);
+  f.delta_c = Estimate(2.0e-3, NAN, NAN, 1.5e-3, false);
   if (jb_open) {  // steady state reached, J_B's profile flat above: an open interval
-    WriteEstimate(f, g + "/parameters/J_B", 450, jb.low, NAN, NAN, false, "J/m^2");
-    f.WriteAttribute(g + "/parameters/J_B", "note", "profile likelihood flat above the optimum (0.5 .. 5000)");
+    f.J_B = Estimate(450, jb.low, NAN, NAN, false);
+    f.J_B.note = "profile likelihood flat above the optimum (0.5 .. 5000)";
   } else {
-    WriteEstimate(f, g + "/parameters/J_B", 450, NAN, NAN, 340, false, "J/m^2");
+    f.J_B = Estimate(450, NAN, NAN, 340, false);
   }
-  WriteEstimate(f, g + "/parameters/J_tip_c", 2210, jtip.low, jtip.high, NAN, true, "J/m^2");
-  WriteProfile(f, "sigma_c", sigma, s2, false, "Pa");
-  WriteProfile(f, "J_B", jb, s2, true, "J/m^2");
-  WriteProfile(f, "J_tip_c", jtip, s2, false, "J/m^2");
+  f.J_tip_c = Estimate(2210, jtip.low, jtip.high, NAN, true);
+  f.profiles = {MakeProfile(inverse::kSigmaC, sigma, s2, false),
+                MakeProfile(inverse::kJB, jb, s2, true),
+                MakeProfile(inverse::kJTipC, jtip, s2, false)};
   if (load_fit) {
-    f.WriteAttribute(g, "rms_residual_N", 3.0);
-    f.WriteVector(g + "/load_displacement/displacement", {1e-4, 2e-4, 3e-4}, "m");
-    f.WriteVector(g + "/load_displacement/load", {100, 200, 290}, "N");
-    f.WriteVector(g + "/load_displacement/fitted_load", {101, 199, 292}, "N");
+    f.target = inverse::FitTarget::kLoad;
+    f.rms_residual = 3.0;
+    f.fitted_displacement = {1e-4, 2e-4, 3e-4};
+    f.fitted_record_load = {100, 200, 290};
+    f.fitted_load = {101, 199, 292};
+    run.load_data = run.data;
+    run.load_fit_R = fR;
+    run.load_fit_R_rms = 7.0;
   }
-  f.Commit();
+  pipeline::WriteFitFile(path.string(), request, run);
   return path;
 }
 

@@ -1,0 +1,30 @@
+#pragma once
+// The --json objects of `rcurve`, `law` and `simulate`: the library's result
+// values as JSON (SI, units in the keys). The keys are the CLI's interface;
+// the values come computed from the library (pipeline/rcurve.hpp,
+// pipeline/law.hpp, pipeline/simulate.hpp). `fit` has its own (fit_json.hpp).
+
+#include <nlohmann/json.hpp>
+
+#include "bridgefit/core/records.hpp"
+#include "bridgefit/mpm/growth.hpp"
+#include "bridgefit/pipeline/law.hpp"
+#include "bridgefit/pipeline/rcurve.hpp"
+#include "bridgefit/pipeline/simulate.hpp"
+
+namespace bridgefit::cli {
+
+// `bridgefit rcurve --json` (without the "out" and "csv" paths).
+nlohmann::json RCurveRunJson(const pipeline::RCurveRun& run);
+
+// `bridgefit law --json`.
+nlohmann::json LawRunJson(const pipeline::LawRun& run);
+
+// `bridgefit simulate --json`: a growth run (reduced, or MPM before its
+// solver keys are added by MpmGrowthJson).
+nlohmann::json SimulationJson(const SimulationResult& result);
+nlohmann::json MpmGrowthJson(const mpm::GrowthResult& growth);
+// The stationary explicit MPM run (`out`: the --out path, maybe empty).
+nlohmann::json MpmStationaryJson(const pipeline::MpmStationaryRun& run, const std::string& out);
+
+}  // namespace bridgefit::cli
