@@ -164,6 +164,8 @@ class FitCommand final : public Command {
     if (written && !common.quiet) std::cerr << "report: " << written->index_html.string() << "\n";
     if (run.model_error.status != inverse::ModelErrorStatus::kEstimated)
       std::cerr << "warning: fit: " << run.model_error.Summary() << "\n";
+    if (!run.model_error.warning.empty())
+      std::cerr << "warning: fit: " << run.model_error.warning << "\n";
     if (run.comparison.empty()) {
       WarnUnreliableIntervals(run.summary, run.summary.law);
     } else {

@@ -27,6 +27,9 @@ nlohmann::json ModelErrorJson(const inverse::ModelErrorEstimate& m) {
           {"output_bias_rms", NumberOrNull(m.output_bias_rms)},
           {"output_bias_max", NumberOrNull(m.output_bias_max)},
           {"output_bias_max_relative", NumberOrNull(m.output_bias_max_relative)},
+          {"output_bias_noise_rms", NumberOrNull(m.output_bias_noise_rms)},
+          {"output_bias_noise_max", NumberOrNull(m.output_bias_noise_max)},
+          {"warning", m.warning},
           {"parameter_bias", bias},
           {"wall_s", m.wall_s}};
 }

@@ -4,6 +4,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
 #include <cmath>
 #include <random>
 
@@ -110,6 +113,7 @@ std::vector<std::string> CaseWarnings(const pipeline::FitRun& run) {
   if (run.model_error.status != inverse::ModelErrorStatus::kEstimated)
     out.push_back("model error: " + run.model_error.Summary());
   if (!run.model_note.empty()) out.push_back("model note: " + run.model_note);
+  if (!run.model_error.warning.empty()) out.push_back("model error: " + run.model_error.warning);
   return out;
 }
 
@@ -242,6 +246,10 @@ CaseResult RunCase(const ValidationCase& spec, int threads) {
     result.truth_R_rise = test.simulation.points.back().R / spec.scene.fracture->J_tip_c - 1.0;
     // The record read back from the CSV `bridgefit synth` writes, as the
     // CLI reads it (rounded to the written digits).
+    // BF_VALIDATE_RECORD_DIR: each case's record as written (case_N.csv), to
+    // rerun its fit with the CLI on exactly the harness's data.
+    if (const char* dir = std::getenv("BF_VALIDATE_RECORD_DIR"))
+      std::ofstream(std::string(dir) + "/case_" + std::to_string(spec.index) + ".csv") << test.record_csv;
     const io::CsvTable table = io::ParseCsvTable(test.record_csv, spec.Label(), InputLimits{});
     ExperimentRecord record = io::RecordFromCsvTable(table, io::RecordColumns{});
     record.source = spec.Label();
@@ -251,6 +259,9 @@ CaseResult RunCase(const ValidationCase& spec, int threads) {
     const auto t1 = std::chrono::steady_clock::now();
     const pipeline::FitRun run = pipeline::RunFit(FitRequestFor(spec, std::move(record), threads));
     result.fit_s = Seconds(t1);
+    if (std::getenv("BF_VALIDATE_VERBOSE"))  // the fit's report, as `bridgefit fit` prints it
+      std::fprintf(stderr, "%s: model error: %s\n%s", spec.Label().c_str(),
+                   run.model_error.Summary().c_str(), run.BriefReport().c_str());
     const inverse::FitSummary& s = run.summary;
     result.fit_steady_state = s.steady_state_reached;
     result.bridging_detected = s.bridging_detected;

@@ -233,34 +233,34 @@ std::string ReproductionToml(const ValidationCase& c) {
                                                 : "";
   std::string t = fmt::format(
       "# Validation case {} (seed {}): {}\n"
-      "#   bridgefit synth case.toml --out case --seed {} --resolution '{:.6g} mm' --frames 0 "
-      "--load-noise {:.6g} --displacement-noise '{:.6g} um' --crack-noise '{:.6g} mm'\n"
+      "#   bridgefit synth case.toml --out case --seed {} --resolution '{:.17g} mm' --frames 0 "
+      "--load-noise {:.17g} --displacement-noise '{:.17g} um' --crack-noise '{:.17g} mm'\n"
       "#   bridgefit fit case/record.csv --scene case.toml --law {}{}\n"
       "# (the fit reads only [specimen] and [material] from the scene; the CLI's synth\n"
       "# draws its noise as the library does, seeded by --seed)\n",
       c.index, c.seed, c.Label(), c.seed, c.generation_resolution * 1e3, c.load_noise,
       c.displacement_noise * 1e6, c.crack_noise * 1e3,
       laws::LawFamilyName(c.scene.bridging->shape.family), route);
-  t += fmt::format("[specimen]\ntype = \"{}\"\nwidth = \"{:.9g} mm\"\nheight = \"{:.9g} mm\"\n",
+  t += fmt::format("[specimen]\ntype = \"{}\"\nwidth = \"{:.17g} mm\"\nheight = \"{:.17g} mm\"\n",
                    ct ? "ct" : "dcb", sp.width * 1e3, sp.height * 1e3);
-  if (ct) t += fmt::format("thickness = \"{:.9g} mm\"\n", sp.thickness * 1e3);
-  else t += fmt::format("length = \"{:.9g} mm\"\n", sp.length * 1e3);
-  t += fmt::format("notch = \"{:.9g} mm\"\nplane = \"stress\"\n\n[material]\n", sp.notch * 1e3);
+  if (ct) t += fmt::format("thickness = \"{:.17g} mm\"\n", sp.thickness * 1e3);
+  else t += fmt::format("length = \"{:.17g} mm\"\n", sp.length * 1e3);
+  t += fmt::format("notch = \"{:.17g} mm\"\nplane = \"stress\"\n\n[material]\n", sp.notch * 1e3);
   if (m.orthotropic)
-    t += fmt::format("E1 = \"{:.9g} GPa\"\nE2 = \"{:.9g} GPa\"\nG12 = \"{:.9g} GPa\"\nnu12 = {:.9g}\n",
+    t += fmt::format("E1 = \"{:.17g} GPa\"\nE2 = \"{:.17g} GPa\"\nG12 = \"{:.17g} GPa\"\nnu12 = {:.17g}\n",
                      m.E1 * 1e-9, m.E2 * 1e-9, m.G12 * 1e-9, m.nu12);
   else
-    t += fmt::format("E = \"{:.9g} GPa\"\nnu = {:.9g}\n", m.E * 1e-9, m.nu);
-  t += fmt::format("density = \"{:.9g} kg/m^3\"\n\n[fracture]\nJ_tip_c = \"{:.9g} J/m^2\"\n\n",
+    t += fmt::format("E = \"{:.17g} GPa\"\nnu = {:.17g}\n", m.E * 1e-9, m.nu);
+  t += fmt::format("density = \"{:.17g} kg/m^3\"\n\n[fracture]\nJ_tip_c = \"{:.17g} J/m^2\"\n\n",
                    m.density, c.scene.fracture->J_tip_c);
   const BridgingSpec& b = *c.scene.bridging;
-  t += fmt::format("[bridging]\nlaw = \"{}\"\nsigma_c = \"{:.9g} MPa\"\nJ_B = \"{:.9g} J/m^2\"\n",
+  t += fmt::format("[bridging]\nlaw = \"{}\"\nsigma_c = \"{:.17g} MPa\"\nJ_B = \"{:.17g} J/m^2\"\n",
                    laws::LawFamilyName(b.shape.family), b.scales.sigma_c * 1e-6, b.scales.J_B);
   if (b.shape.family == laws::LawFamily::kTriangular)
-    t += fmt::format("peak_ratio = {:.9g}\n", b.shape.peak_ratio);
+    t += fmt::format("peak_ratio = {:.17g}\n", b.shape.peak_ratio);
   if (b.shape.family == laws::LawFamily::kExponential)
-    t += fmt::format("alpha = {:.9g}\n", b.shape.alpha);
-  t += fmt::format("\n[run]\nmax_crack_length = \"{:.9g} mm\"\n", *c.scene.run.max_crack_length * 1e3);
+    t += fmt::format("alpha = {:.17g}\n", b.shape.alpha);
+  t += fmt::format("\n[run]\nmax_crack_length = \"{:.17g} mm\"\n", *c.scene.run.max_crack_length * 1e3);
   return t;
 }
 

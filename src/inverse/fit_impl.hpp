@@ -238,5 +238,14 @@ FitData RowsUsed(const FitData& data, const FitSummary& fit);
 // bridging; without, J_tip,c of a load-displacement fit only.
 FitOptions AnswerParameters(const FitOptions& options, const FitSummary& fit,
                             std::array<double, kParameterCount>* at);
+// The model's prediction at the data (R or load); empty when the run failed
+// (the message in `why`), model_error.cpp.
+std::vector<double> PredictAt(const ForwardModel& model, const laws::LawShape& shape,
+                              const LawParameters& p, const FitData& data, std::string* why);
+// rms and largest |bias_i| / (u_i s), s^2 = `scale2` (u = 1 where the data
+// carry no uncertainties): a predicted output bias in noise standard
+// deviations (with the data's own uncertainties, s = 1), model_error.cpp.
+std::array<double, 2> NoiseRelative(const std::vector<double>& bias, const FitData& data,
+                                    double scale2);
 
 }  // namespace bridgefit::inverse::fit_internal

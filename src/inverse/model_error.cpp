@@ -60,6 +60,8 @@ std::string ModelErrorEstimate::Summary() const {
       ", safety factor {:.3g}; predicted bias of {} up to {:.3g} {} ({:.2g}%), rms {:.3g} {}",
       safety_factor, quantity, output_bias_max, load ? "N" : "J/m^2",
       100 * output_bias_max_relative, output_bias_rms, load ? "N" : "J/m^2");
+  if (std::isfinite(output_bias_noise_rms))
+    text += fmt::format(" ({:.2g} noise sd rms)", output_bias_noise_rms);
   return text;
 }
 
@@ -164,6 +166,45 @@ FitOptions AnswerParameters(const FitOptions& options, const FitSummary& fit,
   return answer;
 }
 
+// The predicted output bias against the data's noise (the fit's standard
+// uncertainty of each point: u_i s with s^2 the fit's noise scale), and the
+// warning when it is larger than the noise.
+std::array<double, 2> NoiseRelative(const std::vector<double>& bias, const FitData& data,
+                                    double scale2) {
+  const std::vector<double>& u =
+      data.target == FitTarget::kLoad ? data.load_uncertainty : data.R_uncertainty;
+  if (!(scale2 > 0.0) || bias.empty()) return {NAN, NAN};
+  double sum2 = 0.0, largest = 0.0;
+  for (std::size_t i = 0; i < bias.size(); ++i) {
+    const double sd = (u.size() == bias.size() ? u[i] : 1.0) * std::sqrt(scale2);
+    const double z = std::abs(bias[i]) / sd;
+    sum2 += z * z;
+    largest = std::max(largest, z);
+  }
+  return {std::sqrt(sum2 / bias.size()), largest};
+}
+
+void NoiseRelativeBias(const FitData& used, const FitSummary& fit, ModelErrorEstimate& e) {
+  const bool load = used.target == FitTarget::kLoad;
+  // Against the data's own uncertainties where it has them: a fit's noise
+  // scale grows with the misfit the model's error makes, and would hide it.
+  const double scale2 = used.weighted() ? 1.0
+                        : std::isfinite(fit.noise_scale2) ? fit.noise_scale2
+                                                          : fit.reduced_chi2;
+  const std::array<double, 2> z = NoiseRelative(e.output_bias, used, scale2);
+  e.output_bias_noise_rms = z[0];
+  e.output_bias_noise_max = z[1];
+  const double largest = z[1];
+  if (e.output_bias_noise_rms > kOutputBiasNoiseLimit)
+    e.warning = fmt::format(
+        "the {} model at {:.3g} mm is too coarse for this record: its predicted error of {} "
+        "is {:.2g} noise standard deviations rms (up to {:.2g}), more than the noise itself, so "
+        "an estimate or a verdict (bridging detected, steady state) may be off by more than its "
+        "interval; refit with a finer --resolution (e.g. '{:.3g} mm')",
+        e.model, e.resolution * 1e3, load ? "the load" : "R", e.output_bias_noise_rms, largest,
+        e.resolution * 1e3 / 2);
+}
+
 }  // namespace fit_internal
 
 ModelErrorEstimate EstimateModelError(const ForwardModel& model, const ForwardModel* coarse,
@@ -240,6 +281,7 @@ ModelErrorEstimate EstimateModelError(const ForwardModel& model, const ForwardMo
     }
   }
   e.output_bias_rms = std::sqrt(sum2 / std::max<std::size_t>(1, y_h.size()));
+  NoiseRelativeBias(used, fit, e);
 
   // The parameters: the fit re-run locally from its optimum with each
   // coarser model (Richardson on the estimates themselves; mapping the

@@ -72,6 +72,22 @@ Rung EvaluateRung(const ForwardModel* model, const laws::LawShape& shape, const 
   return rung;
 }
 
+// rms of the predicted bias of the model at h (the coarse model's prediction
+// minus the fine one's over the Richardson denominator) in noise standard
+// deviations; NaN where a run fails.
+double OutputBiasInNoise(const ForwardModel* fine, const ForwardModel* coarse,
+                         const laws::LawShape& shape, const FitData& used, const LawParameters& p,
+                         double scale2, double denominator) {
+  if (!fine || !coarse) return NAN;
+  std::string why;
+  const std::vector<double> y_h = PredictAt(*fine, shape, p, used, &why);
+  const std::vector<double> y_2h = PredictAt(*coarse, shape, p, used, &why);
+  if (y_h.empty() || y_2h.empty()) return NAN;
+  std::vector<double> bias(y_h.size());
+  for (std::size_t i = 0; i < y_h.size(); ++i) bias[i] = (y_2h[i] - y_h[i]) / denominator;
+  return NoiseRelative(bias, used, scale2)[0];
+}
+
 }  // namespace
 
 ResolutionChoice ChooseResolution(const ModelAtResolution& model_at, const laws::LawShape& shape,
@@ -168,6 +184,21 @@ ResolutionChoice ChooseResolution(const ModelAtResolution& model_at, const laws:
         level.note = level.status == ModelErrorStatus::kEstimated
                          ? fmt::format("largest bias {:.2g} sd ({})", worst_ratio, worst)
                          : "order not observed: " + order.problem;
+        // The model's own error where the data can see it: a prediction
+        // whose bias exceeds the noise can move a verdict (bridging,
+        // steady state) that the estimates' Richardson terms do not show.
+        std::array<double, kParameterCount> p = at;
+        for (std::size_t k = 0; k < free.size(); ++k) p[free[k]] = fine.estimate[k];
+        const double noise_rms = OutputBiasInNoise(model_at(h), model_at(r * h), shape, used,
+                                                   {p[kSigmaC], p[kJB], p[kJTipC]},
+                                                   used.weighted() ? 1.0 : scale2,
+                                                   order.denominator);
+        level.output_bias_noise_rms = noise_rms;
+        if (std::isfinite(noise_rms)) {
+          level.note += fmt::format("; predicted {} bias {:.2g} noise sd rms",
+                                    used.target == FitTarget::kLoad ? "load" : "R", noise_rms);
+          if (noise_rms > kOutputBiasNoiseLimit) level.meets = false;
+        }
       }
     }
     choice.levels.push_back(level);
@@ -177,10 +208,12 @@ ResolutionChoice ChooseResolution(const ModelAtResolution& model_at, const laws:
       choice.reason =
           level.meets
               ? fmt::format("{:.3g} mm: predicted bias within {:g} of each statistical standard "
-                            "uncertainty ({})", h * 1e3, o.bias_fraction, level.note)
-              : fmt::format("{:.3g} mm, the finest tried: the criterion (bias <= {:g} sd) is not "
-                            "met ({}); the model error is in the total interval",
-                            h * 1e3, o.bias_fraction, level.note);
+                            "uncertainty and of the data within {:g} noise sd ({})",
+                            h * 1e3, o.bias_fraction, kOutputBiasNoiseLimit, level.note)
+              : fmt::format("{:.3g} mm, the finest tried: the criterion (bias <= {:g} sd, "
+                            "predicted data bias <= {:g} noise sd) is not met ({}); the model "
+                            "error is in the total interval",
+                            h * 1e3, o.bias_fraction, kOutputBiasNoiseLimit, level.note);
       break;
     }
   }

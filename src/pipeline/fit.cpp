@@ -283,22 +283,13 @@ void AddModelError(const FitRequest& request, const FitModels& models,
 
 }  // namespace
 
-FitRun RunFit(const FitRequest& given) {
-  given.Check();
-  FitRequest request = given;  // the element size becomes the chosen one (--resolution auto)
-  FitRun run;
-  run.input = ResolveFitInput(request);
-  run.r_kind = ResolveRKind(request, run.input);
-  run.data = inverse::FitData::FromRCurve(run.input.curve, run.r_kind);
-  if (request.target == inverse::FitTarget::kLoad)
-    run.load_data = LoadFitData(request, run.input);
-  const inverse::FitData& fit_data = run.load_data ? *run.load_data : run.data;
-  // Comparing: the start fit and the calibration use the linear law.
-  run.shape = request.compare_laws ? laws::MakeLinearShape() : ShapeForRequest(request);
-  const laws::LawShape start_shape = run.shape;
-  run.check.tolerance = request.model_tolerance;
-  ChooseAutoResolution(request, start_shape, run);
+namespace {
 
+// Every stage after the element size is known: the models, the compliance
+// calibration, the fit, the model error.
+void FitAtResolution(const FitRequest& request, FitRun& run) {
+  const inverse::FitData& fit_data = run.load_data ? *run.load_data : run.data;
+  const laws::LawShape start_shape = run.shape;
   FitModels models(request, run.input, run.data, run.load_data.has_value(), run.r_kind);
   models.Build(1.0, 0.0);
   const inverse::ScaledModelFactory factory = [&models](double factor, double series) {
@@ -333,6 +324,48 @@ FitRun RunFit(const FitRequest& given) {
   AddModelError(request, models, fit_data, options, run);
   run.mpm_cell = models.mpm_cell();
   run.resolution = models.resolution();
+}
+
+}  // namespace
+
+FitRun RunFit(const FitRequest& given) {
+  given.Check();
+  FitRequest request = given;  // the element size becomes the chosen one (--resolution auto)
+  FitRun run;
+  run.input = ResolveFitInput(request);
+  run.r_kind = ResolveRKind(request, run.input);
+  run.data = inverse::FitData::FromRCurve(run.input.curve, run.r_kind);
+  if (request.target == inverse::FitTarget::kLoad)
+    run.load_data = LoadFitData(request, run.input);
+  // Comparing: the start fit and the calibration use the linear law.
+  run.shape = request.compare_laws ? laws::MakeLinearShape() : ShapeForRequest(request);
+  run.check.tolerance = request.model_tolerance;
+  ChooseAutoResolution(request, run.shape, run);
+  const FitRun chosen = run;
+  FitAtResolution(request, run);
+  // --resolution auto chose the size at the pilot's parameters; where the
+  // answer's own model error is visible in the data (the warning), the fit
+  // is repeated at half the size while the ladder's finest allows.
+  double spent_s = 0.0;
+  int spent_runs = 0;
+  std::string refined;
+  while (run.resolution_choice && !run.model_error.warning.empty() &&
+         request.resolution / 2.0 >= run.resolution_choice->finest * (1.0 - 1e-9)) {
+    spent_s += run.summary.wall_s;
+    spent_runs += run.summary.evaluations;
+    refined += fmt::format("{}{:.3g} mm ({:.2g} noise sd rms)", refined.empty() ? "" : ", ",
+                           request.resolution * 1e3, run.model_error.output_bias_noise_rms);
+    request.resolution /= 2.0;
+    run = chosen;
+    FitAtResolution(request, run);
+  }
+  if (!refined.empty()) {
+    run.resolution_choice->reason += fmt::format(
+        "; refined to {:.3g} mm after the fit: the answer's predicted data bias at {} exceeded "
+        "the noise", request.resolution * 1e3, refined);
+    run.summary.wall_s += spent_s;
+    run.summary.evaluations += spent_runs;
+  }
   return run;
 }
 
@@ -381,6 +414,7 @@ std::string FitRun::BriefReport() const {
     out << fmt::format("  resolution auto: {} (chosen in {:.2f} s)\n", resolution_choice->reason,
                        resolution_choice->wall_s);
   out << "  " << model_error.Summary() << "\n";
+  if (!model_error.warning.empty()) out << "  warning: " << model_error.warning << "\n";
   if (!model_note.empty()) out << "  " << model_note << "\n";
   return out.str();
 }

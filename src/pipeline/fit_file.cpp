@@ -46,6 +46,9 @@ void WriteModelError(io::H5Writer& file, const std::string& g, const FitRun& run
   file.WriteAttribute(me, "output_bias_rms", m.output_bias_rms);
   file.WriteAttribute(me, "output_bias_max", m.output_bias_max);
   file.WriteAttribute(me, "output_bias_max_relative", m.output_bias_max_relative);
+  file.WriteAttribute(me, "output_bias_noise_rms", m.output_bias_noise_rms);
+  file.WriteAttribute(me, "output_bias_noise_max", m.output_bias_noise_max);
+  file.WriteAttribute(me, "warning", m.warning);
   for (int i = 0; i < inverse::kParameterCount; ++i)
     file.WriteAttribute(me, std::string("bias_") + inverse::ParameterName(i), m.parameter_bias[i]);
   file.WriteAttribute(me, "wall_s", m.wall_s);

@@ -65,6 +65,7 @@ void ChooseAutoResolution(FitRequest& request, const laws::LawShape& shape, FitR
     choice.reason = "the pilot fit at the coarsest size did not converge: the finest size taken";
   }
   choice.wall_s = clock.Seconds();
+  choice.finest = options.finest;
   request.resolution = choice.resolution;
   run.resolution_choice = std::move(choice);
 }

@@ -6,6 +6,7 @@
 // linear, exponential and cubic laws.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <map>
@@ -185,6 +186,52 @@ TEST(ModelError, PredictedRBiasMatchesAFinerSolve) {
     EXPECT_GT(dot, 0.0);
     EXPECT_GT(e.output_bias_rms, 0.8 * Rms(actual));
     EXPECT_LT(e.output_bias_rms, 3.0 * Rms(actual));
+  }
+}
+
+// The warning that the model is too coarse for the data, against the actual
+// error of the model at h (its R at the truth minus the much finer solve's):
+// data whose noise is a third of that error get it, data whose noise is
+// three times the largest error do not; the predicted error in noise
+// standard deviations is within the factor of the bias test above.
+TEST(ModelError, WarnsWhenTheModelsErrorExceedsTheDataNoise) {
+  for (const Case& c : Cases()) {
+    SCOPED_TRACE(c.name);
+    const auto fine = Model(c.scene, c.h, c.a_last + 2 * c.h);
+    const auto coarse = Model(c.scene, 2 * c.h, c.a_last + 4 * c.h);
+    const auto coarser = Model(c.scene, 4 * c.h, c.a_last + 8 * c.h);
+    const auto reference = Model(c.scene, c.h_reference, c.a_last + 2 * c.h);
+    FitData data = Window(c);
+    const ForwardPrediction truth = reference->Predict(c.shape, c.truth, data.crack_length, data.kind);
+    const ForwardPrediction at_h = fine->Predict(c.shape, c.truth, data.crack_length, data.kind);
+    ASSERT_TRUE(truth.ok() && at_h.ok()) << truth.message << at_h.message;
+    data.R = truth.R;
+    std::vector<double> actual(truth.R.size());
+    for (std::size_t i = 0; i < actual.size(); ++i) actual[i] = at_h.R[i] - truth.R[i];
+    const double actual_rms = Rms(actual);
+    FitSummary fit;
+    fit.target = FitTarget::kRCurve;
+    fit.best_parameters = {c.truth.sigma_c, c.truth.J_B, c.truth.J_tip_c};
+    fit.chi2 = 0.0;
+    // Noise a third of the model's rms error: 3 noise sd rms.
+    data.R_uncertainty.assign(actual.size(), actual_rms / 3.0);
+    const ModelErrorEstimate small_noise = EstimateModelError(
+        *fine, coarse.get(), coarser.get(), c.h, c.shape, data, FitOptions(), fit);
+    ASSERT_TRUE(small_noise.estimated()) << small_noise.reason;
+    std::cout << c.name << ": " << small_noise.Summary() << "\n  " << small_noise.warning << "\n";
+    EXPECT_FALSE(small_noise.warning.empty());
+    EXPECT_GT(small_noise.output_bias_noise_rms, 0.8 * 3.0);
+    EXPECT_LT(small_noise.output_bias_noise_rms, 3.0 * 3.0);
+    EXPECT_NE(small_noise.warning.find("--resolution"), std::string::npos);
+    // Noise three times the largest error: no warning.
+    double largest = 0.0;
+    for (double a : actual) largest = std::max(largest, std::abs(a));
+    data.R_uncertainty.assign(actual.size(), 3.0 * largest);
+    const ModelErrorEstimate large_noise = EstimateModelError(
+        *fine, coarse.get(), coarser.get(), c.h, c.shape, data, FitOptions(), fit);
+    ASSERT_TRUE(large_noise.estimated()) << large_noise.reason;
+    EXPECT_TRUE(large_noise.warning.empty()) << large_noise.warning;
+    EXPECT_LT(large_noise.output_bias_noise_rms, kOutputBiasNoiseLimit);
   }
 }
 

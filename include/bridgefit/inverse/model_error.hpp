@@ -55,6 +55,10 @@ struct ModelErrorOptions {
   bool IsValid(std::string* why) const;
 };
 
+// The rms predicted output bias, in noise standard deviations, above which
+// the model is too coarse for the data (ModelErrorEstimate::warning).
+inline constexpr double kOutputBiasNoiseLimit = 1.0;
+
 struct ModelErrorEstimate {
   ModelErrorStatus status = ModelErrorStatus::kNotEstimated;
   std::string reason;            // why not estimated, or why the order is not trusted
@@ -72,6 +76,14 @@ struct ModelErrorEstimate {
   double output_bias_rms = NAN;
   double output_bias_max = NAN;
   double output_bias_max_relative = NAN;
+  // The same bias in units of the data's noise (the fit's standard
+  // uncertainty of each point): rms and largest magnitude. Above
+  // kOutputBiasNoiseLimit the model's own error is visible in the data: a
+  // verdict (bridging detected, steady state) or an estimate can move by
+  // more than the Richardson terms of the estimates say (`warning`).
+  double output_bias_noise_rms = NAN;
+  double output_bias_noise_max = NAN;
+  std::string warning;  // set when the model is too coarse for the data; printed as a warning
   // Predicted bias of each estimate (estimate minus the converged model's),
   // SI; 0 for fixed parameters, NaN where not estimated.
   std::array<double, kParameterCount> parameter_bias = {NAN, NAN, NAN};

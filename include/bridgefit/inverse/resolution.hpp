@@ -10,7 +10,13 @@
 // (model_error.hpp: order at most the model's asymptotic 1, F_s 3 where the
 // order is not observed). The first size at which every identified
 // parameter's |bias| <= fraction x its statistical standard uncertainty
-// (Jacobian) wins; the finest is taken, with the reason, when none does.
+// (Jacobian) and whose predicted bias of the data (R or load, the coarser
+// model's prediction at the same parameters against this one's) is at most
+// kOutputBiasNoiseLimit noise standard deviations rms wins; the finest is
+// taken, with the reason, when none does. The second condition catches a
+// model that cannot follow the data at all (a zone shorter than a few
+// elements): its estimates can agree between sizes while the verdict
+// (bridging detected) is wrong at every one of them.
 
 #include <functional>
 #include <string>
@@ -36,12 +42,14 @@ struct ResolutionLevel {
   std::array<double, kParameterCount> bias = {NAN, NAN, NAN};      // predicted at this size
   std::array<double, kParameterCount> sd = {NAN, NAN, NAN};        // statistical, Jacobian
   ModelErrorStatus status = ModelErrorStatus::kNotEstimated;
+  double output_bias_noise_rms = NAN;  // the prediction's bias at the data, noise sd rms
   bool meets = false;
   std::string note;
 };
 
 struct ResolutionChoice {
   double resolution = NAN;  // [m], the chosen element size
+  double finest = NAN;      // [m], the finest size the ladder allows
   bool criterion_met = false;
   std::string reason;       // a sentence: why this size
   std::vector<ResolutionLevel> levels;  // every size evaluated, coarse to fine
