@@ -120,8 +120,10 @@ nlohmann::json ResolutionAutoJson(const inverse::ResolutionChoice& choice) {
                       {"meets", l.meets},
                       {"bias", {NumberOrNull(l.bias[0]), NumberOrNull(l.bias[1]), NumberOrNull(l.bias[2])}},
                       {"sd", {NumberOrNull(l.sd[0]), NumberOrNull(l.sd[1]), NumberOrNull(l.sd[2])}},
+                      {"output_bias_noise_rms", NumberOrNull(l.output_bias_noise_rms)},
                       {"note", l.note}});
   return {{"resolution_m", choice.resolution},
+          {"finest_m", NumberOrNull(choice.finest)},
           {"criterion_met", choice.criterion_met},
           {"reason", choice.reason},
           {"wall_s", choice.wall_s},

@@ -18,16 +18,17 @@ command -v ccache > /dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache 
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER="$CC" \
   -DCMAKE_CXX_COMPILER="$CXX" -DBRIDGEFIT_FUZZ=ON -DBRIDGEFIT_BUILD_TESTS=OFF "${launcher[@]}" \
   > "$build/build.log" 2>&1 || { tail -n 40 "$build/build.log"; exit 1; }
-harnesses=(units csv scene h5 image fields)
+harnesses=(units csv scene h5 image fields ncorr)
 targets=()
 for h in "${harnesses[@]}"; do targets+=("fuzz_$h"); done
-cmake --build "$build" -j"$(nproc)" --target "${targets[@]}" >> "$build/build.log" 2>&1 \
+cmake --build "$build" -j"$(nproc)" --target "${targets[@]}" make_ncorr_seeds >> "$build/build.log" 2>&1 \
   || { tail -n 60 "$build/build.log"; exit 1; }
 
 # Seed corpora: the repository's own inputs of each kind.
 seeds=$build/seeds
 rm -rf "$seeds"
-mkdir -p "$seeds"/{units,csv,scene,h5,image,fields}
+mkdir -p "$seeds"/{units,csv,scene,h5,image,fields,ncorr}
+"$build/tests/fuzz/make_ncorr_seeds" "$seeds/ncorr"
 printf '%s\n' "MPa" "J/m^2" "kg/m^3" "N/mm" "mm/px" "m.s^-1" "0.45 MPa" "2 m^2*s^-2" "1 kN*mm" \
   "12.7 mm" "500 kJ/m^2" | split -l 1 - "$seeds/units/u"
 cp tests/data/experiment/*.csv tests/data/scenes/*.csv "$seeds/csv/" 2>/dev/null || true

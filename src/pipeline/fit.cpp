@@ -402,8 +402,9 @@ FitRun RunFit(const FitRequest& given) {
   std::string refined;
   while (run.resolution_choice && !run.model_error.warning.empty() &&
          request.resolution / 2.0 >= run.resolution_choice->finest * (1.0 - 1e-9)) {
-    spent_s += run.summary.wall_s;
-    spent_runs += run.summary.evaluations;
+    // Each attempt's summary holds the choice's own time once.
+    spent_s += run.summary.wall_s - run.resolution_choice->wall_s;
+    spent_runs += run.summary.evaluations - run.resolution_choice->runs;
     refined += fmt::format("{}{:.3g} mm ({:.2g} noise sd rms)", refined.empty() ? "" : ", ",
                            request.resolution * 1e3, run.model_error.output_bias_noise_rms);
     request.resolution /= 2.0;
