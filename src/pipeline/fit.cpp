@@ -399,7 +399,7 @@ FitRun RunFit(const FitRequest& given) {
   // is repeated at half the size while the ladder's finest allows.
   double spent_s = 0.0;
   int spent_runs = 0;
-  std::string refined;
+  std::string refined, failed;
   while (run.resolution_choice && !run.model_error.warning.empty() &&
          request.resolution / 2.0 >= run.resolution_choice->finest * (1.0 - 1e-9)) {
     // Each attempt's summary holds the choice's own time once.
@@ -407,14 +407,26 @@ FitRun RunFit(const FitRequest& given) {
     spent_runs += run.summary.evaluations - run.resolution_choice->runs;
     refined += fmt::format("{}{:.3g} mm ({:.2g} noise sd rms)", refined.empty() ? "" : ", ",
                            request.resolution * 1e3, run.model_error.output_bias_noise_rms);
-    request.resolution /= 2.0;
-    run = chosen;
-    FitAtResolution(request, run);
+    FitRequest finer = request;
+    finer.resolution /= 2.0;
+    FitRun attempt = chosen;
+    try {
+      FitAtResolution(finer, attempt);
+    } catch (const Error& e) {  // the coarser fit stands, with its warning
+      failed = fmt::format("; the fit at {:.3g} mm failed ({}): the {:.3g} mm fit is kept",
+                           finer.resolution * 1e3, e.what(), request.resolution * 1e3);
+      spent_s -= run.summary.wall_s - run.resolution_choice->wall_s;
+      spent_runs -= run.summary.evaluations - run.resolution_choice->runs;
+      break;
+    }
+    request = std::move(finer);
+    run = std::move(attempt);
   }
   if (!refined.empty()) {
-    run.resolution_choice->reason += fmt::format(
-        "; refined to {:.3g} mm after the fit: the answer's predicted data bias at {} exceeded "
-        "the noise", request.resolution * 1e3, refined);
+    run.resolution_choice->reason +=
+        fmt::format("; after the fit the answer's predicted data bias exceeded the noise at {}",
+                    refined) +
+        (failed.empty() ? fmt::format(": refined to {:.3g} mm", request.resolution * 1e3) : failed);
     run.summary.wall_s += spent_s;
     run.summary.evaluations += spent_runs;
   }

@@ -14,6 +14,8 @@
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/io/hdf5.hpp"
 #include "bridgefit/io/scene_file.hpp"
+#include "bridgefit/inverse/reduced_forward.hpp"
+#include "bridgefit/models/reduced.hpp"
 #include "bridgefit/pipeline/fit.hpp"
 #include "bridgefit/pipeline/fit_file.hpp"
 #include "bridgefit/pipeline/rcurve_file.hpp"
@@ -309,6 +311,76 @@ TEST(PipelineFit, InputsThatCannotServeTheRequestAreRefused) {
   request.input_path = other.string();
   e = Thrown([&] { RunFit(request); });
   EXPECT_EQ(e.context().value, "x, y");
+}
+
+}  // namespace
+}  // namespace bridgefit::pipeline
+
+namespace bridgefit::pipeline {
+namespace {
+
+// --resolution auto against the model's error in the data (issue 17): R of
+// a CT (W 40 mm, isotropic, linear law, steady state inside the data) from
+// the 0.125 mm reduced model with 0.1% uncertainties, fitted with the
+// defaults. The size the fit ends at leaves no "too coarse" warning unless
+// it is the ladder's finest, it is finer than the coarsest valid size (the
+// data see the coarse model's error), and the total intervals hold the
+// finer model's truth.
+TEST(PipelineFit, AutoResolutionEndsWhereTheModelsErrorIsBelowTheNoise) {
+  Scene scene;
+  scene.source = "auto resolution test CT";
+  scene.specimen.type = SpecimenType::kCT;
+  scene.specimen.width = 0.040;
+  scene.specimen.height = 0.048;
+  scene.specimen.thickness = 0.010;
+  scene.specimen.notch = 0.016;
+  scene.specimen.plane = PlaneCondition::kPlaneStress;
+  scene.material.E = 4e9;
+  scene.material.nu = 0.3;
+  const laws::LawShape shape = laws::MakeLinearShape();
+  const inverse::LawParameters truth{1.2e6, 300.0, 800.0};
+  models::ReducedOptions fine;
+  fine.mesh.resolution = 0.125e-3;
+  fine.mesh.max_crack_length = 0.029;
+  const auto reference = inverse::MakeReducedForwardModel(scene, fine);
+  RCurve curve;
+  curve.method = "energy";
+  curve.r_kind = "energy";
+  curve.source = "0.125 mm reduced model";
+  for (double a = 0.0165; a <= 0.027 + 1e-12; a += 0.5e-3) curve.crack_length.push_back(a);
+  const inverse::ForwardPrediction p =
+      reference->Predict(shape, truth, curve.crack_length, inverse::RKind::kEnergy);
+  ASSERT_TRUE(p.ok()) << p.message;
+  curve.R = p.R;
+  for (double r : p.R) curve.R_uncertainty.push_back(0.001 * r);
+  curve.initial_crack_length = scene.specimen.notch;
+
+  FitRequest request;
+  request.scene = scene;
+  request.scene_path = scene.source;
+  request.rcurve = curve;
+  request.law = laws::LawFamily::kLinear;
+  request.fit.profile_likelihood = false;
+  const FitRun run = RunFit(request);
+  ASSERT_TRUE(run.resolution_choice);
+  const inverse::ResolutionChoice& choice = *run.resolution_choice;
+  std::printf("chosen %.3g mm, fitted at %.3g mm: %s\n%s\n", choice.resolution * 1e3,
+              run.resolution * 1e3, choice.reason.c_str(), run.model_error.Summary().c_str());
+  EXPECT_TRUE(run.model_error.warning.empty() || run.resolution / 2.0 < choice.finest)
+      << run.model_error.warning;
+  ASSERT_FALSE(choice.levels.empty());
+  EXPECT_LT(run.resolution, choice.levels.front().resolution);
+  const double truths[] = {truth.sigma_c, truth.J_B, truth.J_tip_c};
+  const inverse::ParameterEstimate* estimates[] = {&run.summary.sigma_c, &run.summary.J_B,
+                                                   &run.summary.J_tip_c};
+  for (int i = 0; i < inverse::kParameterCount; ++i) {
+    const inverse::ParameterEstimate& e = *estimates[i];
+    if (!e.identified || !std::isfinite(e.value)) continue;
+    std::printf("  %s %.6g [%.6g, %.6g] (truth %.6g)\n", inverse::ParameterName(i), e.value,
+                e.ci95_low, e.ci95_high, truths[i]);
+    EXPECT_LE(e.ci95_low, truths[i]) << inverse::ParameterName(i);
+    EXPECT_GE(e.ci95_high, truths[i]) << inverse::ParameterName(i);
+  }
 }
 
 }  // namespace
