@@ -18,7 +18,8 @@ command -v ccache > /dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache 
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER="$CC" \
   -DCMAKE_CXX_COMPILER="$CXX" -DBRIDGEFIT_FUZZ=ON -DBRIDGEFIT_BUILD_TESTS=OFF "${launcher[@]}" \
   > "$build/build.log" 2>&1 || { tail -n 40 "$build/build.log"; exit 1; }
-harnesses=(units csv scene h5 image fields ncorr)
+# FUZZ_HARNESSES="ncorr fields" runs only those.
+read -r -a harnesses <<< "${FUZZ_HARNESSES:-units csv scene h5 image fields ncorr}"
 targets=()
 for h in "${harnesses[@]}"; do targets+=("fuzz_$h"); done
 cmake --build "$build" -j"$(nproc)" --target "${targets[@]}" make_ncorr_seeds >> "$build/build.log" 2>&1 \
