@@ -13,6 +13,7 @@
 #include <matio.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <mutex>
 
@@ -44,10 +45,22 @@ struct MatDeleter {
 };
 using MatPtr = std::unique_ptr<mat_t, MatDeleter>;
 
+// The product of the dimensions; SIZE_MAX where it overflows (a corrupt
+// header).
 size_t Elements(const matvar_t* v) {
   size_t n = 1;
-  for (int i = 0; i < v->rank; ++i) n *= v->dims[i];
+  for (int i = 0; i < v->rank; ++i) {
+    if (v->dims[i] != 0 && n > SIZE_MAX / v->dims[i]) return SIZE_MAX;
+    n *= v->dims[i];
+  }
   return n;
+}
+
+// True when the variable's data holds every element it claims: a corrupt
+// file's header can claim more than matio read (fuzz_ncorr).
+bool DataCovers(const matvar_t* v, size_t element_bytes) {
+  const size_t n = Elements(v);
+  return v->data != nullptr && element_bytes > 0 && n != SIZE_MAX && n <= v->nbytes / element_bytes;
 }
 
 bool IsNumeric(const matvar_t* v) {
@@ -55,7 +68,7 @@ bool IsNumeric(const matvar_t* v) {
     case MAT_C_DOUBLE: case MAT_C_SINGLE: case MAT_C_INT8: case MAT_C_UINT8:
     case MAT_C_INT16: case MAT_C_UINT16: case MAT_C_INT32: case MAT_C_UINT32:
     case MAT_C_INT64: case MAT_C_UINT64:
-      return v->data != nullptr && !v->isComplex;
+      return !v->isComplex && DataCovers(v, Mat_SizeOfClass(v->class_type));
     default:
       return false;
   }
@@ -101,9 +114,28 @@ class Reader {
                 {.file = file_, .field = variable, .value = value, .expected = expected});
   }
 
-  // Field `name` of element `index` of struct `parent` (named `path`).
+  // Field `name` of element `index` of struct `parent` (named `path`), or
+  // null where the struct has no such field. matio's own lookup trusts the
+  // struct's field table and data, which a corrupt file can leave short or
+  // null (fuzz_ncorr: a SEGV in Mat_VarGetStructFieldByName): both are
+  // checked here first, and a corrupt struct is an Error naming it.
+  matvar_t* OptionalField(matvar_t* parent, const std::string& path, const char* name,
+                          size_t index) const {
+    if (!parent || parent->class_type != MAT_C_STRUCT) return nullptr;
+    const unsigned fields = Mat_VarGetNumberOfFields(parent);
+    char* const* names = Mat_VarGetStructFieldnames(parent);
+    if (fields == 0 || !names) return nullptr;
+    if (index >= Elements(parent) || !DataCovers(parent, fields * sizeof(matvar_t*)))
+      Fail("corrupt struct (its fields were not all read)", path, "",
+           "an Ncorr 'Save data' file (ncorr.m 1.2)");
+    for (unsigned i = 0; i < fields; ++i)
+      if (names[i] && std::strcmp(names[i], name) == 0)
+        return static_cast<matvar_t**>(parent->data)[index * fields + i];
+    return nullptr;
+  }
+
   matvar_t* Field(matvar_t* parent, const std::string& path, const char* name, size_t index) const {
-    matvar_t* f = Mat_VarGetStructFieldByName(parent, name, index);
+    matvar_t* f = OptionalField(parent, path, name, index);
     if (!f) Fail("missing variable", path + "." + name, "", "an Ncorr 'Save data' file (ncorr.m 1.2)");
     return f;
   }
@@ -134,6 +166,8 @@ class Reader {
     std::string out;
     const size_t n = Elements(s);
     const size_t width = s->data_size > 0 ? s->data_size : 1;
+    if (!DataCovers(s, width) || n > 4096)
+      Fail("corrupt or overlong text", where, "", "a short character array");
     for (size_t i = 0; i < n; ++i) {
       const auto* bytes = static_cast<const unsigned char*>(s->data) + i * width;
       unsigned code = bytes[0];
@@ -247,9 +281,9 @@ FieldFile NcorrFile::Frame(std::size_t k) const {
   // opaque to matio: then a node with u = v = 0 exactly is outside the ROI
   // (Ncorr writes zeros there).
   const matvar_t* mask = nullptr;
-  if (matvar_t* roi = Mat_VarGetStructFieldByName(d.displacements, "roi_ref_formatted", k);
+  if (matvar_t* roi = r.OptionalField(d.displacements, path, "roi_ref_formatted", k);
       roi && roi->class_type == MAT_C_STRUCT && Elements(roi) >= 1) {
-    const matvar_t* m = Mat_VarGetStructFieldByName(roi, "mask", 0);
+    const matvar_t* m = r.OptionalField(roi, path + ".roi_ref_formatted", "mask", 0);
     if (m && IsNumeric(m) && m->rank == 2 && m->dims[0] == rows && m->dims[1] == cols) mask = m;
     else if (m)
       r.Fail("ROI mask differs from the displacement plots", path + ".roi_ref_formatted.mask",

@@ -102,6 +102,23 @@ TEST(FuzzRegressions, ImagesAreRefused) {
   }
 }
 
+// Ncorr MAT files the fuzzer made: opening one and converting every frame is
+// an Error naming the file (a corrupt struct that matio's field lookup read
+// through a null table: a SEGV before), never a crash.
+TEST(FuzzRegressions, NcorrFilesAreRefused) {
+  const auto files = FilesIn("ncorr");
+  ASSERT_GE(files.size(), 1u);
+  for (const fs::path& file : files) {
+    const std::string m = ErrorOf(
+        [&] {
+          const dic::NcorrFile ncorr(file);
+          for (std::size_t k = 0; k < ncorr.Frames(); ++k) (void)ncorr.Frame(k);
+        },
+        file);
+    EXPECT_NE(m.find(file.filename().string()), std::string::npos) << m;
+  }
+}
+
 // In-process, after the child-process check, through every HDF5 reader: a
 // corrupt file is an Error (or some kinds read and others refuse), never a
 // crash. Every file here must be refused as a test record.
