@@ -50,6 +50,9 @@ status=0
 # address-space limit for the HDF5 checking child, instead of stalling.
 export ASAN_OPTIONS=${ASAN_OPTIONS:-halt_on_error=1:detect_leaks=1:allocator_may_return_null=1:max_allocation_size_mb=512}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1}
+# Leaks inside third-party libraries (libhdf5's error paths on a corrupt
+# file read through matio) are not bridgefit's: the sanitizer suite's list.
+export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$root/scripts/sanitize.supp:print_suppressions=0}
 run_one() {
   local h=$1 corpus=$build/corpus/$1 log=$build/fuzz_$1.log rc
   mkdir -p "$corpus"
