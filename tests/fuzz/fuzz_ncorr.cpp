@@ -1,8 +1,8 @@
 // libFuzzer harness: Ncorr's saved analysis (MAT v5/v7 read by matio's own
-// parser; v7.3 is HDF5, which the CLI checks in a child first, as fuzz_h5
-// covers). The bytes are written to a file, opened with dic::NcorrFile as
-// `bridgefit crack run.mat` opens it, and every frame converted, with the
-// node spacing of each.
+// parser; v7.3 is HDF5). The bytes are written to a file and read as
+// `bridgefit crack run.mat` reads it: an HDF5 file (v7.3) is first read in a
+// child (io::CheckH5FileInChildProcess, as fuzz_h5), then opened with
+// dic::NcorrFile and every frame converted, with the node spacing of each.
 #include <unistd.h>
 
 #include <cstddef>
@@ -13,6 +13,7 @@
 
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/dic/fields.hpp"
+#include "bridgefit/io/hdf5.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace bridgefit;
@@ -23,6 +24,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
   }
   try {
+    if (io::HasHdf5Signature(file)) io::CheckH5FileInChildProcess(file);
     if (dic::IsMatFile(file)) {
       const dic::NcorrFile ncorr(file);
       for (std::size_t k = 0; k < ncorr.Frames() && k < 16; ++k) {
