@@ -71,11 +71,13 @@ class CrackCommand final : public Command {
     opt.method = dic::ParseTipMethod(tip_method_);
     opt.show_progress = !common.quiet;
     const auto files = dic::ExpandFieldArguments(files_);
-    // Ncorr v7.3 files are HDF5: each is read in a child first, as every HDF5
-    // file named on the command line is (main.cpp), including those a folder
-    // or glob names (fuzz_ncorr: libhdf5 crashes in H5HG_read on corrupt ones).
+    // Ncorr v7.3 files are HDF5: each is read in a child first, with matio
+    // as NcorrFile reads it (its attribute reads take libhdf5 paths the
+    // generic walk does not), including files a folder or glob names
+    // (fuzz_ncorr: libhdf5 crashes in H5HG_read on corrupt ones).
     for (const auto& file : files)
-      if (io::HasHdf5Signature(file)) io::CheckH5FileInChildProcess(file);
+      if (io::HasHdf5Signature(file))
+        io::CheckH5FileInChildProcess(file, 60.0, [&file] { dic::ReadEveryNcorrFrame(file); });
     // The unit of the fields decides how the threshold and radius read.
     dic::FieldFile first;
     std::string first_name;

@@ -460,4 +460,9 @@ void WriteNcorrFile(const std::filesystem::path& path, const std::vector<FieldFi
   output.Commit();
 }
 
+void ReadEveryNcorrFrame(const std::filesystem::path& path) {
+  const NcorrFile ncorr(path);
+  for (std::size_t k = 0; k < ncorr.Frames(); ++k) (void)ncorr.Frame(k);
+}
+
 }  // namespace bridgefit::dic

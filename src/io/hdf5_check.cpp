@@ -154,7 +154,8 @@ std::uint64_t AddressSpaceBytes() {
   return pages * static_cast<std::uint64_t>(::sysconf(_SC_PAGESIZE));
 }
 
-[[noreturn]] void RunChild(const std::filesystem::path& path, double timeout_s, int report_fd) {
+[[noreturn]] void RunChild(const std::filesystem::path& path, double timeout_s, int report_fd,
+                           const std::function<void()>& also_read) {
   // Default dispositions: a crash must end the child by its signal, not run
   // handlers inherited from the parent (sanitizers, fuzzers, the CLI).
   for (int s : {SIGSEGV, SIGBUS, SIGABRT, SIGFPE, SIGILL, SIGINT, SIGTERM})
@@ -187,7 +188,20 @@ std::uint64_t AddressSpaceBytes() {
     ::dup2(null, STDERR_FILENO);
   }
   std::string message;
-  const int code = ReadEverything(path, &message);
+  int code = ReadEverything(path, &message);
+  if (code == kChildOk && also_read) {
+    try {
+      also_read();
+    } catch (const Error& e) {
+      message = WithoutFile(e);
+      code = kChildRefused;
+    } catch (const std::bad_alloc&) {
+      message = "a size in the file asks for more memory than any intact file";
+      code = kChildRefused;
+    } catch (...) {
+      code = 5;
+    }
+  }
   if (!message.empty()) {
     const ssize_t ignored = ::write(report_fd, message.data(), std::min<std::size_t>(message.size(), 4000));
     (void)ignored;
@@ -212,7 +226,8 @@ bool HasHdf5Signature(const std::filesystem::path& path) {
   return false;
 }
 
-void CheckH5FileInChildProcess(const std::filesystem::path& path, double timeout_s) {
+void CheckH5FileInChildProcess(const std::filesystem::path& path, double timeout_s,
+                               const std::function<void()>& also_read) {
   int report[2];
   if (::pipe(report) != 0)
     throw Error(ErrorKind::kRuntime, "cannot start the HDF5 checking process (pipe)",
@@ -227,7 +242,7 @@ void CheckH5FileInChildProcess(const std::filesystem::path& path, double timeout
   }
   if (child == 0) {
     ::close(report[0]);
-    RunChild(path, timeout_s, report[1]);
+    RunChild(path, timeout_s, report[1], also_read);
   }
   ::close(report[1]);
   struct CloseOnExit {

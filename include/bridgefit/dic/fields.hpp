@@ -101,6 +101,10 @@ class NcorrFile {
   std::unique_ptr<Impl> impl_;
 };
 
+// Opens an Ncorr file and converts every frame, keeping nothing: what a
+// reader of the whole run touches (the CLI's child check of a v7.3 file).
+void ReadEveryNcorrFrame(const std::filesystem::path& path);
+
 // Writes frames (all in one unit, on one grid with x, y >= 0 on multiples of
 // the grid step) in the Ncorr layout above: data_dic_save.displacements(k)
 // with plot_u/v_ref_formatted and roi_ref_formatted.mask (a struct, not

@@ -5,6 +5,7 @@
 // The HDF5 C++ API stays inside src/io (pimpl).
 
 #include <filesystem>
+#include <functional>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -71,7 +72,12 @@ class H5Reader {
 // `timeout_s`, or refuses the file makes this throw Error(kInput)
 // "corrupt HDF5 file: <path> ..." (with the child's reason when it has one).
 // Cost: one fork plus one extra read of the file (docs/HOSTILE_INPUT.md).
-void CheckH5FileInChildProcess(const std::filesystem::path& path, double timeout_s = 60.0);
+// `also_read`, when given, runs in the child after the walk: the caller's
+// own reader of the file (e.g. matio's for an Ncorr MAT v7.3 file, whose
+// attribute reads take libhdf5 paths the walk does not), so a crash there
+// too ends only the child; an Error it throws is the child's refusal.
+void CheckH5FileInChildProcess(const std::filesystem::path& path, double timeout_s = 60.0,
+                               const std::function<void()>& also_read = {});
 
 // True when the file starts with the HDF5 signature (at byte 0, 512, 1024,
 // ...), read without libhdf5.
