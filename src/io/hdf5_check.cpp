@@ -228,6 +228,10 @@ bool HasHdf5Signature(const std::filesystem::path& path) {
 
 void CheckH5FileInChildProcess(const std::filesystem::path& path, double timeout_s,
                                const std::function<void()>& also_read) {
+  // A file that is not HDF5 (a MAT v5 file read by `also_read`) is named so.
+  const bool hdf5 = HasHdf5Signature(path);
+  const char* corrupt = hdf5 ? "corrupt HDF5 file" : "corrupt file";
+  const char* intact = hdf5 ? "an intact HDF5 file" : "an intact file";
   int report[2];
   if (::pipe(report) != 0)
     throw Error(ErrorKind::kRuntime, "cannot start the HDF5 checking process (pipe)",
@@ -265,9 +269,9 @@ void CheckH5FileInChildProcess(const std::filesystem::path& path, double timeout
       ::waitpid(child, &status, 0);
       ThrowIfInterrupted("checking " + path.string());
       throw Error(ErrorKind::kInput,
-                  fmt::format("corrupt HDF5 file: {} (reading it took over {:g} s)", path.string(),
+                  fmt::format("{}: {} (reading it took over {:g} s)", corrupt, path.string(),
                               timeout_s),
-                  {.expected = "an intact HDF5 file"});
+                  {.expected = intact});
     }
     std::this_thread::sleep_for(pause);
     pause = std::min(pause * 2, std::chrono::microseconds(20'000));
@@ -281,15 +285,15 @@ void CheckH5FileInChildProcess(const std::filesystem::path& path, double timeout
     message.resize(n > 0 ? static_cast<std::size_t>(n) : 0);
     if (message.empty()) message = "cannot read the file";
     if (message.back() == '.') message.pop_back();
-    throw Error(ErrorKind::kInput, "corrupt HDF5 file: " + path.string() + ": " + message,
-                {.expected = "an intact HDF5 file"});
+    throw Error(ErrorKind::kInput, std::string(corrupt) + ": " + path.string() + ": " + message,
+                {.expected = intact});
   }
   const std::string how = WIFSIGNALED(status)
                               ? fmt::format("libhdf5 crashed reading it, signal {}",
                                             WTERMSIG(status))
                               : fmt::format("reading it failed, status {}", WEXITSTATUS(status));
-  throw Error(ErrorKind::kInput, fmt::format("corrupt HDF5 file: {} ({})", path.string(), how),
-              {.expected = "an intact HDF5 file; re-create it or copy it again"});
+  throw Error(ErrorKind::kInput, fmt::format("{}: {} ({})", corrupt, path.string(), how),
+              {.expected = std::string(intact) + "; re-create it or copy it again"});
 }
 
 }  // namespace bridgefit::io

@@ -75,7 +75,10 @@ class H5Reader {
 // `also_read`, when given, runs in the child after the walk: the caller's
 // own reader of the file (e.g. matio's for an Ncorr MAT v7.3 file, whose
 // attribute reads take libhdf5 paths the walk does not), so a crash there
-// too ends only the child; an Error it throws is the child's refusal.
+// too ends only the child; an Error it throws is the child's refusal. A file
+// that is not HDF5 gets `also_read` alone, with the same bounds ("corrupt
+// file: ..."): e.g. a MAT v5 file, whose header can make matio allocate
+// gigabytes (fuzz_ncorr).
 void CheckH5FileInChildProcess(const std::filesystem::path& path, double timeout_s = 60.0,
                                const std::function<void()>& also_read = {});
 
