@@ -145,37 +145,52 @@ double Rms(const std::vector<double>& v) {
   return std::sqrt(sum / std::max<std::size_t>(1, v.size()));
 }
 
+// A case's models at h, 2h and 4h (each grown two of its elements past the
+// data, as the pipeline's), its R over the window from the much finer solve
+// at the truth, the model's R there at h and their difference, and a "fit"
+// that landed on the truth: the error model at those parameters.
+struct Ladder {
+  std::unique_ptr<SimulationForwardModel> fine, coarse, coarser;
+  FitData data;                // R of the much finer solve; no uncertainties yet
+  std::vector<double> actual;  // R at h minus the much finer solve's
+  FitSummary fit;
+  bool ok = false;
+
+  explicit Ladder(const Case& c)
+      : fine(Model(c.scene, c.h, c.a_last + 2 * c.h)),
+        coarse(Model(c.scene, 2 * c.h, c.a_last + 4 * c.h)),
+        coarser(Model(c.scene, 4 * c.h, c.a_last + 8 * c.h)),
+        data(Window(c)) {
+    const auto reference = Model(c.scene, c.h_reference, c.a_last + 2 * c.h);
+    const ForwardPrediction truth = reference->Predict(c.shape, c.truth, data.crack_length, data.kind);
+    const ForwardPrediction at_h = fine->Predict(c.shape, c.truth, data.crack_length, data.kind);
+    EXPECT_TRUE(truth.ok() && at_h.ok()) << truth.message << at_h.message;
+    if (!truth.ok() || !at_h.ok()) return;
+    data.R = truth.R;
+    for (std::size_t i = 0; i < truth.R.size(); ++i) actual.push_back(at_h.R[i] - truth.R[i]);
+    fit.target = FitTarget::kRCurve;
+    fit.best_parameters = {c.truth.sigma_c, c.truth.J_B, c.truth.J_tip_c};
+    fit.chi2 = 0.0;
+    ok = true;
+  }
+  ModelErrorEstimate Estimate(const Case& c) const {
+    return EstimateModelError(*fine, coarse.get(), coarser.get(), c.h, c.shape, data, FitOptions(),
+                              fit);
+  }
+};
+
 // The predicted bias of the model's R (from h, 2h, 4h) against its actual
 // difference from the much finer solve, at the same parameters.
 TEST(ModelError, PredictedRBiasMatchesAFinerSolve) {
   for (const Case& c : Cases()) {
     SCOPED_TRACE(c.name);
-    // Each model grows two of its elements past the data (as the pipeline's).
-    const auto fine = Model(c.scene, c.h, c.a_last + 2 * c.h);
-    const auto coarse = Model(c.scene, 2 * c.h, c.a_last + 4 * c.h);
-    const auto coarser = Model(c.scene, 4 * c.h, c.a_last + 8 * c.h);
-    const auto reference = Model(c.scene, c.h_reference, c.a_last + 2 * c.h);
-    FitData data = Window(c);
-    const ForwardPrediction truth = reference->Predict(c.shape, c.truth, data.crack_length, data.kind);
-    ASSERT_TRUE(truth.ok()) << truth.message;
-    data.R = truth.R;
-    for (double r : truth.R) data.R_uncertainty.push_back(0.002 * r);
-    // A "fit" that landed on the truth: the error model at those parameters.
-    FitSummary fit;
-    fit.target = FitTarget::kRCurve;
-    fit.best_parameters = {c.truth.sigma_c, c.truth.J_B, c.truth.J_tip_c};
-    fit.chi2 = 0.0;
-    const ModelErrorEstimate e = EstimateModelError(*fine, coarse.get(), coarser.get(), c.h,
-                                                    c.shape, data, FitOptions(), fit);
-    const ForwardPrediction at_h = fine->Predict(c.shape, c.truth, data.crack_length, data.kind);
-    ASSERT_TRUE(at_h.ok()) << at_h.message;
+    Ladder ladder(c);
+    ASSERT_TRUE(ladder.ok);
+    for (double r : ladder.data.R) ladder.data.R_uncertainty.push_back(0.002 * r);
+    const ModelErrorEstimate e = ladder.Estimate(c);
+    const std::vector<double>& actual = ladder.actual;
     ASSERT_TRUE(e.estimated()) << e.reason;
-    ASSERT_EQ(e.output_bias.size(), at_h.R.size());
-    std::vector<double> actual(at_h.R.size()), miss(at_h.R.size());
-    for (std::size_t i = 0; i < actual.size(); ++i) {
-      actual[i] = at_h.R[i] - truth.R[i];
-      miss[i] = e.output_bias[i] - actual[i];
-    }
+    ASSERT_EQ(e.output_bias.size(), actual.size());
     double dot = 0.0;
     for (std::size_t i = 0; i < actual.size(); ++i) dot += actual[i] * e.output_bias[i];
     std::cout << fmt::format("{}: {}; actual rms {:.3g} J/m^2 (predicted / actual {:.2f})\n",
@@ -197,26 +212,12 @@ TEST(ModelError, PredictedRBiasMatchesAFinerSolve) {
 TEST(ModelError, WarnsWhenTheModelsErrorExceedsTheDataNoise) {
   for (const Case& c : Cases()) {
     SCOPED_TRACE(c.name);
-    const auto fine = Model(c.scene, c.h, c.a_last + 2 * c.h);
-    const auto coarse = Model(c.scene, 2 * c.h, c.a_last + 4 * c.h);
-    const auto coarser = Model(c.scene, 4 * c.h, c.a_last + 8 * c.h);
-    const auto reference = Model(c.scene, c.h_reference, c.a_last + 2 * c.h);
-    FitData data = Window(c);
-    const ForwardPrediction truth = reference->Predict(c.shape, c.truth, data.crack_length, data.kind);
-    const ForwardPrediction at_h = fine->Predict(c.shape, c.truth, data.crack_length, data.kind);
-    ASSERT_TRUE(truth.ok() && at_h.ok()) << truth.message << at_h.message;
-    data.R = truth.R;
-    std::vector<double> actual(truth.R.size());
-    for (std::size_t i = 0; i < actual.size(); ++i) actual[i] = at_h.R[i] - truth.R[i];
-    const double actual_rms = Rms(actual);
-    FitSummary fit;
-    fit.target = FitTarget::kRCurve;
-    fit.best_parameters = {c.truth.sigma_c, c.truth.J_B, c.truth.J_tip_c};
-    fit.chi2 = 0.0;
+    Ladder ladder(c);
+    ASSERT_TRUE(ladder.ok);
+    const std::vector<double>& actual = ladder.actual;
     // Noise a third of the model's rms error: 3 noise sd rms.
-    data.R_uncertainty.assign(actual.size(), actual_rms / 3.0);
-    const ModelErrorEstimate small_noise = EstimateModelError(
-        *fine, coarse.get(), coarser.get(), c.h, c.shape, data, FitOptions(), fit);
+    ladder.data.R_uncertainty.assign(actual.size(), Rms(actual) / 3.0);
+    const ModelErrorEstimate small_noise = ladder.Estimate(c);
     ASSERT_TRUE(small_noise.estimated()) << small_noise.reason;
     std::cout << c.name << ": " << small_noise.Summary() << "\n  " << small_noise.warning << "\n";
     EXPECT_FALSE(small_noise.warning.empty());
@@ -226,9 +227,8 @@ TEST(ModelError, WarnsWhenTheModelsErrorExceedsTheDataNoise) {
     // Noise three times the largest error: no warning.
     double largest = 0.0;
     for (double a : actual) largest = std::max(largest, std::abs(a));
-    data.R_uncertainty.assign(actual.size(), 3.0 * largest);
-    const ModelErrorEstimate large_noise = EstimateModelError(
-        *fine, coarse.get(), coarser.get(), c.h, c.shape, data, FitOptions(), fit);
+    ladder.data.R_uncertainty.assign(actual.size(), 3.0 * largest);
+    const ModelErrorEstimate large_noise = ladder.Estimate(c);
     ASSERT_TRUE(large_noise.estimated()) << large_noise.reason;
     EXPECT_TRUE(large_noise.warning.empty()) << large_noise.warning;
     EXPECT_LT(large_noise.output_bias_noise_rms, kOutputBiasNoiseLimit);
