@@ -257,7 +257,7 @@ Eigen::MatrixXd JacobianIntervals(const FitContext& c, const std::vector<double>
 // the 95% interval edges are found by stepping out from the optimum in the
 // box coordinate until Delta chi^2 > threshold, then bisecting.
 void ProfileIntervals(const FitContext& c, const LocalResult& best, const std::vector<double>& full,
-                      double threshold, FitSummary& s) {
+                      double threshold, const Eigen::MatrixXd& covariance, FitSummary& s) {
   const ForwardModel& model = c.model;
   const laws::LawShape& shape = c.shape;
   const FitData& data = c.data;
@@ -273,7 +273,7 @@ void ProfileIntervals(const FitContext& c, const LocalResult& best, const std::v
     if (options.profile_likelihood || free[k] == kJB) ks.push_back(k);
   const bool lower_side = options.profile_likelihood;
   std::vector<ProfileRun> runs =
-      RunProfiles(model, shape, data, options, ks, best, full, threshold, lower_side);
+      RunProfiles(model, shape, data, options, ks, best, full, threshold, lower_side, &covariance);
   for (ProfileRun& run : runs) {
     objective.AddCounts(run.evaluations, run.failures);
     ApplyProfile(run, lower_side, options, EstimateOf(s, free[run.k]));
@@ -447,7 +447,7 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
   const double scale2 = RecordOptimum(c, best, prediction, s);
   const Eigen::MatrixXd covariance = JacobianIntervals(c, full, scale2, s);
   const double threshold = 3.84 * scale2;
-  ProfileIntervals(c, best, full, threshold, s);
+  ProfileIntervals(c, best, full, threshold, covariance, s);
   if (RecordNoBridging(c, best, full, prediction, scale2, s)) return finish();
   SteadyStateAndBounds(c, best, full, prediction, threshold, covariance, s);
   return finish();

@@ -210,11 +210,13 @@ struct ProfileRun {
 // Profiles of the free parameters `ks` (side by side), at the optimum `best`
 // (box coordinates; `full` its physical vector), with the interval threshold
 // Delta chi^2 = `threshold`; `lower_side` false: only the upper ends.
+// `covariance`: the Jacobian covariance of the free parameters (physical;
+// may be null), which seeds each end's search and each point's start.
 std::vector<ProfileRun> RunProfiles(const ForwardModel& model, const laws::LawShape& shape,
                                     const FitData& data, const FitOptions& options,
                                     const std::vector<int>& ks, const LocalResult& best,
                                     const std::vector<double>& full, double threshold,
-                                    bool lower_side);
+                                    bool lower_side, const Eigen::MatrixXd* covariance = nullptr);
 
 
 // The order of convergence from two successive differences (fine: r h to

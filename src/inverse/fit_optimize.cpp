@@ -49,20 +49,43 @@ nlopt::algorithm NloptAlgorithm(Optimizer o) {
 // Minimizes chi^2 over the free box coordinates (one of them may be pinned).
 }  // namespace
 
-LocalResult MinimizeNlopt(const Objective& objective, Optimizer optimizer, std::vector<double> x0,
+LocalResult MinimizeNlopt(const Objective& objective, Optimizer optimizer, std::vector<double> x_full,
                           int max_evaluations, int pinned, double pinned_value, double xtol) {
+  // A pinned coordinate is left out of the search (the optimizer works on
+  // the others only: a dead dimension costs a derivative-free method
+  // evaluations for nothing) and put back into the result.
+  // `pinned` is a parameter index; `skip` its place among the free coordinates.
+  const int n_full = static_cast<int>(x_full.size());
+  const std::vector<int>& free = objective.free();
+  const int skip = pinned < 0 ? -1
+                              : static_cast<int>(std::find(free.begin(), free.end(), pinned) -
+                                                 free.begin());
+  std::vector<double> x0;
+  for (int i = 0; i < n_full; ++i)
+    if (i != skip) x0.push_back(x_full[i]);
   const int n = static_cast<int>(x0.size());
   LocalResult result;
   const int before = objective.evaluations();
   struct Context {
     const Objective* objective;
-    int pinned;
+    int pinned, skip;
     double pinned_value;
-  } context{&objective, pinned, pinned_value};
+    std::vector<double> full;  // scratch: the searched coordinates with the pinned one
+  } context{&objective, pinned, skip, pinned_value, x_full};
   auto f = [](unsigned, const double* x, double*, void* data) -> double {
-    const auto* c = static_cast<const Context*>(data);
-    return c->objective->Chi2(c->objective->Expand(x, c->pinned, c->pinned_value));
+    auto* c = static_cast<Context*>(data);
+    for (int i = 0, j = 0; i < static_cast<int>(c->full.size()); ++i)
+      if (i != c->skip) c->full[i] = x[j++];
+    return c->objective->Chi2(c->objective->Expand(c->full.data(), c->pinned, c->pinned_value));
   };
+  if (n == 0) {
+    result.x = x_full;
+    result.chi2 = f(0, nullptr, nullptr, &context);
+    result.converged = true;
+    result.stop_reason = "nothing to search";
+    result.evaluations = objective.evaluations() - before;
+    return result;
+  }
   // CRS2 (and MLSL-like methods) draw random points: seed NLopt's generator
   // so a fit is reproducible.
   if (optimizer == Optimizer::kCrs2) nlopt::srand(objective.options().seed);
@@ -89,7 +112,9 @@ LocalResult MinimizeNlopt(const Objective& objective, Optimizer optimizer, std::
   } catch (const std::exception& e) {
     result.stop_reason = std::string("nlopt stopped: ") + e.what();
   }
-  result.x = x0;
+  result.x = x_full;
+  for (int i = 0, j = 0; i < n_full; ++i)
+    if (i != skip) result.x[i] = x0[j++];
   result.chi2 = value;
   result.evaluations = objective.evaluations() - before;
   return result;

@@ -8,6 +8,7 @@
 // reported with their reason, never printed as a confident interval.
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <initializer_list>
 
@@ -19,7 +20,8 @@ namespace bridgefit::inverse::fit_internal {
 namespace {
 
 constexpr double kFirstStep = 0.004;      // box coordinates
-constexpr int kBisections = 5;            // the coarse bisection of every end
+constexpr int kBisections = 5;            // every end to at least the bracket / 2^5
+constexpr double kCloseEnough = 0.95;     // an inside end at this fraction of the threshold is found
 constexpr int kExtraBisections = 24;      // at most, near a jump or at the optimum
 constexpr double kMinBracket = 1e-9;      // box coordinates: the finest bisection
 constexpr double kJumpFactor = 4.0;       // Delta chi^2 past a smooth crossing stays below 4x the threshold
@@ -45,10 +47,13 @@ class ProfileSearch {
  public:
   ProfileSearch(const ForwardModel& model, const laws::LawShape& shape, const FitData& data,
                 const FitOptions& options, int k, const LocalResult& best,
-                const std::vector<double>& full, double threshold, Profile& profile)
+                const std::vector<double>& full, double threshold,
+                const Eigen::MatrixXd* covariance, Profile& profile)
       : objective_(model, shape, data, options), options_(options), k_(k),
         index_(objective_.free()[k]), best_(best), full_(full), threshold_(threshold),
-        profile_(profile), warm_(best.x) {}
+        profile_(profile), warm_(best.x) {
+    SeedFromCovariance(covariance);
+  }
 
   const Objective& objective() const { return objective_; }
 
@@ -160,7 +165,68 @@ class ProfileSearch {
 
   bool Inside(double chi2) const { return chi2 < kFailedCost && chi2 - best_.chi2 <= threshold_; }
 
-  double Chi2(double x) { return Solve(x, {warm_}, 80); }
+  // The Jacobian covariance (physical units, free x free; may be null or
+  // singular) gives each side's first step (30% of the Wald end's offset in
+  // box coordinates: the steps out then probe about 30% and 60% of the
+  // interval, where a jump inside it shows, and the next usually brackets
+  // the end) and the linearised path of the other parameters along the
+  // profile (their conditional mean, d p_j / d p_k = C_jk / C_kk, taken in
+  // box coordinates, logarithmic for sigma_c and J_B), which starts the
+  // local search of every point within two Wald half-widths of the optimum.
+  void SeedFromCovariance(const Eigen::MatrixXd* covariance) {
+    const std::vector<int>& free = objective_.free();
+    slope_.assign(free.size(), 0.0);
+    if (!covariance || covariance->rows() != static_cast<int>(free.size())) return;
+    const double ckk = (*covariance)(k_, k_);
+    if (!(std::isfinite(ckk) && ckk > 0.0)) return;
+    const double sd = std::sqrt(ckk), v0 = full_[index_], x0 = best_.x[k_];
+    first_step_[0] = x0 - ToBox(index_, v0 - 1.96 * sd, options_);
+    first_step_[1] = ToBox(index_, v0 + 1.96 * sd, options_) - x0;
+    // d x / d p of a box coordinate at the optimum.
+    auto box_rate = [&](int index) {
+      const double p = full_[index], lo = options_.lower[index], hi = options_.upper[index];
+      return IsLogScale(index) ? 1.0 / (p * std::log(hi / lo)) : 1.0 / (hi - lo);
+    };
+    for (std::size_t j = 0; j < free.size(); ++j) {
+      const double cjk = (*covariance)(static_cast<int>(j), k_);
+      if (static_cast<int>(j) == k_ || !std::isfinite(cjk)) continue;
+      const double slope = cjk / ckk * box_rate(free[j]) / box_rate(index_);
+      if (std::isfinite(slope)) slope_[j] = slope;
+    }
+  }
+
+  // The first step out from the optimum on one side (box coordinates).
+  double FirstStep(double direction) const {
+    const double wald = first_step_[direction > 0 ? 1 : 0];
+    if (!(std::isfinite(wald) && wald > 0.0)) return kFirstStep;
+    return std::clamp(0.3 * wald, kFirstStep, 0.25);
+  }
+
+  // The local search's start at box coordinate x: the nearest solved point
+  // inside the interval moved along the linearised path (near the optimum).
+  std::vector<double> StartAt(double x) const {
+    std::vector<double> start = warm_;
+    const double reach = 2.0 * std::max(first_step_[0], first_step_[1]);
+    if (!(std::abs(x - best_.x[k_]) <= reach)) return start;
+    const double dx = x - warm_[k_];
+    for (std::size_t j = 0; j < start.size(); ++j)
+      if (static_cast<int>(j) != k_) start[j] = std::clamp(warm_[j] + slope_[j] * dx, 0.0, 1.0);
+    return start;
+  }
+
+  // The profile chi^2 at x; a point outside the region is solved again from
+  // the plain warm start when the path's start differed (a start off the
+  // path's validity must not make a profile look non-monotone).
+  double Chi2(double x) {
+    const std::vector<double> start = StartAt(x);
+    const double chi2 = Solve(x, {start}, 80);
+    if (Inside(chi2) || start == warm_) return chi2;
+    const double again = Solve(x, {warm_}, 80);
+    // One point per x in the profile: the better of the two.
+    auto& points = profile_.points;
+    points.erase(points.end() - (again < chi2 ? 2 : 1));
+    return std::min(chi2, again);
+  }
 
   // Profile chi^2 at x from the given starts; the point is recorded.
   double Solve(double x, const std::vector<std::vector<double>>& starts, int evaluations) {
@@ -198,24 +264,53 @@ class ProfileSearch {
     return Solve(x, starts, kResolveEvaluations);
   }
 
+  // Where the bracket's crossing of the threshold lies: interpolated in
+  // sqrt(Delta chi^2), linear in the parameter for a quadratic profile,
+  // aimed just inside (the inside end is the one reported); a bisection
+  // where the outside point is a jump or a failure, and kept off the
+  // bracket's ends.
+  double NextPoint(const Bracket& b) const {
+    const double mid = 0.5 * (b.lo + b.hi);
+    if (IsJump(b)) return mid;
+    const double s_lo = std::sqrt(std::max(b.chi2_lo - best_.chi2, 0.0));
+    const double s_hi = std::sqrt(std::max(b.chi2_hi - best_.chi2, 0.0));
+    const double target = 0.99 * std::sqrt(threshold_);
+    if (!(s_hi > s_lo)) return mid;
+    const double t = std::clamp((target - s_lo) / (s_hi - s_lo), 0.1, 0.9);
+    return b.lo + t * (b.hi - b.lo);
+  }
+
   // Steps out from `in` (inside) until the profile leaves the 95% region,
-  // then bisects; near a jump, or while the inside end is still the
-  // optimum, the bisection goes on down to kMinBracket.
+  // then narrows the bracket (NextPoint) until its inside end is within
+  // kCloseEnough of the threshold or after kBisections points; near a
+  // jump, or while the inside end is still the optimum, bisection goes on
+  // down to kMinBracket.
   Bracket StepOut(double direction, double in) {
     const double x0 = best_.x[k_];
-    double step = kFirstStep, chi2_in = best_.chi2;
+    double step = in == x0 ? FirstStep(direction) : kFirstStep, chi2_in = best_.chi2;
     while (true) {
       const double out = std::clamp(in + direction * step, 0.0, 1.0);
       if (out == in) return {.open = true};
       const double c = Chi2(out);
       if (!Inside(c)) {
         Bracket b{in, out, chi2_in, c, false};
-        for (int i = 0; i < kBisections + kExtraBisections; ++i) {
-          const bool fine = i >= kBisections;
+        // Narrowing: at most the old five bisections' precision (the
+        // bracket / 2^kBisections); an interpolation that did not halve the
+        // bracket is followed by a bisection (no one-sided stagnation).
+        const double coarse_width = std::abs(b.hi - b.lo) / std::pow(2.0, kBisections);
+        bool bisect_next = false;
+        int narrowing = 0, extra = 0;
+        while (true) {
+          const bool fine = narrowing >= 2 * kBisections || std::abs(b.hi - b.lo) <= coarse_width;
+          const bool located = b.lo != x0 && !IsJump(b) &&
+                               b.chi2_lo - best_.chi2 >= kCloseEnough * threshold_;
+          if (!fine && located) break;
           if (fine && !((b.chi2_hi - best_.chi2 > kJumpFactor * threshold_ || b.lo == x0) &&
-                        std::abs(b.hi - b.lo) > kMinBracket))
+                        std::abs(b.hi - b.lo) > kMinBracket && extra < kExtraBisections))
             break;
-          const double mid = 0.5 * (b.lo + b.hi);
+          ++(fine ? extra : narrowing);
+          const double width = std::abs(b.hi - b.lo);
+          const double mid = fine || bisect_next ? 0.5 * (b.lo + b.hi) : NextPoint(b);
           const double cm = Chi2(mid);
           if (Inside(cm)) {
             b.lo = mid;
@@ -224,6 +319,7 @@ class ProfileSearch {
             b.hi = mid;
             b.chi2_hi = cm;
           }
+          bisect_next = !bisect_next && std::abs(b.hi - b.lo) > 0.5 * width;
         }
         return b;
       }
@@ -255,6 +351,8 @@ class ProfileSearch {
   const double threshold_;
   Profile& profile_;
   std::vector<double> warm_;  // the nearest point solved inside the interval
+  std::vector<double> slope_;  // d p_j / d p_k along the linearised profile path
+  std::array<double, 2> first_step_ = {NAN, NAN};  // Wald end offsets below, above (box)
   int resolves_ = 0;
 };
 
@@ -264,7 +362,7 @@ std::vector<ProfileRun> RunProfiles(const ForwardModel& model, const laws::LawSh
                                     const FitData& data, const FitOptions& options,
                                     const std::vector<int>& ks, const LocalResult& best,
                                     const std::vector<double>& full, double threshold,
-                                    bool lower_side) {
+                                    bool lower_side, const Eigen::MatrixXd* covariance) {
   std::vector<ProfileRun> runs;
   for (int k : ks) runs.push_back({.k = k});
   const int profile_threads = options.threads > 0 ? options.threads : 2;
@@ -275,7 +373,8 @@ std::vector<ProfileRun> RunProfiles(const ForwardModel& model, const laws::LawSh
   for (std::size_t q = 0; q < runs.size(); ++q) {
     ProfileRun& run = runs[q];
     Profile& profile = run.profile;
-    ProfileSearch search(model, shape, data, options, run.k, best, full, threshold, profile);
+    ProfileSearch search(model, shape, data, options, run.k, best, full, threshold, covariance,
+                         profile);
     const int index = search.objective().free()[run.k];
     profile.parameter = index;
     profile.chi2_threshold = threshold;

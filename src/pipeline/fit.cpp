@@ -336,9 +336,37 @@ void AddModelError(const FitRequest& request, const FitModels& models,
 
 namespace {
 
+// --resolution auto on an R curve: the multi-start search ran on the
+// coarsest model (the pilot, `--starts` starts) and the chooser refined its
+// optimum locally at each size; the fit at the chosen size starts from that
+// refit alone (one local search) instead of repeating the multi-start on the
+// costliest model. `from` (optional) is a fit's answer at another size (the
+// refinement after the fit). A start the user gave wins; a profile that
+// finds a lower chi^2 than this optimum still says so (fit_profile.cpp).
+void StartFromChosenSize(const FitRequest& request, const FitRun& run, double h,
+                         const std::array<double, inverse::kParameterCount>* from,
+                         inverse::FitOptions& options) {
+  if (run.load_data || request.compare_laws || !run.resolution_choice) return;
+  for (double v : request.fit.initial)
+    if (std::isfinite(v)) return;
+  std::array<double, inverse::kParameterCount> start = {NAN, NAN, NAN};
+  if (from) {
+    start = *from;
+  } else {
+    for (const inverse::ResolutionLevel& level : run.resolution_choice->levels)
+      if (level.evaluated && std::abs(level.resolution - h) <= 1e-9 * h) start = level.estimate;
+  }
+  for (int i = 0; i < inverse::kParameterCount; ++i)
+    if (!options.fixed[i] && !std::isfinite(start[i])) return;
+  for (int i = 0; i < inverse::kParameterCount; ++i)
+    if (!options.fixed[i]) options.initial[i] = start[i];
+  options.starts = 1;
+}
+
 // Every stage after the element size is known: the models, the compliance
-// calibration, the fit, the model error.
-void FitAtResolution(const FitRequest& request, FitRun& run) {
+// calibration, the fit, the model error. `from`: see StartFromChosenSize.
+void FitAtResolution(const FitRequest& request, FitRun& run,
+                     const std::array<double, inverse::kParameterCount>* from = nullptr) {
   const inverse::FitData& fit_data = run.load_data ? *run.load_data : run.data;
   const laws::LawShape start_shape = run.shape;
   FitModels models(request, run.input, run.data, run.load_data.has_value(), run.r_kind);
@@ -357,6 +385,7 @@ void FitAtResolution(const FitRequest& request, FitRun& run) {
     if (run.calibration.calibrated()) models.Build(run.calibration.modulus_factor, 0.0);
   }
   inverse::FitOptions options = request.fit;
+  StartFromChosenSize(request, run, models.resolution(), from, options);
   if (run.load_data) {
     run.start_fit = StartFromRCurveFit(models.model(), start_shape, run.data, options);
     // Refined on the whole record (reduced model) or along the crack.
@@ -410,8 +439,9 @@ FitRun RunFit(const FitRequest& given) {
     FitRequest finer = request;
     finer.resolution /= 2.0;
     FitRun attempt = chosen;
+    const std::array<double, inverse::kParameterCount> answer = run.summary.best_parameters;
     try {
-      FitAtResolution(finer, attempt);
+      FitAtResolution(finer, attempt, &answer);
     } catch (const Error& e) {  // the coarser fit stands, with its warning
       failed = fmt::format("; the fit at {:.3g} mm failed ({}): the {:.3g} mm fit is kept",
                            finer.resolution * 1e3, e.what(), request.resolution * 1e3);
