@@ -20,8 +20,7 @@ using namespace law_free_detail;
 void CheckOptions(const LawFreeOptions& options) {
   std::string why;
   if (!options.IsValid(&why))
-    throw Error(ErrorKind::kUsage, "invalid law-free options: " + why,
-                {.field = "LawFreeOptions"});
+    throw Error(ErrorKind::kUsage, "invalid law-free options: " + why, {.field = "LawFreeOptions"});
 }
 
 // Samples [first, end) with openings counted from sample `first`.
@@ -46,14 +45,16 @@ int ResolveOnset(const FarFieldJSamples& data, const Samples& s, const LawFreeOp
   if (data.onset_index) {
     const int given = *data.onset_index;
     BF_CHECK_INPUT(given >= 0 && given < n, "the onset index is outside the samples",
-                   {.field = "onset_index", .value = std::to_string(given),
+                   {.field = "onset_index",
+                    .value = std::to_string(given),
                     .expected = fmt::format("0 .. {}", n - 1)});
     return static_cast<int>(std::find(s.order.begin(), s.order.end(), given) - s.order.begin());
   }
   if (data.onset_opening) {
     const double at = *data.onset_opening;
     BF_CHECK_INPUT(std::isfinite(at), "the onset opening must be finite",
-                   {.field = "onset_opening", .value = std::to_string(at),
+                   {.field = "onset_opening",
+                    .value = std::to_string(at),
                     .expected = "an opening [m] within the samples"});
     int nearest = 0;
     for (int i = 1; i < n; ++i)
@@ -103,17 +104,20 @@ void RecordFit(const PenalisedFit& fit, int points, const LawFreeOptions& option
   r->chi2 = fit.chi2;
   r->noise_scale = fit.noise_scale;
   if (fit.at_search_edge)
-    r->notes.push_back(fmt::format("the penalty sits on the edge of its search range "
-                                   "(log10 relative {:.1f}): the choice is not a true optimum",
-                                   fit.log10_relative));
+    r->notes.push_back(
+        fmt::format("the penalty sits on the edge of its search range "
+                    "(log10 relative {:.1f}): the choice is not a true optimum",
+                    fit.log10_relative));
   if (fit.noise_scale > 1.5)
-    r->notes.push_back(fmt::format("the data scatter {:.2f} times their stated uncertainty; the "
-                                   "band is widened by that factor",
-                                   fit.noise_scale));
+    r->notes.push_back(
+        fmt::format("the data scatter {:.2f} times their stated uncertainty; the "
+                    "band is widened by that factor",
+                    fit.noise_scale));
   if (points < 2 * options.grid_points)
-    r->notes.push_back(fmt::format("only {} samples for {} sigma nodes: between samples the "
-                                   "penalty, not the data, shapes sigma",
-                                   points, options.grid_points));
+    r->notes.push_back(
+        fmt::format("only {} samples for {} sigma nodes: between samples the "
+                    "penalty, not the data, shapes sigma",
+                    points, options.grid_points));
 }
 
 // J_B and delta_c from a plateau, else the PHYSICS.md section 7 bounds.
@@ -177,7 +181,8 @@ LawFreeResult LawFromFarFieldJ(const FarFieldJSamples& data, const LawFreeOption
   const Samples g = FromOnset(s, onset);
   const int n = static_cast<int>(g.x.size());
   BF_CHECK_INPUT(n >= options.min_points, "too few samples after the onset of growth",
-                 {.field = "J_ff", .value = fmt::format("{} samples from the onset on", n),
+                 {.field = "J_ff",
+                  .value = fmt::format("{} samples from the onset on", n),
                   .expected = fmt::format("at least {}", options.min_points)});
 
   // J_ff_i = J_tip,c + sum_j a_j(delta_i) s_j; unknowns (J_tip,c, s).
@@ -209,15 +214,17 @@ LawFreeResult LawFromFarFieldJ(const FarFieldJSamples& data, const LawFreeOption
 LawFreeResult LawFromRCurve(const RCurveSamples& data, const LawFreeOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   CheckOptions(options);
-  const Samples s = CheckAndSort(data.opening, data.R, data.uncertainty, "delta_root", "R",
-                                 options.min_points);
+  const Samples s =
+      CheckAndSort(data.opening, data.R, data.uncertainty, "delta_root", "R", options.min_points);
   BF_CHECK_INPUT(s.x.front() >= 0.0, "notch-root openings must be >= 0",
-                 {.field = "delta_root", .value = std::to_string(s.x.front()),
+                 {.field = "delta_root",
+                  .value = std::to_string(s.x.front()),
                   .expected = "openings >= 0 [m]"});
   if (data.J_tip_c)
     BF_CHECK_INPUT(std::isfinite(*data.J_tip_c) && *data.J_tip_c > 0.0,
                    "J_tip,c must be finite and positive",
-                   {.field = "J_tip_c", .value = std::to_string(*data.J_tip_c),
+                   {.field = "J_tip_c",
+                    .value = std::to_string(*data.J_tip_c),
                     .expected = "a value > 0 [J/m^2], or none to fit it"});
   LawFreeResult r;
   r.route = LawFreeRoute::kElasticZoneR;
@@ -255,8 +262,7 @@ LawFreeResult LawFromRCurve(const RCurveSamples& data, const LawFreeOptions& opt
     // sigma_true = sigma + C delta; sigma_true >= 0 everywhere needs C >= -sigma_j / g_j,
     // and sigma_true(delta_max) = C delta_max >= 0 needs C >= 0.
     for (int j = 1; j < free_nodes; ++j)
-      r.null_space_slope_min =
-          std::max(r.null_space_slope_min, -fit.x[offset + j] / grid.nodes[j]);
+      r.null_space_slope_min = std::max(r.null_space_slope_min, -fit.x[offset + j] / grid.nodes[j]);
     r.notes.push_back(fmt::format(
         "without steady state R fixes sigma only up to + C delta (a linear spring dissipates "
         "nothing): the sigma shown is the member with sigma = 0 at the largest opening, the "
@@ -300,22 +306,23 @@ std::string LawFreeResult::Summary() const {
   if (route == LawFreeRoute::kFarFieldJ)
     out += fmt::format("  onset of growth: sample {} ({})\n", onset_index,
                        onset_detected ? "detected" : "given");
-  out += J_tip_c_given ? fmt::format("  J_tip,c = {:.1f} J/m^2 (given)\n", J_tip_c)
-                       : fmt::format("  J_tip,c = {:.1f} +- {:.1f} J/m^2\n", J_tip_c,
-                                     J_tip_c_standard_error);
+  out += J_tip_c_given
+             ? fmt::format("  J_tip,c = {:.1f} J/m^2 (given)\n", J_tip_c)
+             : fmt::format("  J_tip,c = {:.1f} +- {:.1f} J/m^2\n", J_tip_c, J_tip_c_standard_error);
   if (identified) {
-    out += fmt::format("  J_B = {:.1f} +- {:.1f} J/m^2, delta_c = {:.4g} mm (steady state, {} "
-                       "samples)\n",
-                       J_B.value, J_B.standard_error, 1e3 * delta_c.value, plateau_points);
+    out += fmt::format(
+        "  J_B = {:.1f} +- {:.1f} J/m^2, delta_c = {:.4g} mm (steady state, {} "
+        "samples)\n",
+        J_B.value, J_B.standard_error, 1e3 * delta_c.value, plateau_points);
   } else {
     out += fmt::format("  not identified: J_B >= {:.1f} J/m^2, delta_c >= {:.4g} mm\n", J_B.value,
                        1e3 * delta_c.value);
   }
   const double peak = *std::max_element(sigma.begin(), sigma.end());
-  out += fmt::format("  peak sigma {:.4g} MPa; penalty {:.3g} (log10 relative {:.1f}), "
-                     "effective dof {:.1f}, chi2 {:.1f}, noise scale {:.2f}, {:.3f} s\n",
-                     1e-6 * peak, penalty, penalty_log10_relative, effective_dof, chi2,
-                     noise_scale, run_seconds);
+  out += fmt::format(
+      "  peak sigma {:.4g} MPa; penalty {:.3g} (log10 relative {:.1f}), "
+      "effective dof {:.1f}, chi2 {:.1f}, noise scale {:.2f}, {:.3f} s\n",
+      1e-6 * peak, penalty, penalty_log10_relative, effective_dof, chi2, noise_scale, run_seconds);
   for (const std::string& note : notes) out += "  note: " + note + "\n";
   return out;
 }

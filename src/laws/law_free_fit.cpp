@@ -21,7 +21,8 @@ std::string Indexed(const std::string& name, size_t i) {
 void CheckFinite(const std::vector<double>& values, const std::string& name) {
   for (size_t i = 0; i < values.size(); ++i)
     BF_CHECK_INPUT(std::isfinite(values[i]), "samples must be finite",
-                   {.field = Indexed(name, i), .value = std::to_string(values[i]),
+                   {.field = Indexed(name, i),
+                    .value = std::to_string(values[i]),
                     .expected = "a finite number"});
 }
 
@@ -89,24 +90,28 @@ TailTest TestTail(const Samples& s, int p, double z) {
 Samples CheckAndSort(const std::vector<double>& opening, const std::vector<double>& value,
                      const std::vector<double>& uncertainty, const std::string& opening_name,
                      const std::string& value_name, int min_points) {
-  BF_CHECK_INPUT(value.size() == opening.size(), "every opening needs one value",
-                 {.field = value_name, .value = std::to_string(value.size()) + " values",
-                  .expected = std::to_string(opening.size()) + " (as many as " + opening_name +
-                              ")"});
-  BF_CHECK_INPUT(uncertainty.size() == opening.size(), "every value needs one uncertainty",
-                 {.field = "uncertainty", .value = std::to_string(uncertainty.size()) + " values",
-                  .expected = std::to_string(opening.size()) + " (as many as " + opening_name +
-                              ")"});
+  BF_CHECK_INPUT(
+      value.size() == opening.size(), "every opening needs one value",
+      {.field = value_name,
+       .value = std::to_string(value.size()) + " values",
+       .expected = std::to_string(opening.size()) + " (as many as " + opening_name + ")"});
+  BF_CHECK_INPUT(
+      uncertainty.size() == opening.size(), "every value needs one uncertainty",
+      {.field = "uncertainty",
+       .value = std::to_string(uncertainty.size()) + " values",
+       .expected = std::to_string(opening.size()) + " (as many as " + opening_name + ")"});
   BF_CHECK_INPUT(static_cast<int>(opening.size()) >= min_points,
                  "too few samples to read a bridging law from",
-                 {.field = opening_name, .value = std::to_string(opening.size()) + " samples",
+                 {.field = opening_name,
+                  .value = std::to_string(opening.size()) + " samples",
                   .expected = "at least " + std::to_string(min_points) + " samples"});
   CheckFinite(opening, opening_name);
   CheckFinite(value, value_name);
   CheckFinite(uncertainty, "uncertainty");
   for (size_t i = 0; i < uncertainty.size(); ++i)
     BF_CHECK_INPUT(uncertainty[i] > 0.0, "standard uncertainties must be positive",
-                   {.field = Indexed("uncertainty", i), .value = std::to_string(uncertainty[i]),
+                   {.field = Indexed("uncertainty", i),
+                    .value = std::to_string(uncertainty[i]),
                     .expected = "u > 0 (same unit as " + value_name + ")"});
   Samples s;
   s.order.resize(opening.size());
@@ -116,9 +121,11 @@ Samples CheckAndSort(const std::vector<double>& opening, const std::vector<doubl
   for (size_t k = 0; k < s.order.size(); ++k) {
     const int i = s.order[k];
     if (k > 0)
-      BF_CHECK_INPUT(opening[i] > s.x.back(), "openings must be distinct (strictly increasing "
-                                              "once sorted)",
-                     {.field = Indexed(opening_name, i), .value = std::to_string(opening[i]),
+      BF_CHECK_INPUT(opening[i] > s.x.back(),
+                     "openings must be distinct (strictly increasing "
+                     "once sorted)",
+                     {.field = Indexed(opening_name, i),
+                      .value = std::to_string(opening[i]),
                       .expected = "an opening different from every other sample's"});
     s.x.push_back(opening[i]);
     s.y.push_back(value[i]);
@@ -220,8 +227,7 @@ PenalisedFit SolvePenalised(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
   const double scale2 = std::max(1.0, best.chi2 / (n - best.trace_h));
   best.noise_scale = std::sqrt(scale2);
   const Eigen::LDLT<Eigen::MatrixXd> ldlt(AtA + best.lambda * P);
-  best.covariance =
-      scale2 * ldlt.solve(Eigen::MatrixXd::Identity(AtA.rows(), AtA.cols()));
+  best.covariance = scale2 * ldlt.solve(Eigen::MatrixXd::Identity(AtA.rows(), AtA.cols()));
   return best;
 }
 
@@ -245,8 +251,9 @@ int DetectOnset(const Samples& s, const LawFreeOptions& options, std::string* no
   const int n = static_cast<int>(s.x.size());
   const int w = options.onset_window;
   if (n < w + 3) {
-    *note = "too few samples to look for the onset of growth; the first sample is taken as "
-            "the onset";
+    *note =
+        "too few samples to look for the onset of growth; the first sample is taken as "
+        "the onset";
     return 0;
   }
   // The onset is the kink where the steep pre-growth rise of J_ff (J_tip
@@ -265,9 +272,11 @@ int DetectOnset(const Samples& s, const LawFreeOptions& options, std::string* no
   double post_max = 0.0;
   for (int j = best_k; j + w < n; ++j) post_max = std::max(post_max, FitLine(s, j, j + w).slope);
   if (pre > options.onset_kink_ratio * post_max) return best_k;
-  *note = "no kink in J_ff(delta*) marks the onset of growth (the steepest pre-onset slope is "
-          "not " + std::to_string(options.onset_kink_ratio) +
-          " times the later ones); the first sample is taken as the onset";
+  *note =
+      "no kink in J_ff(delta*) marks the onset of growth (the steepest pre-onset slope is "
+      "not " +
+      std::to_string(options.onset_kink_ratio) +
+      " times the later ones); the first sample is taken as the onset";
   return 0;
 }
 

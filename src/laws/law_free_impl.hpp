@@ -49,8 +49,8 @@ PenalisedFit SolvePenalised(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
 // A tail of samples [start, end) flat within its noise (see law_free.hpp).
 struct Plateau {
   bool found = false;
-  int start = 0;       // index into Samples
-  double mean = 0.0;   // weighted mean of the tail [J/m^2]
+  int start = 0;      // index into Samples
+  double mean = 0.0;  // weighted mean of the tail [J/m^2]
   double mean_se = 0.0;
 };
 Plateau FindPlateau(const Samples& samples, int first, const LawFreeOptions& options);

@@ -36,7 +36,7 @@
 // (it does not trust the stated u_i's scale). Plain GCV (gamma = 1) now and
 // then falls into its near-interpolating minimum: on synthetic J_ff data with
 // 0.5 % noise, 1.5-3.5 % of the seeds gave a sigma RMS error of 5-25 % of
-// sigma_c; gamma = 1.4 (Kim & Gu 2004; Cummins, Filloon & Nychka 2001) left
+// sigma_c; gamma = 1.4 (Kim & Gu 2004, the default of R's gss) left
 // none above 3 % in 200 seeds per law. Options: the unbiased predictive risk
 // chi^2 + 2 tr H or the discrepancy principle chi^2 <= n (both trust the
 // u_i; measured worse on the J_ff route). The band is Wahba's Bayesian
@@ -52,12 +52,19 @@
 // `plateau_min_points` samples and a weighted straight line through them has
 // a slope within plateau_z standard errors of zero (the standard error from
 // the stated u_i, scaled up by the line's own scatter when that is larger);
-// the smallest such p starts the plateau. Then J_B = plateau mean - J_tip,c and delta_c = the opening
-// (from the onset) where the plateau starts: where the curve levels off to
-// within the noise, which for laws that fade smoothly to zero lies a little
-// below the true delta_c. Otherwise (PHYSICS.md section 7) J_B >= J_max -
+// the smallest such p starts the plateau. Then J_B = plateau mean -
+// J_tip,c and delta_c = the opening (from the onset) where the plateau
+// starts: where the curve levels off to within the noise, which for laws
+// that fade smoothly to zero lies below the true delta_c (measured 0.78-1.0
+// delta_c at 0.5 % noise). Otherwise (PHYSICS.md section 7) J_B >= J_max -
 // J_tip,c with J_max the largest fitted value, and delta_c >= the largest
 // opening, with identified = false.
+//
+// Onset of growth (J_ff route, when not given): the sample k where the
+// least-squares slope through the onset_window samples up to k exceeds the
+// next step's slope (k -> k+1) the most; accepted only when that slope is
+// onset_kink_ratio times every later window's slope, else the first sample
+// is the onset and a note says so.
 
 #include <optional>
 #include <string>
@@ -72,17 +79,15 @@ enum class PenaltyRule {
 };
 
 struct LawFreeOptions {
-  int grid_points = 41;       // sigma nodes from 0 to the largest opening
-  int min_points = 10;        // fewer usable samples throw
+  int grid_points = 41;  // sigma nodes from 0 to the largest opening
+  int min_points = 10;   // fewer usable samples throw
   PenaltyRule penalty_rule = PenaltyRule::kGeneralisedCrossValidation;
-  double gcv_gamma = 1.4;     // GCV's dof inflation (1: plain GCV)
-  double band_z = 1.959964;   // half-width of the band in standard errors (95 %)
-  double plateau_span = 0.15; // flat tail must cover this fraction of the opening range
+  double gcv_gamma = 1.4;      // GCV's dof inflation (1: plain GCV)
+  double band_z = 1.959964;    // half-width of the band in standard errors (95 %)
+  double plateau_span = 0.15;  // flat tail must cover this fraction of the opening range
   int plateau_min_points = 6;
-  double plateau_z = 2.0;     // flatness test threshold (standard errors)
-  // Onset detection (J_ff route, when the caller gives no onset): the
-  // least-squares slope over onset_window samples before a candidate must
-  // exceed onset_kink_ratio times every later window's slope.
+  double plateau_z = 2.0;  // flatness test threshold (standard errors)
+  // Onset detection (J_ff route, when the caller gives no onset; see above).
   int onset_window = 4;
   double onset_kink_ratio = 5.0;
   bool IsValid(std::string* why) const;
@@ -111,19 +116,21 @@ enum class LawFreeRoute { kFarFieldJ, kElasticZoneR };
 // J_B or delta_c: a point value when identified, else a lower bound.
 struct LawFreeEstimate {
   double value = 0.0;
-  double standard_error = 0.0;  // 0 for a bound
-  bool identified = false;      // false: `value` is a lower bound (PHYSICS.md section 7)
+  // J_B: from the plateau mean and J_tip,c (their covariance neglected);
+  // delta_c: not estimated (0), as for a bound.
+  double standard_error = 0.0;
+  bool identified = false;  // false: `value` is a lower bound (PHYSICS.md section 7)
 };
 
 struct LawFreeResult {
   LawFreeRoute route = LawFreeRoute::kFarFieldJ;
   // sigma on the grid, opening counted from the onset of growth.
-  std::vector<double> delta;                 // [m]
-  std::vector<double> sigma;                 // clipped at 0 [Pa]
-  std::vector<double> sigma_standard_error;  // [Pa]
+  std::vector<double> delta;                     // [m]
+  std::vector<double> sigma;                     // clipped at 0 [Pa]
+  std::vector<double> sigma_standard_error;      // [Pa]
   std::vector<double> sigma_lower, sigma_upper;  // sigma -+ band_z se, unclipped [Pa]
-  double J_tip_c = 0.0;                      // [J/m^2]
-  double J_tip_c_standard_error = 0.0;       // 0 when given
+  double J_tip_c = 0.0;                          // [J/m^2]
+  double J_tip_c_standard_error = 0.0;           // 0 when given
   bool J_tip_c_given = false;
   LawFreeEstimate J_B;      // [J/m^2]
   LawFreeEstimate delta_c;  // [m]
@@ -131,16 +138,16 @@ struct LawFreeResult {
   // term of sigma are fixed. False: bounds only, and on the R route sigma
   // is known only up to + C delta with C >= null_space_slope_min.
   bool identified = false;
-  double null_space_slope_min = 0.0;  // [Pa/m], R route when not identified
-  int onset_index = 0;         // J_ff route: into the samples as passed
-  bool onset_detected = false; // J_ff route: found by the unit, not given
-  int points_used = 0;         // samples in the least squares
-  int plateau_points = 0;      // samples in the flat tail (0: none)
-  double penalty = 0.0;        // lambda
+  double null_space_slope_min = 0.0;    // [Pa/m], R route when not identified
+  int onset_index = 0;                  // J_ff route: into the samples as passed
+  bool onset_detected = false;          // J_ff route: found by the unit, not given
+  int points_used = 0;                  // samples in the least squares
+  int plateau_points = 0;               // samples in the flat tail (0: none)
+  double penalty = 0.0;                 // lambda
   double penalty_log10_relative = 0.0;  // log10(lambda / (tr A^T W A / tr P))
-  double effective_dof = 0.0;  // tr H
-  double chi2 = 0.0;           // weighted residual sum at the chosen lambda
-  double noise_scale = 1.0;    // s = sqrt(max(1, chi2 / (n - tr H))), applied to the band
+  double effective_dof = 0.0;           // tr H
+  double chi2 = 0.0;                    // weighted residual sum at the chosen lambda
+  double noise_scale = 1.0;             // s = sqrt(max(1, chi2 / (n - tr H))), applied to the band
   double run_seconds = 0.0;
   std::vector<std::string> notes;  // warnings and what was assumed
 
@@ -150,10 +157,11 @@ struct LawFreeResult {
   std::string Summary() const;
 };
 
-// Throw bridgefit::Error (kInput) naming the field and what was expected for
-// sizes that differ, non-finite values, u <= 0, fewer than min_points
-// usable samples, or openings that repeat after sorting; kUsage for invalid
-// options. A fit that cannot identify J_B / delta_c is a result, not an error.
+// Samples may come in any order (they are sorted by opening). Throw
+// bridgefit::Error (kInput) naming the field and what was expected for sizes
+// that differ, non-finite values, u <= 0, fewer than min_points usable
+// samples, or openings that repeat; kUsage for invalid options. A fit that
+// cannot identify J_B / delta_c is a result, not an error.
 LawFreeResult LawFromFarFieldJ(const FarFieldJSamples& data, const LawFreeOptions& options = {});
 LawFreeResult LawFromRCurve(const RCurveSamples& data, const LawFreeOptions& options = {});
 
