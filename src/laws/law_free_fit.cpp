@@ -206,8 +206,10 @@ PenalisedFit SolvePenalised(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
       case PenaltyRule::kUnbiasedRisk:
         score = chi2 + 2.0 * trace_h;
         break;
-      case PenaltyRule::kDiscrepancy:  // later (larger) lambdas win while chi^2 <= n
-        score = chi2 <= n ? -t : std::numeric_limits<double>::max() - t;
+      case PenaltyRule::kDiscrepancy:
+        // The largest lambda with chi^2 <= n; when none reaches it (u
+        // understated), the smallest lambda. t lies in [-10, 6].
+        score = chi2 <= n ? -t : 1e6 + t;
         break;
     }
     if (score < best_score) {
