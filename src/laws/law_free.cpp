@@ -1,0 +1,330 @@
+// The bridging law from J_ff(delta*) and from R(delta_root) without a law
+// family (law_free.hpp has the equations and the choices).
+
+#include "bridgefit/laws/law_free.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "bridgefit/core/error.hpp"
+#include "law_free_impl.hpp"
+
+namespace bridgefit::laws {
+namespace {
+
+using namespace law_free_detail;
+
+void CheckOptions(const LawFreeOptions& options) {
+  std::string why;
+  if (!options.IsValid(&why))
+    throw Error(ErrorKind::kUsage, "invalid law-free options: " + why, {.field = "LawFreeOptions"});
+}
+
+// Samples [first, end) with openings counted from sample `first`.
+Samples FromOnset(const Samples& s, int first) {
+  Samples out;
+  for (size_t i = first; i < s.x.size(); ++i) {
+    out.x.push_back(s.x[i] - s.x[first]);
+    out.y.push_back(s.y[i]);
+    out.u.push_back(s.u[i]);
+    out.order.push_back(s.order[i]);
+  }
+  return out;
+}
+
+// Onset as a sorted index: given by index or opening, else detected.
+int ResolveOnset(const FarFieldJSamples& data, const Samples& s, const LawFreeOptions& options,
+                 LawFreeResult* result) {
+  const int n = static_cast<int>(s.x.size());
+  BF_CHECK_INPUT(!(data.onset_index && data.onset_opening),
+                 "give the onset of growth by index or by opening, not both",
+                 {.field = "onset_index", .expected = "onset_index or onset_opening"});
+  if (data.onset_index) {
+    const int given = *data.onset_index;
+    BF_CHECK_INPUT(given >= 0 && given < n, "the onset index is outside the samples",
+                   {.field = "onset_index",
+                    .value = std::to_string(given),
+                    .expected = fmt::format("0 .. {}", n - 1)});
+    return static_cast<int>(std::find(s.order.begin(), s.order.end(), given) - s.order.begin());
+  }
+  if (data.onset_opening) {
+    const double at = *data.onset_opening;
+    BF_CHECK_INPUT(std::isfinite(at), "the onset opening must be finite",
+                   {.field = "onset_opening",
+                    .value = std::to_string(at),
+                    .expected = "an opening [m] within the samples"});
+    int nearest = 0;
+    for (int i = 1; i < n; ++i)
+      if (std::abs(s.x[i] - at) < std::abs(s.x[nearest] - at)) nearest = i;
+    return nearest;
+  }
+  std::string note;
+  const int onset = DetectOnset(s, options, &note);
+  result->onset_detected = true;
+  if (!note.empty()) result->notes.push_back(note);
+  return onset;
+}
+
+// sigma, its standard error and band on the grid from the fit; nodes past
+// `free_nodes` are fixed at zero. Adds the clipping / monotonicity notes.
+void FillSigma(const Grid& grid, const PenalisedFit& fit, int offset, int free_nodes,
+               const LawFreeOptions& options, LawFreeResult* r) {
+  int clipped = 0, significantly_negative = 0;
+  for (size_t j = 0; j < grid.nodes.size(); ++j) {
+    const bool free = static_cast<int>(j) < free_nodes;
+    const double value = free ? fit.x[offset + j] : 0.0;
+    const double se = free ? std::sqrt(std::max(0.0, fit.covariance(offset + j, offset + j))) : 0.0;
+    r->delta.push_back(grid.nodes[j]);
+    r->sigma.push_back(std::max(0.0, value));
+    r->sigma_standard_error.push_back(se);
+    r->sigma_lower.push_back(value - options.band_z * se);
+    r->sigma_upper.push_back(value + options.band_z * se);
+    clipped += value < 0.0;
+    significantly_negative += value + options.band_z * se < 0.0;
+  }
+  if (clipped > 0)
+    r->notes.push_back(fmt::format("negative sigma clipped to 0 at {} of {} grid nodes", clipped,
+                                   grid.nodes.size()));
+  if (significantly_negative > 0)
+    r->notes.push_back(fmt::format(
+        "the curve falls beyond its noise ({} grid nodes have sigma < 0 with their whole band): "
+        "non-monotone data (unloading, edge effect or bad samples?)",
+        significantly_negative));
+}
+
+void RecordFit(const PenalisedFit& fit, int points, const LawFreeOptions& options,
+               LawFreeResult* r) {
+  r->points_used = points;
+  r->penalty = fit.lambda;
+  r->penalty_log10_relative = fit.log10_relative;
+  r->effective_dof = fit.trace_h;
+  r->chi2 = fit.chi2;
+  r->noise_scale = fit.noise_scale;
+  if (fit.at_search_edge)
+    r->notes.push_back(
+        fmt::format("the penalty sits on the edge of its search range "
+                    "(log10 relative {:.1f}): the choice is not a true optimum",
+                    fit.log10_relative));
+  if (fit.noise_scale > 1.5)
+    r->notes.push_back(
+        fmt::format("the data scatter {:.2f} times their stated uncertainty; the "
+                    "band is widened by that factor",
+                    fit.noise_scale));
+  if (points < 2 * options.grid_points)
+    r->notes.push_back(
+        fmt::format("only {} samples for {} sigma nodes: between samples the "
+                    "penalty, not the data, shapes sigma",
+                    points, options.grid_points));
+}
+
+// J_B and delta_c from a plateau, else the PHYSICS.md section 7 bounds.
+void SteadyStateOrBounds(const Samples& g, const Plateau& plateau, double J_max_fitted,
+                         const char* curve, LawFreeResult* r) {
+  r->identified = plateau.found;
+  if (plateau.found) {
+    r->plateau_points = static_cast<int>(g.x.size()) - plateau.start;
+    r->J_B = {.value = plateau.mean - r->J_tip_c,
+              .standard_error = std::hypot(plateau.mean_se, r->J_tip_c_standard_error),
+              .identified = true};
+    r->delta_c = {.value = g.x[plateau.start], .standard_error = 0.0, .identified = true};
+    r->notes.push_back(fmt::format(
+        "{} levels off from delta = {:.4g} mm over {} samples (steady state): J_B = plateau - "
+        "J_tip,c; delta_c is where the curve is flat within its noise (a little below the "
+        "true delta_c when the law fades smoothly)",
+        curve, 1e3 * r->delta_c.value, r->plateau_points));
+    return;
+  }
+  r->J_B = {.value = std::max(0.0, J_max_fitted - r->J_tip_c), .identified = false};
+  r->delta_c = {.value = g.x.back(), .identified = false};
+  r->notes.push_back(fmt::format(
+      "{} never levels off (no flat tail over the stated span): J_B >= {:.1f} J/m^2 (largest "
+      "fitted value - J_tip,c) and delta_c >= {:.4g} mm (largest opening) are lower bounds "
+      "(PHYSICS.md section 7), not values",
+      curve, r->J_B.value, 1e3 * r->delta_c.value));
+}
+
+double Seconds(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
+bool LawFreeOptions::IsValid(std::string* why) const {
+  auto fail = [why](const std::string& text) {
+    if (why) *why = text;
+    return false;
+  };
+  if (grid_points < 4) return fail(fmt::format("grid_points must be >= 4, got {}", grid_points));
+  if (min_points < 4) return fail(fmt::format("min_points must be >= 4, got {}", min_points));
+  if (!(band_z > 0.0)) return fail("band_z must be > 0");
+  if (!(gcv_gamma >= 1.0 && gcv_gamma < 3.0)) return fail("gcv_gamma must be in [1, 3)");
+  if (!(plateau_span > 0.0 && plateau_span < 1.0)) return fail("plateau_span must be in (0, 1)");
+  if (plateau_min_points < 3) return fail("plateau_min_points must be >= 3");
+  if (!(plateau_z > 0.0)) return fail("plateau_z must be > 0");
+  if (onset_window < 2) return fail("onset_window must be >= 2");
+  if (!(onset_kink_ratio > 1.0)) return fail("onset_kink_ratio must be > 1");
+  return true;
+}
+
+LawFreeResult LawFromFarFieldJ(const FarFieldJSamples& data, const LawFreeOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  CheckOptions(options);
+  const Samples s = CheckAndSort(data.opening, data.J_ff, data.uncertainty, "opening", "J_ff",
+                                 options.min_points);
+  LawFreeResult r;
+  r.route = LawFreeRoute::kFarFieldJ;
+  const int onset = ResolveOnset(data, s, options, &r);
+  r.onset_index = s.order[onset];
+  const Samples g = FromOnset(s, onset);
+  const int n = static_cast<int>(g.x.size());
+  BF_CHECK_INPUT(n >= options.min_points, "too few samples after the onset of growth",
+                 {.field = "J_ff",
+                  .value = fmt::format("{} samples from the onset on", n),
+                  .expected = fmt::format("at least {}", options.min_points)});
+
+  // J_ff_i = J_tip,c + sum_j a_j(delta_i) s_j; unknowns (J_tip,c, s).
+  const Grid grid = MakeGrid(g.x.back(), options.grid_points);
+  const int m = options.grid_points;
+  Eigen::MatrixXd A(n, m + 1);
+  Eigen::VectorXd b(n);
+  for (int i = 0; i < n; ++i) {
+    A(i, 0) = 1.0 / g.u[i];
+    A.block(i, 1, 1, m) = HatIntegrals(grid, g.x[i]) / g.u[i];
+    b[i] = g.y[i] / g.u[i];
+  }
+  const Eigen::MatrixXd D = SecondDifferences(m);
+  Eigen::MatrixXd P = Eigen::MatrixXd::Zero(m + 1, m + 1);
+  P.bottomRightCorner(m, m) = D.transpose() * D;
+  const PenalisedFit fit = SolvePenalised(A, b, P, options.penalty_rule, options.gcv_gamma);
+
+  r.J_tip_c = fit.x[0];
+  r.J_tip_c_standard_error = std::sqrt(fit.covariance(0, 0));
+  FillSigma(grid, fit, 1, m, options, &r);
+  RecordFit(fit, n, options, &r);
+  double J_max = -INFINITY;
+  for (int i = 0; i < n; ++i) J_max = std::max(J_max, A.row(i).dot(fit.x) * g.u[i]);
+  SteadyStateOrBounds(g, FindPlateau(g, 0, options), J_max, "J_ff", &r);
+  r.run_seconds = Seconds(start);
+  return r;
+}
+
+LawFreeResult LawFromRCurve(const RCurveSamples& data, const LawFreeOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  CheckOptions(options);
+  const Samples s =
+      CheckAndSort(data.opening, data.R, data.uncertainty, "delta_root", "R", options.min_points);
+  BF_CHECK_INPUT(s.x.front() >= 0.0, "notch-root openings must be >= 0",
+                 {.field = "delta_root",
+                  .value = std::to_string(s.x.front()),
+                  .expected = "openings >= 0 [m]"});
+  if (data.J_tip_c)
+    BF_CHECK_INPUT(std::isfinite(*data.J_tip_c) && *data.J_tip_c > 0.0,
+                   "J_tip,c must be finite and positive",
+                   {.field = "J_tip_c",
+                    .value = std::to_string(*data.J_tip_c),
+                    .expected = "a value > 0 [J/m^2], or none to fit it"});
+  LawFreeResult r;
+  r.route = LawFreeRoute::kElasticZoneR;
+  r.J_tip_c_given = data.J_tip_c.has_value();
+  const int n = static_cast<int>(s.x.size());
+
+  // f_i = sum_j [a_j(delta_i) - delta_i phi_j(delta_i) / 2] s_j, with the
+  // last node fixed (s_{M-1} = 0) to remove the null space s_j = C g_j.
+  const Grid grid = MakeGrid(s.x.back(), options.grid_points);
+  const int m = options.grid_points, free_nodes = m - 1;
+  const int offset = r.J_tip_c_given ? 0 : 1;
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(n, offset + free_nodes);
+  Eigen::VectorXd b(n);
+  for (int i = 0; i < n; ++i) {
+    const Eigen::RowVectorXd row =
+        HatIntegrals(grid, s.x[i]) - 0.5 * s.x[i] * HatValues(grid, s.x[i]);
+    if (offset) A(i, 0) = 1.0 / s.u[i];
+    A.block(i, offset, 1, free_nodes) = row.head(free_nodes) / s.u[i];
+    b[i] = (s.y[i] - (r.J_tip_c_given ? *data.J_tip_c : 0.0)) / s.u[i];
+  }
+  const Eigen::MatrixXd D = SecondDifferences(m).leftCols(free_nodes);
+  Eigen::MatrixXd P = Eigen::MatrixXd::Zero(offset + free_nodes, offset + free_nodes);
+  P.bottomRightCorner(free_nodes, free_nodes) = D.transpose() * D;
+  const PenalisedFit fit = SolvePenalised(A, b, P, options.penalty_rule, options.gcv_gamma);
+
+  r.J_tip_c = r.J_tip_c_given ? *data.J_tip_c : fit.x[0];
+  r.J_tip_c_standard_error = r.J_tip_c_given ? 0.0 : std::sqrt(fit.covariance(0, 0));
+  FillSigma(grid, fit, offset, free_nodes, options, &r);
+  RecordFit(fit, n, options, &r);
+  double R_max = -INFINITY;
+  const double J0_given = r.J_tip_c_given ? r.J_tip_c : 0.0;
+  for (int i = 0; i < n; ++i) R_max = std::max(R_max, A.row(i).dot(fit.x) * s.u[i] + J0_given);
+  SteadyStateOrBounds(s, FindPlateau(s, 0, options), R_max, "R", &r);
+  if (!r.identified) {
+    // sigma_true = sigma + C delta; sigma_true >= 0 everywhere needs C >= -sigma_j / g_j,
+    // and sigma_true(delta_max) = C delta_max >= 0 needs C >= 0.
+    for (int j = 1; j < free_nodes; ++j)
+      r.null_space_slope_min = std::max(r.null_space_slope_min, -fit.x[offset + j] / grid.nodes[j]);
+    r.notes.push_back(fmt::format(
+        "without steady state R fixes sigma only up to + C delta (a linear spring dissipates "
+        "nothing): the sigma shown is the member with sigma = 0 at the largest opening, the "
+        "true law is sigma + C delta with unknown C >= {:.4g} Pa/m",
+        r.null_space_slope_min));
+  }
+  r.run_seconds = Seconds(start);
+  return r;
+}
+
+bool LawFreeResult::IsValid(std::string* why) const {
+  auto fail = [why](const std::string& text) {
+    if (why) *why = text;
+    return false;
+  };
+  const size_t m = delta.size();
+  if (m < 2) return fail("the sigma grid has fewer than two nodes");
+  if (sigma.size() != m || sigma_standard_error.size() != m || sigma_lower.size() != m ||
+      sigma_upper.size() != m)
+    return fail("the sigma grid's columns differ in length");
+  for (size_t j = 0; j < m; ++j) {
+    if (!std::isfinite(delta[j]) || !std::isfinite(sigma[j]) || !std::isfinite(sigma_lower[j]) ||
+        !std::isfinite(sigma_upper[j]))
+      return fail(fmt::format("non-finite value at grid node {}", j));
+    if (j > 0 && !(delta[j] > delta[j - 1])) return fail("grid openings must increase");
+    if (sigma[j] < 0.0 || sigma_lower[j] > sigma_upper[j])
+      return fail(fmt::format("sigma or its band is malformed at node {}", j));
+  }
+  if (!std::isfinite(J_tip_c) || !std::isfinite(J_B.value) || !std::isfinite(delta_c.value))
+    return fail("J_tip,c, J_B and delta_c must be finite");
+  if (J_B.identified != identified || delta_c.identified != identified)
+    return fail("J_B, delta_c and the result disagree on identification");
+  return true;
+}
+
+std::string LawFreeResult::Summary() const {
+  std::string out = fmt::format(
+      "bridging law without a family, {} route: {} samples, sigma on {} nodes to {:.4g} mm\n",
+      route == LawFreeRoute::kFarFieldJ ? "J_ff(delta*)" : "R(delta_root)", points_used,
+      delta.size(), 1e3 * delta.back());
+  if (route == LawFreeRoute::kFarFieldJ)
+    out += fmt::format("  onset of growth: sample {} ({})\n", onset_index,
+                       onset_detected ? "detected" : "given");
+  out += J_tip_c_given
+             ? fmt::format("  J_tip,c = {:.1f} J/m^2 (given)\n", J_tip_c)
+             : fmt::format("  J_tip,c = {:.1f} +- {:.1f} J/m^2\n", J_tip_c, J_tip_c_standard_error);
+  if (identified) {
+    out += fmt::format(
+        "  J_B = {:.1f} +- {:.1f} J/m^2, delta_c = {:.4g} mm (steady state, {} "
+        "samples)\n",
+        J_B.value, J_B.standard_error, 1e3 * delta_c.value, plateau_points);
+  } else {
+    out += fmt::format("  not identified: J_B >= {:.1f} J/m^2, delta_c >= {:.4g} mm\n", J_B.value,
+                       1e3 * delta_c.value);
+  }
+  const double peak = *std::max_element(sigma.begin(), sigma.end());
+  out += fmt::format(
+      "  peak sigma {:.4g} MPa; penalty {:.3g} (log10 relative {:.1f}), "
+      "effective dof {:.1f}, chi2 {:.1f}, noise scale {:.2f}, {:.3f} s\n",
+      1e-6 * peak, penalty, penalty_log10_relative, effective_dof, chi2, noise_scale, run_seconds);
+  for (const std::string& note : notes) out += "  note: " + note + "\n";
+  return out;
+}
+
+}  // namespace bridgefit::laws

@@ -1,0 +1,285 @@
+// The numerical pieces of the law-free routes (law_free.hpp): input checks,
+// the hat-function basis, the penalised least squares with its lambda
+// search, and the plateau and onset tests.
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <string>
+
+#include "bridgefit/core/error.hpp"
+#include "law_free_impl.hpp"
+
+namespace bridgefit::laws::law_free_detail {
+namespace {
+
+std::string Indexed(const std::string& name, size_t i) {
+  return name + "[" + std::to_string(i) + "]";
+}
+
+void CheckFinite(const std::vector<double>& values, const std::string& name) {
+  for (size_t i = 0; i < values.size(); ++i)
+    BF_CHECK_INPUT(std::isfinite(values[i]), "samples must be finite",
+                   {.field = Indexed(name, i),
+                    .value = std::to_string(values[i]),
+                    .expected = "a finite number"});
+}
+
+// Weighted straight line through samples [i0, i1]: slope and chi^2.
+struct Line {
+  double slope = 0.0, chi2 = 0.0;
+};
+Line FitLine(const Samples& s, int i0, int i1) {
+  double sw = 0.0, swx = 0.0, swy = 0.0;
+  for (int i = i0; i <= i1; ++i) {
+    const double w = 1.0 / (s.u[i] * s.u[i]);
+    sw += w, swx += w * s.x[i], swy += w * s.y[i];
+  }
+  const double mx = swx / sw, my = swy / sw;
+  double sxx = 0.0, sxy = 0.0;
+  for (int i = i0; i <= i1; ++i) {
+    const double w = 1.0 / (s.u[i] * s.u[i]);
+    sxx += w * (s.x[i] - mx) * (s.x[i] - mx);
+    sxy += w * (s.x[i] - mx) * (s.y[i] - my);
+  }
+  Line line;
+  line.slope = sxx > 0.0 ? sxy / sxx : 0.0;
+  for (int i = i0; i <= i1; ++i) {
+    const double r = (s.y[i] - my - line.slope * (s.x[i] - mx)) / s.u[i];
+    line.chi2 += r * r;
+  }
+  return line;
+}
+
+// Flatness of the tail [p, n): the weighted straight line's slope is within
+// z standard errors of zero, the standard error scaled up by the line's own
+// scatter when the samples scatter more than their stated u.
+struct TailTest {
+  bool flat = false;
+  double mean = 0.0, mean_se = 0.0;
+};
+TailTest TestTail(const Samples& s, int p, double z) {
+  const int n = static_cast<int>(s.x.size());
+  double sw = 0.0, swx = 0.0, swy = 0.0;
+  for (int i = p; i < n; ++i) {
+    const double w = 1.0 / (s.u[i] * s.u[i]);
+    sw += w, swx += w * s.x[i], swy += w * s.y[i];
+  }
+  const double mx = swx / sw, my = swy / sw;
+  double sxx = 0.0, sxy = 0.0, chi2_mean = 0.0;
+  for (int i = p; i < n; ++i) {
+    const double w = 1.0 / (s.u[i] * s.u[i]);
+    sxx += w * (s.x[i] - mx) * (s.x[i] - mx);
+    sxy += w * (s.x[i] - mx) * (s.y[i] - my);
+    chi2_mean += w * (s.y[i] - my) * (s.y[i] - my);
+  }
+  const double slope = sxy / sxx;
+  const double chi2_line = std::max(0.0, chi2_mean - slope * slope * sxx);
+  const int count = n - p;
+  const double scatter = std::sqrt(std::max(1.0, chi2_line / (count - 2)));
+  TailTest t;
+  t.flat = std::abs(slope) <= z * scatter / std::sqrt(sxx);
+  t.mean = my;
+  t.mean_se = std::sqrt(std::max(1.0, chi2_mean / (count - 1)) / sw);
+  return t;
+}
+
+}  // namespace
+
+Samples CheckAndSort(const std::vector<double>& opening, const std::vector<double>& value,
+                     const std::vector<double>& uncertainty, const std::string& opening_name,
+                     const std::string& value_name, int min_points) {
+  BF_CHECK_INPUT(
+      value.size() == opening.size(), "every opening needs one value",
+      {.field = value_name,
+       .value = std::to_string(value.size()) + " values",
+       .expected = std::to_string(opening.size()) + " (as many as " + opening_name + ")"});
+  BF_CHECK_INPUT(
+      uncertainty.size() == opening.size(), "every value needs one uncertainty",
+      {.field = "uncertainty",
+       .value = std::to_string(uncertainty.size()) + " values",
+       .expected = std::to_string(opening.size()) + " (as many as " + opening_name + ")"});
+  BF_CHECK_INPUT(static_cast<int>(opening.size()) >= min_points,
+                 "too few samples to read a bridging law from",
+                 {.field = opening_name,
+                  .value = std::to_string(opening.size()) + " samples",
+                  .expected = "at least " + std::to_string(min_points) + " samples"});
+  CheckFinite(opening, opening_name);
+  CheckFinite(value, value_name);
+  CheckFinite(uncertainty, "uncertainty");
+  for (size_t i = 0; i < uncertainty.size(); ++i)
+    BF_CHECK_INPUT(uncertainty[i] > 0.0, "standard uncertainties must be positive",
+                   {.field = Indexed("uncertainty", i),
+                    .value = std::to_string(uncertainty[i]),
+                    .expected = "u > 0 (same unit as " + value_name + ")"});
+  Samples s;
+  s.order.resize(opening.size());
+  std::iota(s.order.begin(), s.order.end(), 0);
+  std::stable_sort(s.order.begin(), s.order.end(),
+                   [&](int a, int b) { return opening[a] < opening[b]; });
+  for (size_t k = 0; k < s.order.size(); ++k) {
+    const int i = s.order[k];
+    if (k > 0)
+      BF_CHECK_INPUT(opening[i] > s.x.back(),
+                     "openings must be distinct (strictly increasing "
+                     "once sorted)",
+                     {.field = Indexed(opening_name, i),
+                      .value = std::to_string(opening[i]),
+                      .expected = "an opening different from every other sample's"});
+    s.x.push_back(opening[i]);
+    s.y.push_back(value[i]);
+    s.u.push_back(uncertainty[i]);
+  }
+  return s;
+}
+
+Grid MakeGrid(double x_max, int node_count) {
+  Grid g;
+  g.h = x_max / (node_count - 1);
+  for (int j = 0; j < node_count; ++j) g.nodes.push_back(j * g.h);
+  g.nodes.back() = x_max;
+  return g;
+}
+
+Eigen::RowVectorXd HatIntegrals(const Grid& grid, double x) {
+  const int m = static_cast<int>(grid.nodes.size());
+  Eigen::RowVectorXd a = Eigen::RowVectorXd::Zero(m);
+  const double h = grid.h;
+  for (int k = 0; k + 1 < m; ++k) {
+    const double x0 = grid.nodes[k];
+    if (x <= x0) break;
+    // Interval [x0, x0 + h]: int phi_k = h (t - t^2/2), int phi_{k+1} = h t^2 / 2.
+    const double t = std::min(1.0, (x - x0) / h);
+    a[k] += h * (t - 0.5 * t * t);
+    a[k + 1] += h * 0.5 * t * t;
+  }
+  return a;
+}
+
+Eigen::RowVectorXd HatValues(const Grid& grid, double x) {
+  const int m = static_cast<int>(grid.nodes.size());
+  Eigen::RowVectorXd v = Eigen::RowVectorXd::Zero(m);
+  const int k = std::clamp(static_cast<int>(std::floor(x / grid.h)), 0, m - 2);
+  const double t = std::clamp((x - grid.nodes[k]) / grid.h, 0.0, 1.0);
+  v[k] = 1.0 - t;
+  v[k + 1] = t;
+  return v;
+}
+
+Eigen::MatrixXd SecondDifferences(int node_count) {
+  Eigen::MatrixXd d = Eigen::MatrixXd::Zero(std::max(0, node_count - 2), node_count);
+  for (int j = 1; j + 1 < node_count; ++j) {
+    d(j - 1, j - 1) = 1.0;
+    d(j - 1, j) = -2.0;
+    d(j - 1, j + 1) = 1.0;
+  }
+  return d;
+}
+
+PenalisedFit SolvePenalised(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
+                            const Eigen::MatrixXd& P, PenaltyRule rule, double gcv_gamma) {
+  const Eigen::MatrixXd AtA = A.transpose() * A;
+  const Eigen::VectorXd Atb = A.transpose() * b;
+  const double n = static_cast<double>(A.rows());
+  const double base = AtA.trace() / std::max(P.trace(), std::numeric_limits<double>::min());
+  // log10(lambda / base) from -10 to 6 in steps of 0.1.
+  constexpr int kSteps = 161;
+  constexpr double kFirst = -10.0, kStep = 0.1;
+  PenalisedFit best;
+  double best_score = std::numeric_limits<double>::infinity();
+  int best_step = -1;
+  for (int step = 0; step < kSteps; ++step) {
+    const double t = kFirst + kStep * step;
+    const double lambda = base * std::pow(10.0, t);
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(AtA + lambda * P);
+    if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) continue;
+    const Eigen::VectorXd x = ldlt.solve(Atb);
+    const double chi2 = (b - A * x).squaredNorm();
+    const double trace_h = ldlt.solve(AtA).trace();
+    if (!std::isfinite(chi2) || !std::isfinite(trace_h) || n - gcv_gamma * trace_h < 1.0) continue;
+    double score = 0.0;
+    switch (rule) {
+      case PenaltyRule::kGeneralisedCrossValidation:
+        score = n * chi2 / ((n - gcv_gamma * trace_h) * (n - gcv_gamma * trace_h));
+        break;
+      case PenaltyRule::kUnbiasedRisk:
+        score = chi2 + 2.0 * trace_h;
+        break;
+      case PenaltyRule::kDiscrepancy:
+        // The largest lambda with chi^2 <= n; when none reaches it (u
+        // understated), the smallest lambda. t lies in [-10, 6].
+        score = chi2 <= n ? -t : 1e6 + t;
+        break;
+    }
+    if (score < best_score) {
+      best_score = score;
+      best_step = step;
+      best.x = x;
+      best.lambda = lambda;
+      best.log10_relative = t;
+      best.chi2 = chi2;
+      best.trace_h = trace_h;
+    }
+  }
+  if (best_step < 0)
+    throw Error(ErrorKind::kRuntime, "the penalised least squares found no usable penalty",
+                {.expected = "samples that determine sigma on the grid"});
+  best.at_search_edge = best_step == 0 || best_step == kSteps - 1;
+  const double scale2 = std::max(1.0, best.chi2 / (n - best.trace_h));
+  best.noise_scale = std::sqrt(scale2);
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(AtA + best.lambda * P);
+  best.covariance = scale2 * ldlt.solve(Eigen::MatrixXd::Identity(AtA.rows(), AtA.cols()));
+  return best;
+}
+
+Plateau FindPlateau(const Samples& s, int first, const LawFreeOptions& options) {
+  const int n = static_cast<int>(s.x.size());
+  const double range = s.x[n - 1] - s.x[first];
+  Plateau plateau;
+  for (int p = n - options.plateau_min_points; p >= first; --p) {
+    if (s.x[n - 1] - s.x[p] < options.plateau_span * range) continue;
+    const TailTest t = TestTail(s, p, options.plateau_z);
+    if (!t.flat) continue;
+    plateau.found = true;
+    plateau.start = p;
+    plateau.mean = t.mean;
+    plateau.mean_se = t.mean_se;
+  }
+  return plateau;
+}
+
+int DetectOnset(const Samples& s, const LawFreeOptions& options, std::string* note) {
+  const int n = static_cast<int>(s.x.size());
+  const int w = options.onset_window;
+  if (n < w + 3) {
+    *note =
+        "too few samples to look for the onset of growth; the first sample is taken as "
+        "the onset";
+    return 0;
+  }
+  // The onset is the kink where the steep pre-growth rise of J_ff (J_tip
+  // rising at nearly fixed delta*) gives way to the bridging slope sigma:
+  // the sample k where the line through [k - w, k] is steepest compared with
+  // the next step k -> k + 1. The next step alone, not a window, so that a
+  // window straddling the kink cannot blur it.
+  int best_k = -1;
+  double best_contrast = -std::numeric_limits<double>::infinity();
+  for (int k = 1; k + w < n; ++k) {
+    const double next = (s.y[k + 1] - s.y[k]) / (s.x[k + 1] - s.x[k]);
+    const double contrast = FitLine(s, std::max(0, k - w), k).slope - next;
+    if (contrast > best_contrast) best_contrast = contrast, best_k = k;
+  }
+  const double pre = FitLine(s, std::max(0, best_k - w), best_k).slope;
+  double post_max = 0.0;
+  for (int j = best_k; j + w < n; ++j) post_max = std::max(post_max, FitLine(s, j, j + w).slope);
+  if (pre > options.onset_kink_ratio * post_max) return best_k;
+  *note =
+      "no kink in J_ff(delta*) marks the onset of growth (the steepest pre-onset slope is "
+      "not " +
+      std::to_string(options.onset_kink_ratio) +
+      " times the later ones); the first sample is taken as the onset";
+  return 0;
+}
+
+}  // namespace bridgefit::laws::law_free_detail

@@ -1,0 +1,62 @@
+#pragma once
+// Private pieces of law_free.cpp: sample checks, the hat-function basis, the
+// penalised least squares with its lambda search, plateau and onset tests.
+
+#include <Eigen/Dense>
+#include <string>
+#include <vector>
+
+#include "bridgefit/laws/law_free.hpp"
+
+namespace bridgefit::laws::law_free_detail {
+
+// Samples sorted by opening; `order[k]` is the caller's index of sample k.
+struct Samples {
+  std::vector<double> x, y, u;
+  std::vector<int> order;
+};
+
+// Checks sizes, finiteness, u > 0, count >= min_points, and strictly
+// increasing openings after sorting; throws Error naming the field.
+Samples CheckAndSort(const std::vector<double>& opening, const std::vector<double>& value,
+                     const std::vector<double>& uncertainty, const std::string& opening_name,
+                     const std::string& value_name, int min_points);
+
+// Uniform nodes from 0 to x_max; sigma is piecewise linear on them.
+struct Grid {
+  std::vector<double> nodes;
+  double h = 0.0;
+};
+Grid MakeGrid(double x_max, int node_count);
+// a_j(x) = int_0^x phi_j for every node j (row of length nodes.size()).
+Eigen::RowVectorXd HatIntegrals(const Grid& grid, double x);
+// phi_j(x) for every node j.
+Eigen::RowVectorXd HatValues(const Grid& grid, double x);
+// Second differences s_{j-1} - 2 s_j + s_{j+1}, j = 1 .. M-2: (M-2) x M.
+Eigen::MatrixXd SecondDifferences(int node_count);
+
+// min |b - A x|^2 + lambda x^T P x (rows of A and b already divided by u).
+struct PenalisedFit {
+  Eigen::VectorXd x;
+  Eigen::MatrixXd covariance;  // s^2 (A^T A + lambda P)^-1
+  double lambda = 0.0, log10_relative = 0.0;
+  double chi2 = 0.0, trace_h = 0.0, noise_scale = 1.0;
+  bool at_search_edge = false;  // the criterion's minimum lies on the lambda grid's edge
+};
+PenalisedFit SolvePenalised(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
+                            const Eigen::MatrixXd& P, PenaltyRule rule, double gcv_gamma);
+
+// A tail of samples [start, end) flat within its noise (see law_free.hpp).
+struct Plateau {
+  bool found = false;
+  int start = 0;      // index into Samples
+  double mean = 0.0;  // weighted mean of the tail [J/m^2]
+  double mean_se = 0.0;
+};
+Plateau FindPlateau(const Samples& samples, int first, const LawFreeOptions& options);
+
+// The sample where J_ff stops rising steeply (index into Samples), or 0
+// with *note set when no clear kink is found.
+int DetectOnset(const Samples& samples, const LawFreeOptions& options, std::string* note);
+
+}  // namespace bridgefit::laws::law_free_detail
