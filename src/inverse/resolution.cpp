@@ -134,6 +134,53 @@ ResolutionChoice ChooseResolution(const ModelAtResolution& model_at, const laws:
     const double h = o.coarsest * std::pow(r, 2 - j);
     return rungs[j] = EvaluateRung(model_at(h), shape, used, answer, at, scale2, &choice.runs);
   };
+  // A size whose coarser solve fails (a DCB arm too coarse for Newton
+  // there) is judged from the next finer solve instead, as the model error
+  // does (model_error.hpp): the order assumed, beta = (p_h - p_h/r) r^p /
+  // (r^p - 1), and the criterion on beta times F_s(assumed) / F_s(observed)
+  // (the wider safety factor of the total interval it would get).
+  const double assumed_rp = std::pow(r, o.error.assumed_order);
+  const double widen = o.error.unverified_safety_factor / o.error.safety_factor;
+  auto FinerFallback = [&](ResolutionLevel& level, const Rung& fine, const Rung& finer,
+                           const ForwardModel* model_h, const ForwardModel* model_finer,
+                           const std::string& coarse_failure) {
+    level.status = ModelErrorStatus::kOrderNotObserved;
+    if (!finer.ok) {
+      level.note = coarse_failure + fmt::format("; the finer {:.3g} mm solve: {}",
+                                                level.resolution / r * 1e3, finer.note);
+      return;
+    }
+    level.meets = true;
+    std::string worst;
+    double worst_ratio = 0.0;
+    for (std::size_t k = 0; k < free.size(); ++k) {
+      const double bias = (fine.estimate[k] - finer.estimate[k]) * assumed_rp / (assumed_rp - 1.0);
+      level.bias[free[k]] = bias;
+      if (!checked[k]) continue;
+      const double ratio = widen * std::abs(bias) / fine.sd[k];
+      if (!(ratio <= o.bias_fraction)) level.meets = false;
+      if (!(ratio <= worst_ratio)) {
+        worst_ratio = ratio;
+        worst = ParameterName(free[k]);
+      }
+    }
+    std::array<double, kParameterCount> p = at;
+    for (std::size_t k = 0; k < free.size(); ++k) p[free[k]] = fine.estimate[k];
+    // (y_h - y_h/r) r^p / (r^p - 1): OutputBiasInNoise's (coarse - fine) / denominator.
+    const double noise_rms = OutputBiasInNoise(
+        model_finer, model_h, shape, used, {p[kSigmaC], p[kJB], p[kJTipC]},
+        used.weighted() ? 1.0 : scale2, (assumed_rp - 1.0) / assumed_rp);
+    level.output_bias_noise_rms = noise_rms;
+    level.note = coarse_failure + fmt::format(
+        "; judged from the finer {:.3g} mm solve, order {:g} assumed: largest bias {:.2g} sd ({}) "
+        "with the x{:.3g} of the assumed order's safety factor",
+        level.resolution / r * 1e3, o.error.assumed_order, worst_ratio, worst, widen);
+    if (std::isfinite(noise_rms)) {
+      level.note += fmt::format("; predicted {} bias {:.2g} noise sd rms",
+                                used.target == FitTarget::kLoad ? "load" : "R", noise_rms);
+      if (noise_rms > kOutputBiasNoiseLimit) level.meets = false;
+    }
+  };
   for (int j = 2;; ++j) {
     const double h = o.coarsest * std::pow(r, 2 - j);
     const bool finest = h / r < o.finest * (1.0 - 1e-9);
@@ -150,7 +197,10 @@ ResolutionChoice ChooseResolution(const ModelAtResolution& model_at, const laws:
       }
       const Rung& coarse = rung(j - 1);
       const Rung& coarser = rung(j - 2);
-      if (!coarse.ok) {
+      if (!coarse.ok && !finest) {
+        FinerFallback(level, fine, rung(j + 1), model_at(h), model_at(h / r),
+                      fmt::format("the {:.3g} mm solve: {}", r * h * 1e3, coarse.note));
+      } else if (!coarse.ok) {
         level.note = fmt::format("the {:.3g} mm solve: {}", r * h * 1e3, coarse.note);
       } else {
         std::vector<double> move_fine, move_coarse;

@@ -350,5 +350,75 @@ TEST(ModelError, AutoResolutionMeetsItsCriterion) {
   }
 }
 
+// A model whose every run fails (as the reduced model's Newton does on a
+// DCB arm too coarse for it).
+class FailingModel final : public ForwardModel {
+ public:
+  std::string Name() const override { return "failing"; }
+  ForwardPrediction Predict(const laws::LawShape&, const LawParameters&,
+                            const std::vector<double>&, RKind) const override {
+    ForwardPrediction p;
+    p.status = RunStatus::kNotConverged;
+    p.message = "Newton did not converge (injected)";
+    return p;
+  }
+};
+
+// --resolution auto where the size above a candidate cannot run: the
+// candidate is judged from the next finer solve (order assumed, criterion
+// widened by the assumed order's safety factor) instead of never meeting
+// the criterion; where it is chosen, its estimate lies within the total
+// half-width it would get (1.96 sd + F_s(assumed) |bias|) of the truth.
+TEST(ModelError, AutoResolutionJudgesASizeFromAFinerSolveWhenTheCoarserFails) {
+  const Case c = Cases()[2];  // DCB isotropic, linear
+  FitData data = NoiseFreeData(c);
+  ASSERT_FALSE(data.R.empty());
+  // 2% uncertainties: the model's error at the coarse sizes is below them.
+  for (std::size_t i = 0; i < data.R.size(); ++i) data.R_uncertainty[i] = 0.02 * data.R[i];
+  std::map<double, std::unique_ptr<ForwardModel>> cache;
+  ResolutionOptions options;
+  options.coarsest = 2.5e-3;  // a quarter of the arm
+  options.finest = 0.3e-3;
+  // Every size above 1.3 mm fails: 1.25 mm has no coarser solve.
+  const ModelAtResolution model_at = [&](double h) -> const ForwardModel* {
+    auto& m = cache[h];
+    if (!m) m = h > 1.3e-3 ? std::unique_ptr<ForwardModel>(std::make_unique<FailingModel>())
+                           : std::unique_ptr<ForwardModel>(Model(c.scene, h, c.a_last + 2 * h));
+    return m.get();
+  };
+  FitOptions fit_options;
+  fit_options.starts = 2;
+  fit_options.profile_likelihood = false;
+  const auto pilot_model = Model(c.scene, 1.25e-3, c.a_last + 2.5e-3);
+  const FitSummary pilot = FitBridgingLaw(*pilot_model, c.shape, data, fit_options);
+  ASSERT_TRUE(pilot.converged) << pilot.stop_reason;
+  for (double fraction : {0.3, 3.0}) {
+    options.bias_fraction = fraction;
+    const ResolutionChoice chosen = ChooseResolution(model_at, c.shape, data, fit_options, pilot, options);
+    std::cout << "fraction " << fraction << ": " << chosen.reason << "\n";
+    for (const ResolutionLevel& l : chosen.levels) std::cout << "  " << l.note << "\n";
+    const auto at_1_25 = std::find_if(chosen.levels.begin(), chosen.levels.end(), [](const auto& l) {
+      return std::abs(l.resolution - 1.25e-3) < 1e-9;
+    });
+    ASSERT_NE(at_1_25, chosen.levels.end());
+    EXPECT_EQ(at_1_25->status, ModelErrorStatus::kOrderNotObserved);
+    EXPECT_NE(at_1_25->note.find("judged from the finer 0.625 mm solve"), std::string::npos)
+        << at_1_25->note;
+    if (!chosen.criterion_met) continue;
+    const ResolutionLevel& at = chosen.levels.back();
+    const double widen = options.error.unverified_safety_factor / options.error.safety_factor;
+    const double truths[] = {c.truth.sigma_c, c.truth.J_B, c.truth.J_tip_c};
+    for (int i : {kSigmaC, kJB, kJTipC}) {
+      SCOPED_TRACE(ParameterName(i));
+      const double factor = at.status == ModelErrorStatus::kEstimated ? 1.0 : widen;
+      EXPECT_LE(factor * std::abs(at.bias[i]), fraction * at.sd[i]);
+      const double f_s = at.status == ModelErrorStatus::kEstimated
+                             ? options.error.safety_factor
+                             : options.error.unverified_safety_factor;
+      EXPECT_LE(std::abs(at.estimate[i] - truths[i]), 1.96 * at.sd[i] + f_s * std::abs(at.bias[i]));
+    }
+  }
+}
+
 }  // namespace
 }  // namespace bridgefit::inverse
