@@ -60,6 +60,18 @@ DisplacementField SampleGrid(const Displacement& disp, const CrackGeometry& crac
   return f;
 }
 
+// Gaussian noise of `fraction` of the largest displacement magnitude, on u and v.
+void AddNoise(DisplacementField* f, double fraction, std::uint64_t seed) {
+  double umax = 0;
+  for (std::size_t i = 0; i < f->size(); ++i) umax = std::max(umax, std::hypot(f->u[i], f->v[i]));
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> noise(0.0, fraction * umax);
+  for (std::size_t i = 0; i < f->size(); ++i) {
+    f->u[i] += noise(rng);
+    f->v[i] += noise(rng);
+  }
+}
+
 JIntegralOptions TipCentredDomains() {
   JIntegralOptions o;
   o.metres_per_unit = kPx;
@@ -103,6 +115,19 @@ TEST(JIntegral, LefmFieldGivesKSquaredOverE) {
                                              TipCentredDomains());
   ExpectAllWithin(r, JFromKOver2mu(m.k_over_2mu), 0.02, "lefm");
   EXPECT_LT(r.j_ff_spread_percent, 2.0);
+
+  // The same field and domains in metres (metres_per_unit = 1) give the same J.
+  DisplacementField metres = f;
+  for (auto* a : {&metres.x, &metres.y, &metres.u, &metres.v})
+    for (double& value : *a) value *= kPx;
+  const CrackGeometry crack_m = CrackOf(m.tip_x * kPx, m.tip_y * kPx, 1, 0);
+  JIntegralOptions o = TipCentredDomains();
+  o.metres_per_unit = 1;
+  o.domain_units = DomainUnits::kMetres;
+  for (DomainSpec& d : o.domains) d = {d.kind, d.r_in * 2 * kPx, d.r_out * 2 * kPx, 0};
+  const JIntegralResult rm = ComputeJIntegral(metres, crack_m, ElasticConstants::Isotropic(kE, kNu), o);
+  ASSERT_EQ(rm.far_field_ok, 3) << rm.Summary();
+  for (std::size_t k = 0; k < 3; ++k) EXPECT_NEAR(rm.domains[k].j / r.domains[k].j, 1.0, 1e-9);
 }
 
 // A crack at 20 degrees to the image axes, with a rigid translation and
@@ -133,26 +158,25 @@ TEST(JIntegral, RigidMotionAndInclinedCrackLeaveJUnchanged) {
   EXPECT_LT(moved.j_ff_spread_percent, 2.0);
 }
 
-// Gaussian noise of 0.5 % of the largest displacement magnitude on u and v.
-// A wider window (half-width 4, quadratic) smooths before differentiating.
+// 0.5 % noise; a wider window (half-width 4, quadratic: 81 points) smooths
+// before differentiating. Measured over 30 seeds (half-width 4): J error per
+// domain, small to large, mean -0.30 / -0.11 / -0.13 %, std 0.78 / 0.32 /
+// 0.26 %, largest 2.0 %; spread up to 2.1 %. The bounds are 4 std of the
+// smallest domain plus its bias (3.5 %) and 4 % spread. (Half-width 2 gives
+// std 1.5 / 0.6 / 0.4 % with a -1.1 % bias: too little smoothing.)
 TEST(JIntegral, NoisyLefmField) {
   const ModeICrackField m = LefmField();
   const CrackGeometry crack = CrackOf(m.tip_x, m.tip_y, 1, 0);
-  DisplacementField f = SampleGrid(m, crack, 150, 150, 2);
-  double umax = 0;
-  for (std::size_t i = 0; i < f.size(); ++i) umax = std::max(umax, std::hypot(f.u[i], f.v[i]));
-  std::mt19937_64 rng(2024);
-  std::normal_distribution<double> noise(0.0, 0.005 * umax);
-  for (std::size_t i = 0; i < f.size(); ++i) {
-    f.u[i] += noise(rng);
-    f.v[i] += noise(rng);
-  }
+  const DisplacementField clean = SampleGrid(m, crack, 150, 150, 2);
   JIntegralOptions o = TipCentredDomains();
   o.window_half_width = 4;
-  const JIntegralResult r = ComputeJIntegral(f, crack, ElasticConstants::Isotropic(kE, kNu), o);
-  std::printf("[noise] sigma %.3g px (0.5 %% of %.3g px)\n", 0.005 * umax, umax);
-  ExpectAllWithin(r, JFromKOver2mu(m.k_over_2mu), 0.05, "noise");
-  EXPECT_LT(r.j_ff_spread_percent, 5.0);
+  for (std::uint64_t seed = 1; seed <= 5; ++seed) {
+    DisplacementField f = clean;
+    AddNoise(&f, 0.005, seed);
+    const JIntegralResult r = ComputeJIntegral(f, crack, ElasticConstants::Isotropic(kE, kNu), o);
+    ExpectAllWithin(r, JFromKOver2mu(m.k_over_2mu), 0.035, "noise");
+    EXPECT_LT(r.j_ff_spread_percent, 4.0);
+  }
 }
 
 // Linear softening bridging law on a semi-infinite crack; the whole zone
@@ -187,20 +211,39 @@ struct Bridged {
   }
 };
 
-TEST(JIntegral, BridgedCrackFarFieldTipAndRootOpening) {
-  const Bridged b;
-  const CrackGeometry crack = CrackOf(b.field.tip_x, 0, 1, 0, Bridged::kZonePx);
-  const DisplacementField f = SampleGrid(b.field, crack, 200, 150, 2);
+// The bridged field is solved and sampled once (about 2 s).
+const Bridged& SharedBridged() {
+  static const Bridged b;
+  return b;
+}
+CrackGeometry BridgedCrack() {
+  return CrackOf(SharedBridged().field.tip_x, 0, 1, 0, Bridged::kZonePx);
+}
+const DisplacementField& BridgedGrid() {
+  static const DisplacementField f = SampleGrid(SharedBridged().field, BridgedCrack(), 200, 150, 2);
+  return f;
+}
+// Far-field domains centred on the zone's midpoint (30 px = 15 grid points
+// behind the tip), tip domains inside the 60 px zone.
+JIntegralOptions BridgedDomains() {
   JIntegralOptions o;
   o.metres_per_unit = kPx;
   o.domain_units = DomainUnits::kGridPoints;
-  const double mid = -Bridged::kZonePx / 2 / 2;  // zone midpoint, grid points
+  const double mid = -Bridged::kZonePx / 2 / 2;
   o.domains = {{DomainKind::kFarField, 18, 40, mid},
                {DomainKind::kFarField, 25, 55, mid},
                {DomainKind::kFarField, 32, 68, mid},
                {DomainKind::kTip, 5, 12, 0},
                {DomainKind::kTip, 4, 18, 0}};
   o.bridging_traction = Bridged::SigmaSi;
+  return o;
+}
+
+TEST(JIntegral, BridgedCrackFarFieldTipAndRootOpening) {
+  const Bridged& b = SharedBridged();
+  const CrackGeometry crack = BridgedCrack();
+  const DisplacementField& f = BridgedGrid();
+  const JIntegralOptions o = BridgedDomains();
   const JIntegralResult r = ComputeJIntegral(f, crack, ElasticConstants::Isotropic(kE, kNu), o);
   std::printf("%s", r.Summary().c_str());
 
@@ -248,6 +291,50 @@ TEST(JIntegral, BridgedCrackFarFieldTipAndRootOpening) {
     EXPECT_GT(d.j, 1.05 * j_tip_exact);
     EXPECT_LT(d.j, j_ff_exact);
   }
+}
+
+// The bridged field with 0.5 % noise, 10 seeds: J_ff, and delta* against its
+// reported uncertainty (is the uncertainty calibrated?).
+TEST(JIntegral, NoisyBridgedField) {
+  const Bridged& b = SharedBridged();
+  const double j_ff_exact = JFromKOver2mu(b.field.k_over_2mu);
+  const double j_tip_exact = JFromKOver2mu(b.field.TipKOver2mu());
+  const double delta_exact = b.field.OpeningAt(Bridged::kZonePx) * kPx;
+  JIntegralOptions o = BridgedDomains();
+  o.window_half_width = 4;
+  double sq_err = 0, sum_std = 0;
+  const int seeds = 10;
+  for (int seed = 1; seed <= seeds; ++seed) {
+    DisplacementField f = BridgedGrid();
+    AddNoise(&f, 0.005, 100 + seed);
+    const JIntegralResult r = ComputeJIntegral(f, BridgedCrack(), ElasticConstants::Isotropic(kE, kNu), o);
+    ASSERT_EQ(r.far_field_ok, 3) << r.Summary();
+    for (const DomainResult& d : r.domains) {
+      if (d.spec.kind == DomainKind::kFarField) {
+        EXPECT_LT(std::abs(d.j / j_ff_exact - 1), 0.035);
+      } else {
+        // Tip domains are small, so noisier: over these seeds the rms J_tip
+        // error was 2.2 % (r 0.1-0.24 mm) and 1.3 % (0.08-0.36 mm); the
+        // larger one is held to 4 x 1.3 % rounded up, the smaller reported.
+        const double tip_err = d.j_tip / j_tip_exact - 1;
+        std::printf("[noisy bridged] seed %d tip r %.3g-%.3g mm: J_tip error %+.2f %%\n", seed,
+                    d.r_in_m * 1e3, d.r_out_m * 1e3, 100 * tip_err);
+        if (d.spec.r_out > 15) EXPECT_LT(std::abs(tip_err), 0.055);
+      }
+    }
+    const double err = r.root_opening.delta - delta_exact;
+    std::printf("[noisy bridged] seed %d: J_ff error %+.2f %%, spread %.2f %%, delta* error %+.3f %% "
+                "(%.2f std)\n", seed, 100 * (r.j_ff / j_ff_exact - 1), r.j_ff_spread_percent,
+                100 * err / delta_exact, err / r.root_opening.delta_std);
+    EXPECT_LT(r.j_ff_spread_percent, 4.0);
+    EXPECT_LT(std::abs(err), 4 * r.root_opening.delta_std);
+    sq_err += err * err;
+    sum_std += r.root_opening.delta_std;
+  }
+  const double ratio = std::sqrt(sq_err / seeds) / (sum_std / seeds);
+  std::printf("[noisy bridged] delta*: rms error / mean reported std = %.2f\n", ratio);
+  EXPECT_GT(ratio, 0.5);
+  EXPECT_LT(ratio, 2.0);
 }
 
 // Sih, Paris & Irwin (1965): near-tip mode-I field of a rectilinearly
