@@ -7,8 +7,8 @@
 #include <cmath>
 #include <limits>
 
-#include <Eigen/Dense>
 #include <fmt/format.h>
+#include <Eigen/Dense>
 
 #include "bridgefit/core/error.hpp"
 
@@ -52,7 +52,8 @@ void ElasticConstants::Validate() const {
   const double limit = std::sqrt(E1 / E2);
   BF_CHECK_INPUT(std::isfinite(nu12) && std::abs(nu12) < limit,
                  "orthotropic Poisson ratio makes the compliance indefinite",
-                 {.field = "nu12", .value = fmt::format("{}", nu12),
+                 {.field = "nu12",
+                  .value = fmt::format("{}", nu12),
                   .expected = fmt::format("|nu12| < sqrt(E1/E2) = {:.4g}", limit)});
 }
 
@@ -80,18 +81,22 @@ bool JIntegralOptions::IsValid(std::string* why) const {
     const DomainSpec& d = domains[k];
     if (!(d.r_in >= 0 && d.r_out > d.r_in) || !std::isfinite(d.r_out) ||
         !std::isfinite(d.centre_offset))
-      return fail(fmt::format("domain {}: need 0 <= r_in < r_out (got {}, {})", k, d.r_in,
-                              d.r_out));
+      return fail(
+          fmt::format("domain {}: need 0 <= r_in < r_out (got {}, {})", k, d.r_in, d.r_out));
   }
   return true;
 }
 
 const char* DomainStatusName(DomainStatus status) {
   switch (status) {
-    case DomainStatus::kOk: return "ok";
-    case DomainStatus::kLeavesField: return "leaves field";
-    case DomainStatus::kTooFewValid: return "too few valid points";
-    case DomainStatus::kDoesNotEnclose: return "does not enclose tip and zone";
+    case DomainStatus::kOk:
+      return "ok";
+    case DomainStatus::kLeavesField:
+      return "leaves field";
+    case DomainStatus::kTooFewValid:
+      return "too few valid points";
+    case DomainStatus::kDoesNotEnclose:
+      return "does not enclose tip and zone";
   }
   return "unknown";
 }
@@ -100,8 +105,9 @@ std::string JIntegralResult::Summary() const {
   std::string s = fmt::format("J integral: {} domain(s), {} gradient points, {:.3f} s\n",
                               domains.size(), gradient_points, wall_s);
   for (const DomainResult& d : domains) {
-    s += fmt::format("  {:9s} r {:.4g}-{:.4g} mm: {}", d.spec.kind == DomainKind::kTip ? "tip" : "far field",
-                     d.r_in_m * 1e3, d.r_out_m * 1e3, DomainStatusName(d.status));
+    s += fmt::format("  {:9s} r {:.4g}-{:.4g} mm: {}",
+                     d.spec.kind == DomainKind::kTip ? "tip" : "far field", d.r_in_m * 1e3,
+                     d.r_out_m * 1e3, DomainStatusName(d.status));
     if (d.status == DomainStatus::kOk) {
       s += fmt::format(", J {:.6g} J/m^2, excluded {:.1f} %", d.j, 100 * d.excluded_fraction);
       if (d.has_j_tip) s += fmt::format(", J_tip {:.6g} J/m^2", d.j_tip);
@@ -143,19 +149,23 @@ struct Grid {
 };
 
 void CheckFinite(const std::vector<double>& values, const char* name, std::size_t i) {
-  BF_CHECK_INPUT(std::isfinite(values[i]), "displacement field holds a non-finite value at a valid point",
-                 {.field = fmt::format("{}[{}]", name, i), .value = fmt::format("{}", values[i]),
+  BF_CHECK_INPUT(std::isfinite(values[i]),
+                 "displacement field holds a non-finite value at a valid point",
+                 {.field = fmt::format("{}[{}]", name, i),
+                  .value = fmt::format("{}", values[i]),
                   .expected = "a finite number (or a status other than ok)"});
 }
 
 Grid CheckField(const DisplacementField& f, const CrackGeometry& crack) {
   const std::size_t n = static_cast<std::size_t>(f.nx) * static_cast<std::size_t>(f.ny);
-  BF_CHECK_INPUT(f.nx >= 3 && f.ny >= 3, "displacement field too small for a J integral",
-                 {.field = "nx, ny", .value = fmt::format("{} x {}", f.nx, f.ny), .expected = ">= 3 x 3"});
+  BF_CHECK_INPUT(
+      f.nx >= 3 && f.ny >= 3, "displacement field too small for a J integral",
+      {.field = "nx, ny", .value = fmt::format("{} x {}", f.nx, f.ny), .expected = ">= 3 x 3"});
   BF_CHECK_INPUT(f.x.size() == n && f.y.size() == n && f.u.size() == n && f.v.size() == n &&
                      f.status.size() == n,
                  "displacement field arrays disagree with nx * ny",
-                 {.field = "x, y, u, v, status", .value = fmt::format("{} points", f.x.size()),
+                 {.field = "x, y, u, v, status",
+                  .value = fmt::format("{} points", f.x.size()),
                   .expected = fmt::format("{} = nx * ny", n)});
   Grid g;
   g.nx = f.nx;
@@ -164,16 +174,18 @@ Grid CheckField(const DisplacementField& f, const CrackGeometry& crack) {
   g.y0 = f.y[0];
   g.dx = f.x[1] - f.x[0];
   g.dy = f.y[static_cast<std::size_t>(f.nx)] - f.y[0];
-  BF_CHECK_INPUT(std::isfinite(g.dx) && std::isfinite(g.dy) && g.dx > 0 && g.dy > 0,
-                 "displacement field is not a grid with increasing x and y",
-                 {.field = "x, y", .value = fmt::format("dx {}, dy {}", g.dx, g.dy), .expected = "> 0"});
+  BF_CHECK_INPUT(
+      std::isfinite(g.dx) && std::isfinite(g.dy) && g.dx > 0 && g.dy > 0,
+      "displacement field is not a grid with increasing x and y",
+      {.field = "x, y", .value = fmt::format("dx {}, dy {}", g.dx, g.dy), .expected = "> 0"});
   const double tol = 1e-6 * std::min(g.dx, g.dy);
   for (std::size_t i = 0; i < n; ++i) {
     const double ix = static_cast<double>(i % f.nx), iy = static_cast<double>(i / f.nx);
     BF_CHECK_INPUT(std::abs(f.x[i] - (g.x0 + ix * g.dx)) <= tol &&
                        std::abs(f.y[i] - (g.y0 + iy * g.dy)) <= tol,
                    "displacement field is not a regular grid",
-                   {.field = fmt::format("x[{}], y[{}]", i, i), .value = fmt::format("{}, {}", f.x[i], f.y[i]),
+                   {.field = fmt::format("x[{}], y[{}]", i, i),
+                    .value = fmt::format("{}, {}", f.x[i], f.y[i]),
                     .expected = fmt::format("{}, {}", g.x0 + ix * g.dx, g.y0 + iy * g.dy)});
     if (f.status[i] != PointStatus::kOk) continue;
     CheckFinite(f.u, "u", i);
@@ -184,8 +196,9 @@ Grid CheckField(const DisplacementField& f, const CrackGeometry& crack) {
                      std::isfinite(crack.tip_y) && std::isfinite(crack.root_distance) &&
                      crack.root_distance >= 0,
                  "crack geometry needs a finite tip, a nonzero direction and root_distance >= 0",
-                 {.field = "crack", .value = fmt::format("direction ({}, {}), root {}", crack.direction_x,
-                                                         crack.direction_y, crack.root_distance)});
+                 {.field = "crack",
+                  .value = fmt::format("direction ({}, {}), root {}", crack.direction_x,
+                                       crack.direction_y, crack.root_distance)});
   g.c = crack.direction_x / length;
   g.s = crack.direction_y / length;
   g.tip_x = crack.tip_x;
@@ -251,8 +264,8 @@ Gradients FitGradients(const DisplacementField& f, const Grid& g, const JIntegra
       const double dvdx = coef(1, 1) / g.dx, dvdy = coef(2, 1) / g.dy;
       // H' = R H R^T with R = [c s; -s c].
       const double c = g.c, s = g.s;
-      const double h11 = c * dudx + s * dvdx, h12 = c * dudy + s * dvdy;   // (R H)_1j
-      const double h21 = -s * dudx + c * dvdx, h22 = -s * dudy + c * dvdy; // (R H)_2j
+      const double h11 = c * dudx + s * dvdx, h12 = c * dudy + s * dvdy;    // (R H)_1j
+      const double h21 = -s * dudx + c * dvdx, h22 = -s * dudy + c * dvdy;  // (R H)_2j
       out.u11[i] = h11 * c + h12 * s;
       out.u12[i] = -h11 * s + h12 * c;
       out.u21[i] = h21 * c + h22 * s;
@@ -347,8 +360,9 @@ NotchRootOpening OpeningAt(const DisplacementField& f, const Grid& g, double alo
     (k == 0 ? out.points_upper : out.points_lower) = m;
   }
   if (!sides[0].ok || !sides[1].ok) {
-    out.why = fmt::format("too few valid points beside the band (upper {}, lower {}, need 8 over >= 2 rows)",
-                          sides[0].s.size(), sides[1].s.size());
+    out.why = fmt::format(
+        "too few valid points beside the band (upper {}, lower {}, need 8 over >= 2 rows)",
+        sides[0].s.size(), sides[1].s.size());
     return out;
   }
   out.ok = true;
@@ -367,7 +381,7 @@ DomainResult IntegrateDomain(const DisplacementField& f, const Grid& g, const Gr
   const double to_units =
       o.domain_units == DomainUnits::kGridPoints ? std::min(g.dx, g.dy) : 1.0 / o.metres_per_unit;
   const double r_in = spec.r_in * to_units, r_out = spec.r_out * to_units;  // field units
-  const double centre = spec.centre_offset * to_units;                     // along, from the tip
+  const double centre = spec.centre_offset * to_units;                      // along, from the tip
   out.r_in_m = r_in * o.metres_per_unit;
   out.r_out_m = r_out * o.metres_per_unit;
   // The q = 1 disc must hold the tip, and for J_ff also the root.
@@ -420,10 +434,12 @@ void SubtractFaceTerm(const DisplacementField& f, const Grid& g, const JIntegral
                       DomainResult* d) {
   const double m = o.metres_per_unit;
   const double r_in = d->r_in_m / m, r_out = d->r_out_m / m;
-  const double centre = d->spec.centre_offset *
+  const double centre =
+      d->spec.centre_offset *
       (o.domain_units == DomainUnits::kGridPoints ? std::min(g.dx, g.dy) : 1.0 / m);
   const double half = std::min(g.dx, g.dy) * 3;
-  const int steps = std::max(8, static_cast<int>(std::ceil((r_out - r_in) / std::min(g.dx, g.dy))) * 2);
+  const int steps =
+      std::max(8, static_cast<int>(std::ceil((r_out - r_in) / std::min(g.dx, g.dy))) * 2);
   auto delta = [&](double along) {
     const NotchRootOpening o2 = OpeningAt(f, g, along, half, o.opening_rows, m);
     return o2.ok ? o2.delta : std::numeric_limits<double>::quiet_NaN();
@@ -447,12 +463,12 @@ void SubtractFaceTerm(const DisplacementField& f, const Grid& g, const JIntegral
 }  // namespace
 
 JIntegralResult ComputeJIntegral(const DisplacementField& field, const CrackGeometry& crack,
-                                 const ElasticConstants& elastic,
-                                 const JIntegralOptions& options) {
+                                 const ElasticConstants& elastic, const JIntegralOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   std::string why;
   if (!options.IsValid(&why))
-    throw Error(ErrorKind::kUsage, "invalid J-integral options: " + why, {.field = "JIntegralOptions"});
+    throw Error(ErrorKind::kUsage, "invalid J-integral options: " + why,
+                {.field = "JIntegralOptions"});
   elastic.Validate();
   const Grid grid = CheckField(field, crack);
   const Eigen::Matrix3d C = Stiffness(elastic);
@@ -477,14 +493,24 @@ JIntegralResult ComputeJIntegral(const DisplacementField& field, const CrackGeom
   }
   if (result.far_field_ok > 0) {
     result.j_ff = jsum / result.far_field_ok;
-    if (result.far_field_ok > 1) result.j_ff_spread_percent = 100 * (jmax - jmin) / std::abs(result.j_ff);
+    if (result.far_field_ok > 1)
+      result.j_ff_spread_percent = 100 * (jmax - jmin) / std::abs(result.j_ff);
   }
   const double to_units = options.domain_units == DomainUnits::kGridPoints
                               ? std::min(grid.dx, grid.dy)
                               : 1.0 / options.metres_per_unit;
-  result.root_opening = OpeningAt(field, grid, -crack.root_distance,
-                                  options.opening_half_length * to_units, options.opening_rows,
-                                  options.metres_per_unit);
+  // delta* needs the fitted stretch behind the tip (ahead of it there are
+  // no faces): otherwise a status, not a number.
+  const double root_half_length = options.opening_half_length * to_units;
+  if (crack.root_distance > root_half_length) {
+    result.root_opening = OpeningAt(field, grid, -crack.root_distance, root_half_length,
+                                    options.opening_rows, options.metres_per_unit);
+  } else {
+    result.root_opening.why = fmt::format(
+        "the root ({} behind the tip) is within opening_half_length ({}): the fit would reach "
+        "past the tip",
+        crack.root_distance, root_half_length);
+  }
   result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }

@@ -86,8 +86,8 @@ void ExpectAllWithin(const JIntegralResult& r, double j_exact, double tol, const
   ASSERT_EQ(r.far_field_ok, static_cast<int>(r.domains.size())) << r.Summary();
   for (const DomainResult& d : r.domains) {
     const double err = d.j / j_exact - 1;
-    std::printf("[%s] r %.3g-%.3g mm: J %.5g (exact %.5g), error %+.3f %%, excluded %.2f %%\n", what,
-                d.r_in_m * 1e3, d.r_out_m * 1e3, d.j, j_exact, 100 * err,
+    std::printf("[%s] r %.3g-%.3g mm: J %.5g (exact %.5g), error %+.3f %%, excluded %.2f %%\n",
+                what, d.r_in_m * 1e3, d.r_out_m * 1e3, d.j, j_exact, 100 * err,
                 100 * d.excluded_fraction);
     EXPECT_LT(std::abs(err), tol) << what;
   }
@@ -111,10 +111,13 @@ TEST(JIntegral, LefmFieldGivesKSquaredOverE) {
   const ModeICrackField m = LefmField();
   const CrackGeometry crack = CrackOf(m.tip_x, m.tip_y, 1, 0);
   const DisplacementField f = SampleGrid(m, crack, 150, 150, 2);
-  const JIntegralResult r = ComputeJIntegral(f, crack, ElasticConstants::Isotropic(kE, kNu),
-                                             TipCentredDomains());
+  const JIntegralResult r =
+      ComputeJIntegral(f, crack, ElasticConstants::Isotropic(kE, kNu), TipCentredDomains());
   ExpectAllWithin(r, JFromKOver2mu(m.k_over_2mu), 0.02, "lefm");
   EXPECT_LT(r.j_ff_spread_percent, 2.0);
+  // The root is at the tip: no opening is read across the tip.
+  EXPECT_FALSE(r.root_opening.ok);
+  EXPECT_NE(r.root_opening.why.find("past the tip"), std::string::npos) << r.root_opening.why;
 
   // The same field and domains in metres (metres_per_unit = 1) give the same J.
   DisplacementField metres = f;
@@ -125,7 +128,8 @@ TEST(JIntegral, LefmFieldGivesKSquaredOverE) {
   o.metres_per_unit = 1;
   o.domain_units = DomainUnits::kMetres;
   for (DomainSpec& d : o.domains) d = {d.kind, d.r_in * 2 * kPx, d.r_out * 2 * kPx, 0};
-  const JIntegralResult rm = ComputeJIntegral(metres, crack_m, ElasticConstants::Isotropic(kE, kNu), o);
+  const JIntegralResult rm =
+      ComputeJIntegral(metres, crack_m, ElasticConstants::Isotropic(kE, kNu), o);
   ASSERT_EQ(rm.far_field_ok, 3) << rm.Summary();
   for (std::size_t k = 0; k < 3; ++k) EXPECT_NEAR(rm.domains[k].j / r.domains[k].j, 1.0, 1e-9);
 }
@@ -142,11 +146,13 @@ TEST(JIntegral, RigidMotionAndInclinedCrackLeaveJUnchanged) {
   const CrackGeometry crack = CrackOf(m.tip_x, m.tip_y, m.direction_x, m.direction_y);
   const auto opts = TipCentredDomains();
   const auto iso = ElasticConstants::Isotropic(kE, kNu);
-  const JIntegralResult plain = ComputeJIntegral(SampleGrid(m, crack, 150, 150, 2), crack, iso, opts);
+  const JIntegralResult plain =
+      ComputeJIntegral(SampleGrid(m, crack, 150, 150, 2), crack, iso, opts);
   m.translation_x = 7.3;
   m.translation_y = -4.1;
   m.rotation = 2e-3;  // rad; the generator's rotation is linearised
-  const JIntegralResult moved = ComputeJIntegral(SampleGrid(m, crack, 150, 150, 2), crack, iso, opts);
+  const JIntegralResult moved =
+      ComputeJIntegral(SampleGrid(m, crack, 150, 150, 2), crack, iso, opts);
   const double j_exact = JFromKOver2mu(m.k_over_2mu);
   ExpectAllWithin(plain, j_exact, 0.02, "inclined");
   ExpectAllWithin(moved, j_exact, 0.02, "inclined+rigid");
@@ -267,9 +273,10 @@ TEST(JIntegral, BridgedCrackFarFieldTipAndRootOpening) {
   // delta* against the generator's face opening at the root.
   ASSERT_TRUE(r.root_opening.ok) << r.root_opening.why;
   const double delta_err = r.root_opening.delta / delta_exact - 1;
-  std::printf("[bridged] delta* %.5g um (exact %.5g um), error %+.3f %%, std %.2g um, sliding %.2g um\n",
-              r.root_opening.delta * 1e6, delta_exact * 1e6, 100 * delta_err,
-              r.root_opening.delta_std * 1e6, r.root_opening.sliding * 1e6);
+  std::printf(
+      "[bridged] delta* %.5g um (exact %.5g um), error %+.3f %%, std %.2g um, sliding %.2g um\n",
+      r.root_opening.delta * 1e6, delta_exact * 1e6, 100 * delta_err,
+      r.root_opening.delta_std * 1e6, r.root_opening.sliding * 1e6);
   EXPECT_LT(std::abs(delta_err), 0.01);
   EXPECT_LT(std::abs(r.root_opening.sliding), 1e-3 * delta_exact);
 
@@ -281,10 +288,11 @@ TEST(JIntegral, BridgedCrackFarFieldTipAndRootOpening) {
     ASSERT_TRUE(d.has_j_tip);
     const double tip_err = d.j_tip / j_tip_exact - 1;
     const double eq1_err = (r.j_ff - d.j_tip) / w_root - 1;
-    std::printf("[bridged] tip r %.3g-%.3g mm: J(x) %.5g, face %.5g, J_tip %.5g (exact %.5g) "
-                "error %+.3f %%; (J_ff - J_tip) / W(delta*) - 1 = %+.3f %%\n",
-                d.r_in_m * 1e3, d.r_out_m * 1e3, d.j, d.face_term, d.j_tip, j_tip_exact,
-                100 * tip_err, 100 * eq1_err);
+    std::printf(
+        "[bridged] tip r %.3g-%.3g mm: J(x) %.5g, face %.5g, J_tip %.5g (exact %.5g) "
+        "error %+.3f %%; (J_ff - J_tip) / W(delta*) - 1 = %+.3f %%\n",
+        d.r_in_m * 1e3, d.r_out_m * 1e3, d.j, d.face_term, d.j_tip, j_tip_exact, 100 * tip_err,
+        100 * eq1_err);
     EXPECT_LT(std::abs(tip_err), 0.03);
     EXPECT_LT(std::abs(eq1_err), 0.03);
     // Without the law the tip domain reads J(x), between J_tip and J_ff.
@@ -307,7 +315,8 @@ TEST(JIntegral, NoisyBridgedField) {
   for (int seed = 1; seed <= seeds; ++seed) {
     DisplacementField f = BridgedGrid();
     AddNoise(&f, 0.005, 100 + seed);
-    const JIntegralResult r = ComputeJIntegral(f, BridgedCrack(), ElasticConstants::Isotropic(kE, kNu), o);
+    const JIntegralResult r =
+        ComputeJIntegral(f, BridgedCrack(), ElasticConstants::Isotropic(kE, kNu), o);
     ASSERT_EQ(r.far_field_ok, 3) << r.Summary();
     for (const DomainResult& d : r.domains) {
       if (d.spec.kind == DomainKind::kFarField) {
@@ -319,13 +328,17 @@ TEST(JIntegral, NoisyBridgedField) {
         const double tip_err = d.j_tip / j_tip_exact - 1;
         std::printf("[noisy bridged] seed %d tip r %.3g-%.3g mm: J_tip error %+.2f %%\n", seed,
                     d.r_in_m * 1e3, d.r_out_m * 1e3, 100 * tip_err);
-        if (d.spec.r_out > 15) EXPECT_LT(std::abs(tip_err), 0.055);
+        if (d.spec.r_out > 15) {
+          EXPECT_LT(std::abs(tip_err), 0.055);
+        }
       }
     }
     const double err = r.root_opening.delta - delta_exact;
-    std::printf("[noisy bridged] seed %d: J_ff error %+.2f %%, spread %.2f %%, delta* error %+.3f %% "
-                "(%.2f std)\n", seed, 100 * (r.j_ff / j_ff_exact - 1), r.j_ff_spread_percent,
-                100 * err / delta_exact, err / r.root_opening.delta_std);
+    std::printf(
+        "[noisy bridged] seed %d: J_ff error %+.2f %%, spread %.2f %%, delta* error %+.3f %% "
+        "(%.2f std)\n",
+        seed, 100 * (r.j_ff / j_ff_exact - 1), r.j_ff_spread_percent, 100 * err / delta_exact,
+        err / r.root_opening.delta_std);
     EXPECT_LT(r.j_ff_spread_percent, 4.0);
     EXPECT_LT(std::abs(err), 4 * r.root_opening.delta_std);
     sq_err += err * err;
@@ -392,7 +405,8 @@ TEST(JIntegral, OrthotropicCodeWithIsotropicConstantsMatchesIsotropic) {
   const CrackGeometry crack = CrackOf(m.tip_x, m.tip_y, 1, 0);
   const DisplacementField f = SampleGrid(m, crack, 150, 150, 2);
   const auto opts = TipCentredDomains();
-  const JIntegralResult iso = ComputeJIntegral(f, crack, ElasticConstants::Isotropic(kE, kNu), opts);
+  const JIntegralResult iso =
+      ComputeJIntegral(f, crack, ElasticConstants::Isotropic(kE, kNu), opts);
   const JIntegralResult ortho = ComputeJIntegral(
       f, crack, ElasticConstants::Orthotropic(kE, kE, kE / (2 * (1 + kNu)), kNu), opts);
   for (std::size_t k = 0; k < iso.domains.size(); ++k)
@@ -410,13 +424,14 @@ TEST(JIntegral, DomainStatusesForMissingPointsLeavingAndNotEnclosing) {
   const double cx = m.tip_x - 15;
   for (std::size_t i = 0; i < f.size(); ++i) {
     const double r = std::hypot(f.x[i] - cx, f.y[i] - m.tip_y);
-    if (r > 34 && r < 100 && f.status[i] == PointStatus::kOk) f.status[i] = PointStatus::kLowCorrelation;
+    if (r > 34 && r < 100 && f.status[i] == PointStatus::kOk)
+      f.status[i] = PointStatus::kLowCorrelation;
   }
   JIntegralOptions o = TipCentredDomains();
-  o.domains = {{DomainKind::kFarField, 18, 48, -7.5},   // inside the lost ring
-               {DomainKind::kFarField, 50, 65, -7.5},   // outside it: fine
-               {DomainKind::kFarField, 50, 90, -7.5},   // leaves the 150 px field
-               {DomainKind::kFarField, 10, 30, 0}};     // root 30 px behind: not enclosed
+  o.domains = {{DomainKind::kFarField, 18, 48, -7.5},  // inside the lost ring
+               {DomainKind::kFarField, 50, 65, -7.5},  // outside it: fine
+               {DomainKind::kFarField, 50, 90, -7.5},  // leaves the 150 px field
+               {DomainKind::kFarField, 10, 30, 0}};    // root 30 px behind: not enclosed
   const JIntegralResult r = ComputeJIntegral(f, crack, ElasticConstants::Isotropic(kE, kNu), o);
   std::printf("%s", r.Summary().c_str());
   EXPECT_EQ(r.domains[0].status, DomainStatus::kTooFewValid);
@@ -496,12 +511,13 @@ TEST(JIntegral, InvalidInputsAreErrors) {
   }
   DisplacementField bent = f;
   bent.x[5] += 0.3;  // not a regular grid
-  EXPECT_THROW(ComputeJIntegral(bent, crack, ElasticConstants::Isotropic(kE, kNu), TipCentredDomains()),
-               Error);
+  EXPECT_THROW(
+      ComputeJIntegral(bent, crack, ElasticConstants::Isotropic(kE, kNu), TipCentredDomains()),
+      Error);
   const CrackGeometry no_direction = CrackOf(0, 0, 0, 0);
-  EXPECT_THROW(ComputeJIntegral(f, no_direction, ElasticConstants::Isotropic(kE, kNu),
-                                TipCentredDomains()),
-               Error);
+  EXPECT_THROW(
+      ComputeJIntegral(f, no_direction, ElasticConstants::Isotropic(kE, kNu), TipCentredDomains()),
+      Error);
 }
 
 }  // namespace

@@ -46,7 +46,7 @@ namespace bridgefit::dic {
 struct ElasticConstants {
   enum class Kind { kIsotropic, kOrthotropic };
   Kind kind = Kind::kIsotropic;
-  double E = 0, nu = 0;                     // isotropic
+  double E = 0, nu = 0;                      // isotropic
   double E1 = 0, E2 = 0, G12 = 0, nu12 = 0;  // orthotropic
   static ElasticConstants Isotropic(double E, double nu);
   static ElasticConstants Orthotropic(double E1, double E2, double G12, double nu12);
@@ -105,31 +105,31 @@ struct JIntegralOptions {
 
 enum class DomainStatus {
   kOk,
-  kLeavesField,      // the annulus is not inside the grid
-  kTooFewValid,      // usable fraction below min_valid_fraction
-  kDoesNotEnclose,   // far-field domain whose annulus reaches into the zone
+  kLeavesField,     // the annulus is not inside the grid
+  kTooFewValid,     // usable fraction below min_valid_fraction
+  kDoesNotEnclose,  // far-field domain whose annulus reaches into the zone
 };
 const char* DomainStatusName(DomainStatus status);
 
 struct DomainResult {
-  DomainSpec spec;                  // as given
-  double r_in_m = 0, r_out_m = 0;   // in metres
+  DomainSpec spec;                 // as given
+  double r_in_m = 0, r_out_m = 0;  // in metres
   DomainStatus status = DomainStatus::kOk;
-  double j = 0;                     // J_m^2 of eq. (J1) (0 unless kOk)
-  bool has_j_tip = false;           // tip domain with a traction law
-  double face_term = 0;             // int q sigma (-d delta/dx1) dx1, J/m^2
-  double j_tip = 0;                 // j - face_term, J/m^2
-  std::size_t cells = 0;            // grid cells in the annulus
-  std::size_t used = 0;             // of them valid with a gradient
-  double excluded_fraction = 0;     // 1 - used / cells
+  double j = 0;                  // J_m^2 of eq. (J1) (0 unless kOk)
+  bool has_j_tip = false;        // tip domain with a traction law
+  double face_term = 0;          // int q sigma (-d delta/dx1) dx1, J/m^2
+  double j_tip = 0;              // j - face_term, J/m^2
+  std::size_t cells = 0;         // grid cells in the annulus
+  std::size_t used = 0;          // of them valid with a gradient
+  double excluded_fraction = 0;  // 1 - used / cells
 };
 
 struct NotchRootOpening {
   bool ok = false;
-  std::string why;         // when !ok: which side lacked points
-  double delta = 0;        // normal opening at the root, m
-  double delta_std = 0;    // its standard uncertainty (fit residuals), m
-  double sliding = 0;      // tangential jump at the root, m
+  std::string why;       // when !ok: which side lacked points
+  double delta = 0;      // normal opening at the root, m
+  double delta_std = 0;  // its standard uncertainty (fit residuals), m
+  double sliding = 0;    // tangential jump at the root, m
   int points_upper = 0, points_lower = 0;
 };
 
@@ -151,7 +151,6 @@ struct JIntegralResult {
 // and index), bad elastic constants or a degenerate crack direction. Domain
 // failures are statuses, never exceptions.
 JIntegralResult ComputeJIntegral(const DisplacementField& field, const CrackGeometry& crack,
-                                 const ElasticConstants& elastic,
-                                 const JIntegralOptions& options);
+                                 const ElasticConstants& elastic, const JIntegralOptions& options);
 
 }  // namespace bridgefit::dic
