@@ -126,7 +126,7 @@ struct DomainResult {
 
 struct NotchRootOpening {
   bool ok = false;
-  std::string why;       // when !ok: which side lacked points
+  std::string why;       // when !ok: a side lacked points, or the root is too near the tip
   double delta = 0;      // normal opening at the root, m
   double delta_std = 0;  // its standard uncertainty (fit residuals), m
   double sliding = 0;    // tangential jump at the root, m
