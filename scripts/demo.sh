@@ -22,6 +22,8 @@ printf 'sample\tparameter\tvalue or bound\t95%% CI\tmodel\ttime [s]\n' > "$summa
 # record (0.5% load, 1 um). An R curve from that cannot give sigma_c to 5%, so the
 # fit starts from the R-curve fit and is decided by the record's load-displacement
 # rows (--fit-to load-displacement; docs/FIT.md, data_samples/mdf_ct/README.md).
+# No --resolution: the fit chooses the reduced model's element size itself
+# (--resolution auto, docs/FIT.md) and prints why.
 # An optional 5th argument: report options (e.g. a reference column of the record).
 run_sample() {
   local sample=$1 record=$2 rcurve_args=$3 fit_args=$4 report_args=${5:-}
@@ -94,12 +96,12 @@ EOF
 }
 
 run_sample mdf_ct data_samples/mdf_ct/record.csv "--smooth 30" \
-  "--fit-to load-displacement --law linear --resolution 1mm"
+  "--fit-to load-displacement --law linear"
 run_sample pb_ct data_samples/pb_ct/record.csv "--smooth 30" \
-  "--fit-to load-displacement --law linear --resolution 1mm"
+  "--fit-to load-displacement --law linear"
 run_sample dcb_composite data_samples/dcb_composite/DCB-01_Toughness.csv \
   "--columns time=Time,displacement=Disp,load=Force,crack_length=CrackExt --units time=s,displacement=mm,load=N,crack_length=mm" \
-  "--law linear --resolution 0.6mm" \
+  "--law linear" \
   "--reference-csv data_samples/dcb_composite/DCB-01_Toughness.csv --reference G_I --columns crack_length=CrackExt --units crack_length=mm,G_I=N/mm"
 
 echo
