@@ -166,6 +166,8 @@ class FitCommand final : public Command {
       std::cerr << "warning: fit: " << run.model_error.Summary() << "\n";
     if (!run.model_error.warning.empty())
       std::cerr << "warning: fit: " << run.model_error.warning << "\n";
+    if (!run.model_check_warning.empty())
+      std::cerr << "warning: fit: --model auto: " << run.model_check_warning << "\n";
     if (run.comparison.empty()) {
       WarnUnreliableIntervals(run.summary, run.summary.law);
     } else {

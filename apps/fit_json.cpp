@@ -52,7 +52,9 @@ nlohmann::json ModelCheckJson(const pipeline::FitRun& run) {
           {"accurate_s", model_check.accurate_s},
           {"correction_fit_s", model_check.correction_fit_s},
           {"discrepancy_at_cheap_optimum", NumberOrNull(model_check.discrepancy_at_cheap_optimum)},
-          {"discrepancy_final", NumberOrNull(model_check.discrepancy_final)}};
+          {"discrepancy_final", NumberOrNull(model_check.discrepancy_final)},
+          {"mpm_convergence", NumberOrNull(run.mpm_convergence)},
+          {"warning", run.model_check_warning}};
 }
 
 // "data": what the fit was given (and how a record was reduced).

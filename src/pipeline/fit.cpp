@@ -194,6 +194,8 @@ void FitLaw(const FitRequest& request, const FitModels& models, const inverse::F
     run.summary = inverse::FitWithModelCheck(models.model(), *models.accurate(), run.shape,
                                              fit_data, options, run.check, &run.model_check);
     run.model_note = "auto: " + run.model_check.outcome;
+    run.mpm_cell = models.mpm_cell();
+    CheckModelAuto(request, models, fit_data, options, run);
   } else if (!request.compare_laws) {
     run.summary = inverse::FitBridgingLaw(models.model(), run.shape, fit_data, options);
   }
@@ -510,6 +512,7 @@ std::string FitRun::BriefReport() const {
   out << "  " << model_error.Summary() << "\n";
   if (!model_error.warning.empty()) out << "  warning: " << model_error.warning << "\n";
   if (!model_note.empty()) out << "  " << model_note << "\n";
+  if (!model_check_warning.empty()) out << "  warning: --model auto: " << model_check_warning << "\n";
   return out.str();
 }
 

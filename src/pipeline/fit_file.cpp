@@ -156,6 +156,8 @@ void WriteModelCheck(io::H5Writer& file, const std::string& g, const FitRun& run
   file.WriteAttribute(mc, "correction_fit_s", m.correction_fit_s);
   file.WriteAttribute(mc, "discrepancy_at_cheap_optimum", m.discrepancy_at_cheap_optimum);
   file.WriteAttribute(mc, "discrepancy_final", m.discrepancy_final);
+  file.WriteAttribute(mc, "mpm_convergence", run.mpm_convergence);
+  file.WriteAttribute(mc, "warning", run.model_check_warning);
   if (!m.crack_length.empty()) {
     file.WriteVector(mc + "/crack_length", m.crack_length, "m", "data crack length");
     file.WriteVector(mc + "/R_cheap", m.R_cheap, "J/m^2", "reduced model R");

@@ -133,23 +133,28 @@ void FitModels::Build(double modulus_factor, double series_compliance) {
     model_ = MakeReduced(model_scene, resolution_, 2e-3);
   }
   if (choice == ModelChoice::kMpm || choice == ModelChoice::kAuto) {
-    mpm::GrowthOptions growth;
-    growth.cell = request_.mpm_cell;
-    growth.max_crack_length = data_end_ + 2.0 * growth.cell;
-    std::string why;
-    if (!growth.IsValid(&why))
-      throw Error(ErrorKind::kUsage, "invalid MPM options: " + why, {.field = "--mpm-cell"});
-    auto accurate = std::make_unique<inverse::SimulationForwardModel>(
-        "mpm", [model_scene, growth](const laws::BridgingLaw* law, double J_tip_c) {
-          return mpm::SimulateGrowth(model_scene, law, J_tip_c, growth).result;
-        });
-    if (kind_ == inverse::RKind::kAsData)
-      accurate->SetReducer(ModelRecordReducer(input_.reduction_options));
-    accurate->SetSeriesCompliance(series_compliance);
+    auto accurate = MpmAt(request_.mpm_cell);
     if (choice == ModelChoice::kMpm) model_ = std::move(accurate);
     else accurate_ = std::move(accurate);
-    mpm_cell_ = growth.cell;
+    mpm_cell_ = request_.mpm_cell;
   }
+}
+
+std::unique_ptr<inverse::ForwardModel> FitModels::MpmAt(double cell) const {
+  const Scene model_scene = ScaledModuli(request_.scene, modulus_factor_);
+  mpm::GrowthOptions growth;
+  growth.cell = cell;
+  growth.max_crack_length = data_end_ + 2.0 * growth.cell;
+  std::string why;
+  if (!growth.IsValid(&why))
+    throw Error(ErrorKind::kUsage, "invalid MPM options: " + why, {.field = "--mpm-cell"});
+  auto mpm = std::make_unique<inverse::SimulationForwardModel>(
+      "mpm", [model_scene, growth](const laws::BridgingLaw* law, double J_tip_c) {
+        return mpm::SimulateGrowth(model_scene, law, J_tip_c, growth).result;
+      });
+  if (kind_ == inverse::RKind::kAsData) mpm->SetReducer(ModelRecordReducer(input_.reduction_options));
+  mpm->SetSeriesCompliance(series_compliance_);
+  return mpm;
 }
 
 std::unique_ptr<inverse::SimulationForwardModel> FitModels::MakeReduced(const Scene& scene,

@@ -36,6 +36,10 @@ class FitModels {
   // (issue 17). Null when model() is not the reduced model or the mesh is
   // not valid at that size.
   std::unique_ptr<inverse::ForwardModel> ReducedAt(double resolution) const;
+  // The MPM growth model as accurate() (or model() for --model mpm) is, at
+  // another cell size [m]: --model auto's convergence check.
+  std::unique_ptr<inverse::ForwardModel> MpmAt(double cell) const;
+  double data_end() const { return data_end_; }  // [m]
 
  private:
   const FitRequest& request_;
@@ -65,5 +69,13 @@ inverse::FitSummary StartFromRCurveFit(const inverse::ForwardModel& model,
 // a pilot fit at the coarsest valid size) and sets request.resolution and
 // run.resolution_choice. Otherwise leaves both as they are.
 void ChooseAutoResolution(FitRequest& request, const laws::LawShape& shape, FitRun& run);
+
+// --model auto never passes silently (issue 17; fit_model_auto.cpp): after
+// the checked fit, sets run.model_check_warning where the MPM check did not
+// complete or its cell is too coarse for the scene, and accepts a
+// correction to MPM only when MPM at half the cell agrees with itself
+// better than with the reduced model; otherwise the reduced fit is reported.
+void CheckModelAuto(const FitRequest& request, const FitModels& models,
+                    const inverse::FitData& data, const inverse::FitOptions& options, FitRun& run);
 
 }  // namespace bridgefit::pipeline

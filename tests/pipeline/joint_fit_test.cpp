@@ -101,16 +101,20 @@ TEST(JointFit, OneLawIsConsistentAndCoversTheTruth) {
     double sigma_widths = 0.0;
     int sigma_identified = 0;
     for (const FitRun& r : c.runs) {
-      if (r.summary.sigma_c.identified)
-        sigma_widths += r.summary.sigma_c.ci95_high - r.summary.sigma_c.ci95_low, ++sigma_identified;
-      if (r.summary.J_tip_c.identified)
+      if (r.summary.sigma_c.identified) {
+        sigma_widths += r.summary.sigma_c.ci95_high - r.summary.sigma_c.ci95_low;
+        ++sigma_identified;
+      }
+      if (r.summary.J_tip_c.identified) {
         EXPECT_LT(s.J_tip_c.ci95_high - s.J_tip_c.ci95_low,
                   r.summary.J_tip_c.ci95_high - r.summary.J_tip_c.ci95_low);
+      }
     }
     // sigma_c from rising R curves: its Jacobian width depends on where the
     // estimate falls (J_B's correlation), so against the specimens' mean.
-    if (sigma_identified > 0)
+    if (sigma_identified > 0) {
       EXPECT_LT(s.sigma_c.ci95_high - s.sigma_c.ci95_low, sigma_widths / sigma_identified);
+    }
   }
   EXPECT_GE(covered_sigma, 6);
   EXPECT_GE(covered_tip, 6);

@@ -116,6 +116,13 @@ struct FitRun {
   inverse::ModelCheckOptions check;
   inverse::ModelCheckResult model_check;
   double mpm_cell = NAN;  // [m], when an MPM model ran
+  // --model auto: why the check cannot be trusted (the MPM run did not cover
+  // the data, its cell is too coarse for the scene, a correction rejected
+  // for MPM's own convergence); empty when none. Printed as a warning.
+  std::string model_check_warning;
+  // --model auto, corrected: max |R(cell / 2) / R(cell) - 1| of MPM at the
+  // final parameters over the data (NaN when not checked).
+  double mpm_convergence = NAN;
   // Load-displacement fit: the model's R at the R curve's crack lengths.
   std::vector<double> load_fit_R;  // [J/m^2]
   double load_fit_R_rms = NAN;     // [J/m^2]
