@@ -216,7 +216,7 @@ int main(int argc, char** argv) {
   }
   dat.close();
   std::ofstream gp(prefix + ".gp");
-  gp << "set terminal pngcairo size 900,600\nset output '" << prefix << ".png'\n"
+  gp << "set terminal pngcairo size 900,600 noenhanced\nset output '" << prefix << ".png'\n"
      << "set logscale xy\nset xlabel 'wall time per fit with profiles [s] (2-core machine)'\n"
      << "set ylabel 'largest relative error against the truth (wrong verdict: 1)'\n"
      << "set key outside right\nset grid\n"
