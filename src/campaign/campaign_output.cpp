@@ -1,5 +1,6 @@
-// The campaign's text report and files (summary.csv, statistics.csv and one
-// fit file per specimen, written by the fit file's owner).
+// The campaign's text report and files (summary.csv, statistics.csv, one fit
+// file per specimen, written by the fit file's owner, and campaign.h5: each
+// specimen's fit file under /specimens/<name> plus /campaign).
 #include <cmath>
 #include <sstream>
 #include <tuple>
@@ -9,6 +10,7 @@
 #include "bridgefit/campaign/campaign.hpp"
 #include "bridgefit/core/atomic_file.hpp"
 #include "bridgefit/core/error.hpp"
+#include "bridgefit/io/hdf5.hpp"
 #include "bridgefit/pipeline/fit_file.hpp"
 
 namespace bridgefit::campaign {
@@ -160,6 +162,91 @@ std::string CampaignResult::BriefReport() const {
   return out.str();
 }
 
+namespace {
+
+// SI unit of a parameter's values in campaign.h5.
+const char* SiUnit(const std::string& parameter) {
+  return parameter == "sigma_c" ? "Pa" : parameter == "delta_c" ? "m" : "J/m^2";
+}
+
+// campaign.h5: every specimen's fit file (its own layout, copied from
+// specimens/<name>.h5, which the fit file's owner wrote) under
+// /specimens/<name>; /campaign: the specimens and their status, the
+// statistics per parameter (SI, units on each) and the joint fit.
+void WriteCampaignH5(const CampaignResult& result, const std::filesystem::path& dir) {
+  io::H5Writer file(dir / "campaign.h5");
+  std::vector<std::string> names, status;
+  for (const SpecimenOutcome& s : result.specimens) {
+    names.push_back(s.name);
+    status.push_back(Status(s));
+    if (s.ran()) file.CopyFileInto(dir / "specimens" / (s.name + ".h5"), "/specimens/" + s.name);
+  }
+  const std::string c = "/campaign";
+  file.WriteAttribute(c, "name", result.manifest.name);
+  file.WriteAttribute(c, "specimens", static_cast<double>(result.specimens.size()));
+  file.WriteAttribute(c, "failed", static_cast<double>(result.Failed()));
+  file.WriteAttribute(c, "jobs", static_cast<double>(result.jobs));
+  file.WriteAttribute(c, "wall_s", result.wall_s);
+  file.WriteStrings(c + "/specimen_names", names);
+  file.WriteStrings(c + "/specimen_status", status);
+  for (const ParameterStatistics& p : result.statistics) {
+    const std::string g = c + "/statistics/" + p.parameter;
+    const char* unit = SiUnit(p.parameter);
+    file.WriteAttribute(g, "units", unit);
+    file.WriteAttribute(g, "values", static_cast<double>(p.values));
+    file.WriteAttribute(g, "bounds", static_cast<double>(p.bounds));
+    file.WriteAttribute(g, "mean", p.mean);
+    file.WriteAttribute(g, "sd", p.sd);
+    file.WriteAttribute(g, "cv", p.cv);
+    file.WriteAttribute(g, "median", p.median);
+    file.WriteAttribute(g, "campaign_lower_bound", p.campaign_lower_bound);
+    file.WriteAttribute(g, "bound_from", p.bound_from);
+    std::string outliers;
+    for (const std::string& n : p.outliers) outliers += (outliers.empty() ? "" : " ") + n;
+    file.WriteAttribute(g, "outliers", outliers);
+    file.WriteAttribute(g, "note", p.note);
+    // Per specimen (manifest order; NaN where it gives none): value or
+    // lower bound and the total 95% interval.
+    std::vector<double> value, bound, low, high;
+    for (const SpecimenOutcome& s : result.specimens) {
+      const inverse::ParameterEstimate* e = s.ok() ? &Estimate(s.run->summary, p.parameter) : nullptr;
+      value.push_back(e ? e->value : NAN);
+      bound.push_back(e ? e->lower_bound : NAN);
+      low.push_back(e ? e->ci95_low : NAN);
+      high.push_back(e ? e->ci95_high : NAN);
+    }
+    file.WriteVector(g + "/value", value, unit, "per specimen (NaN: bound only or none)");
+    file.WriteVector(g + "/lower_bound", bound, unit, "per specimen (PHYSICS 7)");
+    file.WriteVector(g + "/ci95_low", low, unit, "total 95% interval, per specimen");
+    file.WriteVector(g + "/ci95_high", high, unit, "total 95% interval, per specimen");
+  }
+  if (result.joint) {
+    const pipeline::JointFitRun& j = *result.joint;
+    const std::string g = c + "/joint";
+    file.WriteStrings(g + "/specimens", j.specimens);
+    file.WriteStrings(g + "/flagged", j.flagged);
+    file.WriteAttribute(g, "likelihood_ratio", j.consistency.statistic);
+    file.WriteAttribute(g, "degrees_of_freedom", static_cast<double>(j.consistency.degrees_of_freedom));
+    file.WriteAttribute(g, "p_value", j.consistency.p_value);
+    file.WriteAttribute(g, "consistent", j.consistency.consistent() ? 1.0 : 0.0);
+    const inverse::FitSummary& f = j.summary;
+    const std::pair<const char*, const inverse::ParameterEstimate*> rows[] = {
+        {"sigma_c", &f.sigma_c}, {"J_B", &f.J_B}, {"delta_c", &f.delta_c}, {"J_tip_c", &f.J_tip_c}};
+    for (const auto& [name, e] : rows) {
+      const std::string pg = g + "/parameters/" + name;
+      file.WriteAttribute(pg, "units", SiUnit(name));
+      file.WriteAttribute(pg, "value", e->value);
+      file.WriteAttribute(pg, "ci95_low", e->ci95_low);
+      file.WriteAttribute(pg, "ci95_high", e->ci95_high);
+      file.WriteAttribute(pg, "lower_bound", e->lower_bound);
+      file.WriteAttribute(pg, "identified", e->identified ? 1.0 : 0.0);
+    }
+  }
+  file.Commit();
+}
+
+}  // namespace
+
 void WriteCampaignOutputs(const CampaignResult& result, const std::filesystem::path& dir) {
   std::error_code ec;
   std::filesystem::create_directories(dir / "specimens", ec);
@@ -171,6 +258,7 @@ void WriteCampaignOutputs(const CampaignResult& result, const std::filesystem::p
   WriteTextFileAtomic(dir / "statistics.csv", StatisticsCsv(result));
   if (result.joint) WriteTextFileAtomic(dir / "joint.csv", JointCsv(*result.joint));
   WriteTextFileAtomic(dir / "summary.csv", SummaryCsv(result));
+  WriteCampaignH5(result, dir);
 }
 
 }  // namespace bridgefit::campaign

@@ -188,6 +188,25 @@ void H5Writer::WriteAttribute(const std::string& object_path, const std::string&
   }
 }
 
+void H5Writer::CopyFileInto(const std::filesystem::path& source, const std::string& dest_group) {
+  try {
+    H5::H5File in(source.string(), H5F_ACC_RDONLY);
+    impl_->EnsureGroup(dest_group);
+    const H5::Group root = in.openGroup("/");
+    for (hsize_t i = 0; i < root.getNumObjs(); ++i) {
+      const std::string name = root.getObjnameByIdx(i);
+      const std::string to = dest_group + "/" + name;
+      if (impl_->file->nameExists(to)) impl_->file->unlink(to);
+      if (H5Ocopy(in.getId(), ("/" + name).c_str(), impl_->file->getId(), to.c_str(), H5P_DEFAULT,
+                  H5P_DEFAULT) < 0)
+        throw Error(ErrorKind::kRuntime, "could not copy an HDF5 group",
+                    {.file = source.string(), .field = "/" + name, .value = to});
+    }
+  } catch (const H5::Exception& e) {
+    Fail(source.string(), "could not copy the file into " + dest_group, e);
+  }
+}
+
 void H5Writer::Commit() {
   try {
     impl_->file->close();

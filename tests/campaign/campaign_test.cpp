@@ -16,6 +16,7 @@
 #include "bridgefit/campaign/campaign.hpp"
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/io/campaign_manifest.hpp"
+#include "bridgefit/io/hdf5.hpp"
 #include "bridgefit/io/scene_file.hpp"
 
 namespace bridgefit::campaign {
@@ -204,6 +205,27 @@ TEST(Campaign, IdenticalSpecimensGiveTheSingleFitAndAnUnreadableOneFailsAlone) {
   EXPECT_EQ(a.rfind("A,", 0), 0u) << a;
   EXPECT_EQ(broken.rfind("broken,failed,", 0), 0u) << broken;
   EXPECT_TRUE(fs::exists(dir.path / "out" / "statistics.csv"));
+
+  // campaign.h5: each specimen's fit file under /specimens/<name> (the same
+  // layout, read back by the fit file's own reader's paths), the statistics
+  // and the joint fit under /campaign, in SI with units.
+  const io::H5Reader h5(dir.path / "out" / "campaign.h5");
+  EXPECT_TRUE(h5.Exists("/specimens/A/fit/parameters/J_tip_c"));
+  EXPECT_TRUE(h5.Exists("/specimens/B/rcurve/R"));
+  EXPECT_FALSE(h5.Exists("/specimens/broken"));
+  EXPECT_EQ(h5.ReadStrings("/campaign/specimen_names"),
+            (std::vector<std::string>{"A", "B", "broken"}));
+  EXPECT_DOUBLE_EQ(h5.ReadNumberAttribute("/campaign/statistics/J_tip_c", "mean"), jtip.mean);
+  EXPECT_EQ(h5.ReadStringAttribute("/campaign/statistics/J_tip_c", "units"), "J/m^2");
+  std::string units;
+  const std::vector<double> values = h5.ReadVector("/campaign/statistics/J_tip_c/value", &units);
+  ASSERT_EQ(values.size(), 3u);
+  EXPECT_DOUBLE_EQ(values[0], r.specimens[0].run->summary.J_tip_c.value);
+  EXPECT_TRUE(std::isnan(values[2]));
+  EXPECT_EQ(units, "J/m^2");
+  EXPECT_EQ(h5.ReadNumberAttribute("/campaign/joint", "consistent"), 1.0);
+  EXPECT_DOUBLE_EQ(h5.ReadNumberAttribute("/campaign/joint/parameters/J_tip_c", "value"),
+                   r.joint->summary.J_tip_c.value);
 }
 
 }  // namespace

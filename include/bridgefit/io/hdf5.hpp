@@ -34,6 +34,10 @@ class H5Writer {
   void WriteAttribute(const std::string& object_path, const std::string& key,
                       const std::string& value);
   void WriteAttribute(const std::string& object_path, const std::string& key, double value);
+  // Copies every top-level group and dataset of the HDF5 file `source`
+  // (one this program wrote) under `dest_group`, with their attributes:
+  // a file's layout kept inside a bigger one (campaign.h5's specimens).
+  void CopyFileInto(const std::filesystem::path& source, const std::string& dest_group);
   // Closes the file and renames it onto the target.
   void Commit();
 
