@@ -101,6 +101,10 @@ FrameJ ComputeFrameJ(const DisplacementField& field, double tip_x_px, double tip
   for (int k = 0; k < n; ++k)
     jo.domains.push_back({DomainKind::kFarField, r_in0 + k * gap, r_in0 + room - (n - 1 - k) * gap,
                           -half});
+  // delta*'s stretch along the line reaches at most to 0.9 of the zone (the
+  // fit must not cross the tip), at least 2 points.
+  const double root_points = root_px / step;
+  jo.opening_half_length = std::clamp(0.9 * root_points, 2.0, options.integral.opening_half_length);
   CrackGeometry crack{tip_x_px, tip_y_px, c, s, root_px};
   // Stage 3: the integral and delta* (dic/j_integral.hpp).
   const DisplacementField banded =
@@ -127,7 +131,13 @@ FrameJ ComputeFrameJ(const DisplacementField& field, double tip_x_px, double tip
                              d.spec.r_out, DomainStatusName(d.status));
   }
   out.delta_star_ok = r.root_opening.ok;
-  if (r.root_opening.ok) {
+  if (root_points < 1) {
+    // The tip has not left the notch root by a grid step: the root is the
+    // tip, whose opening is zero (the onset of growth).
+    out.delta_star_ok = true;
+    out.delta_star = 0;
+    out.delta_star_uncertainty = 0;
+  } else if (r.root_opening.ok) {
     out.delta_star = r.root_opening.delta;
     out.delta_star_uncertainty = r.root_opening.delta_std;
   } else {

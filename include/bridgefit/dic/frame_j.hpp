@@ -12,7 +12,10 @@
 // that stays inside the grid. Points within the crack band (band half
 // width of the tip options) of the line behind the tip are set to
 // kCrackBand first: with the path found from the data they are correlated
-// across the faces and smeared.
+// across the faces and smeared. delta*'s stretch along the line is cut to
+// 0.9 of the zone (integral.opening_half_length at most, 2 points at
+// least); a tip within one grid step of the root gives delta* = 0 (the
+// root is the tip: the onset of growth).
 
 #include <string>
 
