@@ -149,4 +149,17 @@ LawFreeRun ReadLawFreeH5(const std::filesystem::path& path) {
   return run;
 }
 
+report::LawFreeView ReadLawFreeView(const std::filesystem::path& path) {
+  const LawFreeRun run = ReadLawFreeH5(path);
+  report::LawFreeView view;
+  view.file = path;
+  auto add = [&](const char* route, const std::optional<laws::LawFreeResult>& r) {
+    if (!r) return;
+    view.curves.push_back({route, r->delta, r->sigma, r->sigma_lower, r->sigma_upper, r->identified});
+  };
+  add("J_ff(delta*)", run.far_field);
+  add("R(delta_root)", run.r_curve);
+  return view;
+}
+
 }  // namespace bridgefit::pipeline

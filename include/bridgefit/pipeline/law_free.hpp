@@ -25,6 +25,7 @@
 
 #include "bridgefit/dic/frame_j.hpp"
 #include "bridgefit/laws/law_free.hpp"
+#include "bridgefit/report/report_input.hpp"
 #include "bridgefit/scene/scene.hpp"
 
 namespace bridgefit::pipeline {
@@ -78,5 +79,7 @@ LawFreeRun RunLawFree(const LawFreeRequest& request);
 void WriteLawFreeH5(const std::filesystem::path& path, const LawFreeRun& run);
 // Throws Error(kInput) naming the file when it holds no /lawfree.
 LawFreeRun ReadLawFreeH5(const std::filesystem::path& path);
+// The report's view of /lawfree (ReadLawFreeH5, curves only).
+report::LawFreeView ReadLawFreeView(const std::filesystem::path& path);
 
 }  // namespace bridgefit::pipeline
