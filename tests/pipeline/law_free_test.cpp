@@ -223,5 +223,36 @@ TEST(LawFree, DicFileWithoutJNamesTheFileTheFieldAndTheWayOut) {
   fs::remove_all(dir);
 }
 
+TEST(LawFree, FrameJOptionsFromTheScene) {
+  Scene scene;
+  scene.source = "scene.toml";
+  scene.specimen.notch = 30e-3;
+  scene.material.E = 3e9;
+  scene.material.nu = 0.3;
+  scene.specimen.plane = PlaneCondition::kPlaneStress;
+  dic::FrameJOptions o = FrameJOptionsFromScene(scene);
+  EXPECT_TRUE(o.enabled);
+  EXPECT_EQ(o.notch_length_m, 30e-3);
+  EXPECT_EQ(o.elastic.E, 3e9);
+  EXPECT_EQ(o.elastic.nu, 0.3);
+  // Plane strain, isotropic: the plane-stress pair with the same in-plane
+  // response, E / (1 - nu^2) and nu / (1 - nu).
+  scene.specimen.plane = PlaneCondition::kPlaneStrain;
+  o = FrameJOptionsFromScene(scene);
+  EXPECT_DOUBLE_EQ(o.elastic.E, 3e9 / (1 - 0.09));
+  EXPECT_DOUBLE_EQ(o.elastic.nu, 0.3 / 0.7);
+  scene.material.orthotropic = true;
+  scene.material.E1 = 20e9;
+  scene.material.E2 = 6e9;
+  scene.material.G12 = 3e9;
+  scene.material.nu12 = 0.3;
+  try {
+    FrameJOptionsFromScene(scene);
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("scene.toml"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace bridgefit::pipeline
