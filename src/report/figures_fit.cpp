@@ -120,7 +120,12 @@ std::string LawFreeCurves(const ReportInput& in, FigureSet& set, double* x_max) 
     }
     WriteFile(set.dir / file, dat);
     if (!k.delta.empty()) *x_max = std::max(*x_max, k.delta.back());
-    const std::string what = fmt::format("law-free {}{}", k.route, k.identified ? "" : " (bounds only)");
+    // gnuplot's enhanced text: J_{ff}, {/Symbol d}.
+    const std::string route = k.route == "J_ff(delta*)"    ? "J_{ff}({/Symbol d}*)"
+                              : k.route == "R(delta_root)" ? "R({/Symbol d}_{root})"
+                                                           : k.route;
+    const std::string what =
+        fmt::format("law-free {}{}", route, k.identified ? "" : " (bounds only)");
     plot += fmt::format(", '{}' u 1:3:4 w filledcurves fc rgb '{}' fs transparent solid 0.25 t '{} 95% band'",
                         file, colours[c], what);
     plot += fmt::format(", '{}' u 1:2 w l lw 2 lc rgb '{}' t '{}'", file, colours[c], what);
