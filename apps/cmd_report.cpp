@@ -39,6 +39,8 @@ class ReportCommand final : public Command {
     sub.add_option("--units", units_,
                    "Reference CSV units, e.g. crack_length=mm,G_I=N/mm (else the header's brackets)");
     sub.add_option("--truth", options_.truth_scene, "Scene TOML with the true law (synthetic tests)");
+    sub.add_option("--lawfree", options_.lawfree_h5,
+                   "bridgefit lawfree --out: the law-free sigma(delta) and its band over the fitted law");
     sub.add_option("--title", options_.title, "Page title");
     sub.add_option("--gnuplot", options_.gnuplot, "gnuplot executable")->default_val("gnuplot");
   }

@@ -40,6 +40,9 @@ class SynthCommand final : public Command {
     sub.add_option("--record-name", record_name_, "File name of the record")->default_val("record.csv");
     sub.add_option("--rate", rate_, "Displacement rate")->default_val("1 mm");
     sub.add_option("--frames", frames_, "Speckle frames (0: none)")->default_val(10);
+    sub.add_flag("--bridged-field", bridged_field_,
+                 "Frames show a bridged crack (the scene's law on the faces from the notch root, "
+                 "K_tip = K_tip,c) instead of the LEFM field of the model's J_ff");
     sub.add_option("--image-width", image_width_, "px")->default_val(400);
     sub.add_option("--image-height", image_height_, "px")->default_val(300);
     sub.add_option("--scale", scale_,
@@ -70,6 +73,7 @@ class SynthCommand final : public Command {
     if (frames_ > 0 && !image_x0_.empty())
       request.image_x0 = ParseOptionQuantity(image_x0_, Dimension::Length(), "--image-x0");
     request.image_width = image_width_;
+    request.bridged_field = bridged_field_;
     request.image_height = image_height_;
     request.progress = !common.quiet;
     const pipeline::SynthTest test = pipeline::MakeSyntheticTest(request);
@@ -106,6 +110,7 @@ class SynthCommand final : public Command {
   int loading_points_ = 20, growth_points_ = 400, frames_ = 10, image_width_ = 400,
       image_height_ = 300;
   double load_noise_ = 0.005;
+  bool bridged_field_ = false;
 };
 
 }  // namespace

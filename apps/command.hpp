@@ -36,6 +36,7 @@ class Command {
 };
 
 std::unique_ptr<Command> MakeLawCommand();
+std::unique_ptr<Command> MakeLawFreeCommand();
 std::unique_ptr<Command> MakeSimulateCommand();
 std::unique_ptr<Command> MakeRcurveCommand();
 std::unique_ptr<Command> MakeDicCommand();

@@ -37,6 +37,24 @@ nlohmann::json PathJson(const dic::FrameResult& f) {
   return j;
 }
 
+// J_ff and delta* of a frame: numbers only where their status is ok.
+nlohmann::json FrameJJson(const dic::FrameJ& j) {
+  const bool ok = j.status == dic::FrameJStatus::kOk;
+  nlohmann::json out = {
+      {"status", dic::FrameJStatusName(j.status)},
+      {"J_ff_J_per_m2", ok ? NumberOrNull(j.J_ff) : nlohmann::json()},
+      {"J_ff_spread_percent", ok ? NumberOrNull(j.J_ff_spread_percent) : nlohmann::json()},
+      {"domains_ok", j.domains_ok},
+      {"domains", j.domains},
+      {"delta_star_m", j.delta_star_ok ? NumberOrNull(j.delta_star) : nlohmann::json()},
+      {"delta_star_uncertainty_m",
+       j.delta_star_ok ? NumberOrNull(j.delta_star_uncertainty) : nlohmann::json()},
+      {"root_distance_m", j.root_distance_m}};
+  if (!j.why.empty()) out["why"] = j.why;
+  if (!j.delta_star_ok && !j.delta_star_why.empty()) out["delta_star_why"] = j.delta_star_why;
+  return out;
+}
+
 }  // namespace
 
 void PrintDicResult(const dic::CrackSequenceResult& result, const dic::CrackSequenceOptions& opt,
@@ -76,6 +94,7 @@ void PrintDicResult(const dic::CrackSequenceResult& result, const dic::CrackSequ
           {"mean_zncc", f.correlation.mean_zncc},
           {"reference_frame", f.correlation.reference_frame},
       });
+      if (result.j_integral) frames.back()["j_integral"] = FrameJJson(f.j);
     }
     out["frames"] = std::move(frames);
     out["points_per_frame"] = result.points;
@@ -107,6 +126,20 @@ void PrintDicResult(const dic::CrackSequenceResult& result, const dic::CrackSequ
                                  "none", "", "", "", "", "", f.valid_fraction, f.image);
     }
     std::cout << "(* = flagged: the length may be wrong by more than its uncertainty)\n";
+    if (result.j_integral) {
+      std::cout << fmt::format("{:>5} {:>14} {:>10} {:>14} {:>12}  {}\n", "frame", "J_ff [J/m^2]",
+                               "spread [%]", "delta* [mm]", "+- [mm]", "status");
+      for (size_t k = 0; k < result.frames.size(); ++k) {
+        const dic::FrameJ& j = result.frames[k].j;
+        const bool ok = j.status == dic::FrameJStatus::kOk;
+        std::cout << fmt::format(
+            "{:5} {:>14} {:>10} {:>14} {:>12}  {}{}\n", k, ok ? fmt::format("{:.5g}", j.J_ff) : "-",
+            ok ? fmt::format("{:.2f}", j.J_ff_spread_percent) : "-",
+            j.delta_star_ok ? fmt::format("{:.5g}", j.delta_star * 1e3) : "-",
+            j.delta_star_ok ? fmt::format("{:.2g}", j.delta_star_uncertainty * 1e3) : "-",
+            dic::FrameJStatusName(j.status), j.why.empty() ? "" : " (" + j.why + ")");
+      }
+    }
   }
 }
 

@@ -158,4 +158,44 @@ nlohmann::json MpmStationaryJson(const pipeline::MpmStationaryRun& run, const st
           {"history", history}};
 }
 
+namespace {
+nlohmann::json LawFreeResultJson(const laws::LawFreeResult& r) {
+  auto estimate = [](const laws::LawFreeEstimate& e) {
+    return nlohmann::json{{"value", NumberOrNull(e.value)},
+                          {"standard_error", NumberOrNull(e.standard_error)},
+                          {"identified", e.identified},
+                          {"kind", e.identified ? "value" : "lower_bound"}};
+  };
+  return {{"delta_m", r.delta},
+          {"sigma_Pa", r.sigma},
+          {"sigma_standard_error_Pa", r.sigma_standard_error},
+          {"sigma_lower_Pa", r.sigma_lower},
+          {"sigma_upper_Pa", r.sigma_upper},
+          {"J_tip_c_J_per_m2", NumberOrNull(r.J_tip_c)},
+          {"J_tip_c_standard_error_J_per_m2", NumberOrNull(r.J_tip_c_standard_error)},
+          {"J_tip_c_given", r.J_tip_c_given},
+          {"J_B_J_per_m2", estimate(r.J_B)},
+          {"delta_c_m", estimate(r.delta_c)},
+          {"identified", r.identified},
+          {"null_space_slope_min_Pa_per_m", NumberOrNull(r.null_space_slope_min)},
+          {"points_used", r.points_used},
+          {"onset_index", r.onset_index},
+          {"penalty", NumberOrNull(r.penalty)},
+          {"effective_dof", NumberOrNull(r.effective_dof)},
+          {"noise_scale", NumberOrNull(r.noise_scale)},
+          {"notes", r.notes}};
+}
+}  // namespace
+
+nlohmann::json LawFreeRunJson(const pipeline::LawFreeRun& run) {
+  nlohmann::json out = {{"dic_file", run.dic_file},
+                        {"rcurve_file", run.rcurve_file},
+                        {"frames", run.frames},
+                        {"notes", run.notes},
+                        {"wall_s", run.wall_s}};
+  out["far_field_j"] = run.far_field ? LawFreeResultJson(*run.far_field) : nlohmann::json();
+  out["elastic_zone_r"] = run.r_curve ? LawFreeResultJson(*run.r_curve) : nlohmann::json();
+  return out;
+}
+
 }  // namespace bridgefit::cli

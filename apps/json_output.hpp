@@ -1,5 +1,5 @@
 #pragma once
-// The --json objects of `rcurve`, `law` and `simulate`: the library's result
+// The --json objects of `rcurve`, `law`, `lawfree` and `simulate`: the library's result
 // values as JSON (SI, units in the keys). The keys are the CLI's interface;
 // the values come computed from the library (pipeline/rcurve.hpp,
 // pipeline/law.hpp, pipeline/simulate.hpp). `fit` has its own (fit_json.hpp).
@@ -9,6 +9,7 @@
 #include "bridgefit/core/records.hpp"
 #include "bridgefit/mpm/growth.hpp"
 #include "bridgefit/pipeline/law.hpp"
+#include "bridgefit/pipeline/law_free.hpp"
 #include "bridgefit/pipeline/rcurve.hpp"
 #include "bridgefit/pipeline/simulate.hpp"
 
@@ -19,6 +20,10 @@ nlohmann::json RCurveRunJson(const pipeline::RCurveRun& run);
 
 // `bridgefit law --json`.
 nlohmann::json LawRunJson(const pipeline::LawRun& run);
+
+// `bridgefit lawfree --json`: each route's sigma(delta) with its band,
+// J_tip,c, J_B and delta_c (value or lower bound), notes.
+nlohmann::json LawFreeRunJson(const pipeline::LawFreeRun& run);
 
 // `bridgefit simulate --json`: a growth run (reduced, or MPM before its
 // solver keys are added by MpmGrowthJson).

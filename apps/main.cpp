@@ -115,6 +115,7 @@ int main(int argc, char** argv) {
   cli::CommonOptions common;
   std::vector<std::unique_ptr<cli::Command>> commands;
   commands.push_back(cli::MakeLawCommand());
+  commands.push_back(cli::MakeLawFreeCommand());
   commands.push_back(cli::MakeSimulateCommand());
   commands.push_back(cli::MakeRcurveCommand());
   commands.push_back(cli::MakeDicCommand());

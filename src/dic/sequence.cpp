@@ -31,7 +31,8 @@ bool CrackSequenceOptions::IsValid(std::string* why) const {
   CrackPathOptions p = path;
   p.has_hint = has_line;
   p.hint = tip.line;
-  return c.IsValid(why) && t.IsValid(why) && (!find_path || p.IsValid(why));
+  return c.IsValid(why) && t.IsValid(why) && (!find_path || p.IsValid(why)) &&
+         j_integral.IsValid(why);
 }
 
 std::string FrameResult::Flags() const {
@@ -97,6 +98,7 @@ CrackSequenceResult AnalyzeCrackFields(const std::vector<std::filesystem::path>&
   if (files.empty()) throw Error(ErrorKind::kInput, "no field files given");
   Stopwatch watch;
   CrackSequenceResult out;
+  out.j_integral = options.j_integral.enabled;
   // An Ncorr MAT file holds many frames: the count shown is of files.
   Progress progress("crack", files.size(), options.show_progress);
   CrackPathOptions path_opt;
@@ -131,6 +133,7 @@ CrackSequenceResult AnalyzeCrackFields(const std::vector<std::filesystem::path>&
     r.image = name;
     try {
       LocateCrackInField(file.field, options, path_opt, &r);
+      MeasureFrameJ(file.field, options, &r);
     } catch (const Error& e) {
       throw e.WithContext({.file = name});
     }
@@ -184,6 +187,20 @@ void LocateCrackInField(const DisplacementField& field, const CrackSequenceOptio
   r->flagged = !r->Flags().empty();
 }
 
+void MeasureFrameJ(const DisplacementField& field, const CrackSequenceOptions& options,
+                   FrameResult* r) {
+  if (!options.j_integral.enabled) return;
+  if (!r->tip.tip.found) {
+    r->j.status = FrameJStatus::kNoTip;
+    r->j.why = "no crack tip in this frame";
+    return;
+  }
+  const CrackLine& L = r->line_used;
+  r->j = ComputeFrameJ(field, r->tip.tip.x_px, r->tip.tip.y_px, r->tip.tip.s_px, L.x1 - L.x0,
+                       L.y1 - L.y0, options.tip.band_half_width_px, options.scale_m_per_px,
+                       options.offset_m, options.j_integral);
+}
+
 void MakeMonotone(std::vector<FrameResult>* frames) {
   std::vector<double> values, sigmas;
   std::vector<char> valid;
@@ -229,7 +246,7 @@ class BandTracker {
   // Before correlating a frame. Without a line and before the first tip:
   // the whole field (the path is not known yet).
   void Prepare() {
-    if (o_.full_field) return;
+    if (o_.full_field || o_.j_integral.enabled) return;
     if (!o_.has_line && !tip_known_) {
       c_->SetActive({});
       return;
@@ -241,7 +258,7 @@ class BandTracker {
 
   // After locating the crack in the frame.
   void Update(FrameResult* r) {
-    if (o_.full_field || !r->tip.tip.found) return;
+    if (o_.full_field || o_.j_integral.enabled || !r->tip.tip.found) return;
     // The strip follows the given line (it holds the path search around
     // it); without one, the path found.
     if (!o_.has_line && r->path.found) line_ = r->line_used;
@@ -304,10 +321,15 @@ CrackSequenceResult AnalyzeCrackSequence(const std::vector<std::filesystem::path
     throw e.WithContext({.file = images[0].string()});
   }
   CrackSequenceResult out;
+  out.j_integral = options.j_integral.enabled;
   out.points = correlator->Grid().size();
   FrameResult first;
   first.image = images[0].string();
   first.valid_fraction = 1.0;
+  if (options.j_integral.enabled) {
+    first.j.status = FrameJStatus::kNoTip;
+    first.j.why = "reference frame";
+  }
   if (options.keep_fields) first.field = correlator->Grid();
   out.frames.push_back(std::move(first));
   Progress progress("dic", images.size() - 1, options.show_progress);
@@ -328,6 +350,7 @@ CrackSequenceResult AnalyzeCrackSequence(const std::vector<std::filesystem::path
     solves += r.correlation.points_per_s * r.correlation.wall_s;
     correlated += static_cast<double>(r.correlation.points);
     LocateCrackInField(field, options, path_opt, &r);
+    MeasureFrameJ(field, options, &r);
     band.Update(&r);
     if (options.keep_fields) r.field = std::move(field);
     out.frames.push_back(std::move(r));

@@ -142,13 +142,73 @@ std::string FrameFlag(const report::DicFrame& f, size_t k) {
   return text;
 }
 
+
+// "ok", or why delta* was not read ("no_tip" without a tip).
+std::string DeltaStarStatus(const dic::FrameJ& j) {
+  if (j.delta_star_ok) return "ok";
+  if (j.status == dic::FrameJStatus::kNoTip || j.status == dic::FrameJStatus::kNotRequested)
+    return dic::FrameJStatusName(j.status);
+  return "failed: " + j.delta_star_why;
+}
+
+// /dic/J_ff, J_ff_spread, J_domains_ok, J_status, delta_star,
+// delta_star_uncertainty, delta_star_status and the inputs as attributes.
+void WriteDicJ(io::H5Writer& h5, const dic::CrackSequenceResult& r,
+               const dic::CrackSequenceOptions& opt) {
+  const size_t n = r.frames.size();
+  std::vector<double> j(n, NAN), spread(n, NAN), ok(n, 0), delta(n, NAN), u(n, NAN), root(n, NAN);
+  std::vector<std::string> status, delta_status;
+  for (size_t k = 0; k < n; ++k) {
+    const dic::FrameJ& f = r.frames[k].j;
+    if (f.status == dic::FrameJStatus::kOk) {
+      j[k] = f.J_ff;
+      spread[k] = f.J_ff_spread_percent;
+    }
+    ok[k] = f.domains_ok;
+    std::string s = dic::FrameJStatusName(f.status);
+    if (!f.why.empty() && f.status != dic::FrameJStatus::kOk) s += ": " + f.why;
+    status.push_back(s);
+    if (f.delta_star_ok) {
+      delta[k] = f.delta_star;
+      u[k] = f.delta_star_uncertainty;
+    }
+    if (f.status != dic::FrameJStatus::kNoTip && f.status != dic::FrameJStatus::kNotRequested)
+      root[k] = f.root_distance_m;
+    delta_status.push_back(DeltaStarStatus(f));
+  }
+  h5.WriteVector("/dic/J_ff", j, "J/m^2", "far-field J, mean over the ok domains (NaN: see J_status)");
+  h5.WriteVector("/dic/J_ff_spread", spread, "%", "(max - min) / mean over the ok far-field domains");
+  h5.WriteVector("/dic/J_domains_ok", ok, "1", "far-field domains that gave a J");
+  h5.WriteStrings("/dic/J_status", status);
+  h5.WriteVector("/dic/delta_star", delta, "m",
+                 "opening at the initial notch root (NaN: see delta_star_status)");
+  h5.WriteVector("/dic/delta_star_uncertainty", u, "m", "one standard deviation");
+  h5.WriteVector("/dic/root_distance", root, "m", "tip to initial notch root along the line");
+  h5.WriteStrings("/dic/delta_star_status", delta_status);
+  const dic::ElasticConstants& e = opt.j_integral.elastic;
+  h5.WriteAttribute("/dic", "notch_length_m", opt.j_integral.notch_length_m);
+  h5.WriteAttribute(
+      "/dic", "j_elastic",
+      e.kind == dic::ElasticConstants::Kind::kIsotropic
+          ? fmt::format("isotropic E {:.6g} Pa, nu {:.4g}, plane stress", e.E, e.nu)
+          : fmt::format("orthotropic E1 {:.6g} Pa, E2 {:.6g} Pa, G12 {:.6g} Pa, nu12 {:.4g}, "
+                        "plane stress",
+                        e.E1, e.E2, e.G12, e.nu12));
+}
+
 }  // namespace
 
 void WriteDicCsv(const std::string& path, const dic::CrackSequenceResult& r) {
   std::string text =
       "frame, image, crack_length [mm], crack_length_raw [mm], uncertainty [mm], crack_length "
       "[px], tip_x [px], tip_y [px], tip_method, tip_williams [px], tip_jump [px], tip_sqrt [px], "
-      "methods_disagree, valid_fraction, mean_zncc, reference_frame, flags\n";
+      "methods_disagree, valid_fraction, mean_zncc, reference_frame, flags";
+  // With the J integral (issue 21): J_ff and delta* per frame, each with
+  // its status (a number only where the status is ok).
+  if (r.j_integral)
+    text += ", J_ff [J/m^2], J_ff_spread [%], J_domains_ok, J_status, delta_star [mm], "
+            "delta_star_uncertainty [mm], delta_star_status";
+  text += "\n";
   auto num = [](bool ok, double v) {
     return ok && std::isfinite(v) ? fmt::format("{:.6g}", v) : std::string();
   };
@@ -169,6 +229,15 @@ void WriteDicCsv(const std::string& path, const dic::CrackSequenceResult& r) {
         num(f.tip.williams.found, f.tip.williams.s_px), num(f.tip.jump.found, f.tip.jump.s_px),
         num(f.tip.sqrt_cod.found, f.tip.sqrt_cod.s_px), f.tip.methods_disagree ? 1 : 0,
         f.valid_fraction, f.correlation.mean_zncc, f.correlation.reference_frame, f.Flags());
+    if (r.j_integral) {
+      text.pop_back();
+      const bool j_ok = f.j.status == dic::FrameJStatus::kOk;
+      text += fmt::format(", {}, {}, {}, {}, {}, {}, {}\n", num(j_ok, f.j.J_ff),
+                          num(j_ok, f.j.J_ff_spread_percent), f.j.domains_ok,
+                          dic::FrameJStatusName(f.j.status), num(f.j.delta_star_ok, f.j.delta_star * 1e3),
+                          num(f.j.delta_star_ok, f.j.delta_star_uncertainty * 1e3),
+                          DeltaStarStatus(f.j));
+    }
   }
   WriteTextFileAtomic(path, text);
 }
@@ -220,6 +289,7 @@ void WriteDicH5(const std::string& file, const dic::CrackSequenceResult& r,
     }
   }
   h5.WriteStrings("/dic/flags", flags);
+  if (r.j_integral) WriteDicJ(h5, r, opt);
   h5.WriteMatrix("/dic/crack_path", n, 4, path, "px",
                  "line the length is measured along: x0, y0 (notch side), x1, y1");
   const auto& L = opt.tip.line;
@@ -268,6 +338,39 @@ DicCrackLengths ReadDicCrackLengths(const std::string& path) {
                   {.file = path, .field = column,
                    .expected = "the CSV of `bridgefit dic --csv` (image, crack_length [mm])"});
   return {frames.TextColumn("image"), frames.ColumnSi("crack_length", Dimension::Length())};
+}
+
+DicJSeries ReadDicJSeries(const std::filesystem::path& path) {
+  const io::H5Reader r(path);
+  if (!r.Exists("/dic/images"))
+    throw Error(ErrorKind::kInput, "the DIC file has no /dic/images",
+                {.file = path.string(), .field = "/dic/images",
+                 .expected = "an HDF5 file from 'bridgefit dic --out' or 'bridgefit crack --out'"});
+  for (const char* name : {"/dic/J_ff", "/dic/J_status", "/dic/delta_star", "/dic/delta_star_status"})
+    if (!r.Exists(name))
+      throw Error(ErrorKind::kInput, "the DIC file holds no J integral",
+                  {.file = path.string(), .field = name,
+                   .expected = "J_ff and delta* per frame: rerun 'bridgefit dic' (or 'crack') with "
+                               "--scene S --j-integral --out"});
+  DicJSeries s;
+  s.image = r.ReadStrings("/dic/images");
+  const size_t n = s.image.size();
+  auto vec = [&](const std::string& name) {
+    std::vector<double> v = VectorOrEmpty(r, "/dic/" + name);
+    v.resize(n, NAN);
+    return v;
+  };
+  s.crack_length = vec("crack_length");
+  s.J_ff = vec("J_ff");
+  s.J_ff_spread_percent = vec("J_ff_spread");
+  s.delta_star = vec("delta_star");
+  s.delta_star_uncertainty = vec("delta_star_uncertainty");
+  s.J_status = r.ReadStrings("/dic/J_status");
+  s.delta_star_status = r.ReadStrings("/dic/delta_star_status");
+  s.J_status.resize(n, "missing");
+  s.delta_star_status.resize(n, "missing");
+  s.notch_length = NumberAttr(r, "/dic", "notch_length_m");
+  return s;
 }
 
 report::DicView ReadDicView(const std::filesystem::path& csv, const std::filesystem::path& h5,

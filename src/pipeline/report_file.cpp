@@ -14,6 +14,7 @@
 #include "bridgefit/io/hdf5.hpp"
 #include "bridgefit/io/scene_file.hpp"
 #include "bridgefit/pipeline/dic_file.hpp"
+#include "bridgefit/pipeline/law_free.hpp"
 #include "bridgefit/pipeline/fit_file.hpp"
 #include "bridgefit/pipeline/rcurve_file.hpp"
 
@@ -96,6 +97,7 @@ report::ReportInput ReadReportInput(const std::filesystem::path& fit_h5,
   }
   if (!options.dic_csv.empty() || !options.dic_h5.empty())
     in.dic = ReadDicView(options.dic_csv, options.dic_h5, options.images_dir, in.notes);
+  if (!options.lawfree_h5.empty()) in.law_free = ReadLawFreeView(options.lawfree_h5);
   if (options.reference.enabled()) in.reference = ReadReference(options.reference);
   if (!options.truth_scene.empty()) in.truth = ReadTruth(options.truth_scene);
   return in;

@@ -1,6 +1,7 @@
 #include "bridgefit/pipeline/synth.hpp"
 
 #include <algorithm>
+#include <memory>
 #include <random>
 
 #include <fmt/format.h>
@@ -8,6 +9,7 @@
 #include "bridgefit/core/atomic_file.hpp"
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/core/progress.hpp"
+#include "bridgefit/laws/law.hpp"
 #include "bridgefit/models/reduced.hpp"
 #include "bridgefit/specimen/calibrations.hpp"
 
@@ -24,6 +26,9 @@ void SynthRequest::Check() const {
   if (!std::isnan(scale) && !(scale > 0 && std::isfinite(scale)))
     throw Error(ErrorKind::kUsage, "the image scale must be a positive length per pixel",
                 {.field = "--scale", .value = fmt::format("{} m", scale), .expected = "e.g. 0.15 mm"});
+  if (bridged_field && !scene.bridging)
+    throw Error(ErrorKind::kInput, "a bridged field needs a [bridging] table",
+                {.file = scene.source, .field = "bridging"});
   if (!std::isnan(image_x0) && !std::isfinite(image_x0))
     throw Error(ErrorKind::kUsage, "the image's left edge must be a finite length",
                 {.field = "--image-x0", .expected = "e.g. 20 mm"});
@@ -86,6 +91,71 @@ std::string NoisyRecordCsv(const SynthRequest& request, const ExperimentRecord& 
   return csv;
 }
 
+// A bridged frame (SynthRequest::bridged_field): faces from the notch root
+// to the tip closed by the scene's law, the applied K found by the secant
+// method on K_tip(K_applied) = K_tip,c (monotone, smooth). Lengths in px.
+dic::BridgedCrackField BridgedFrame(const SynthRequest& request, const dic::ModeICrackField& lefm,
+                                    double zone_px, double scale, double mu, double E_eff) {
+  const laws::BridgingLaw law = request.scene.bridging->Law();
+  dic::BridgedCrackField b;
+  b.tip_x = lefm.tip_x;
+  b.tip_y = lefm.tip_y;
+  b.kappa = lefm.kappa;
+  b.translation_x = lefm.translation_x;
+  b.translation_y = lefm.translation_y;
+  b.zone_length = zone_px;
+  b.segments = 120;
+  b.traction_over_2mu = [law, scale, mu](double delta_px) {
+    return law.Traction(delta_px * scale) / (2 * mu);
+  };
+  const double target =
+      std::sqrt(E_eff * request.scene.fracture->J_tip_c) / (2 * mu) / std::sqrt(scale);
+  auto tip_error = [&](double k) {
+    b.k_over_2mu = k;
+    b.Solve();
+    return b.TipKOver2mu() - target;
+  };
+  double k0 = target, k1 = 1.5 * target;
+  double f0 = tip_error(k0), f1 = tip_error(k1);
+  for (int it = 0; it < 30 && std::abs(f1) > 1e-7 * target; ++it) {
+    const double k2 = f1 == f0 ? k1 * 1.1 : k1 - f1 * (k1 - k0) / (f1 - f0);
+    k0 = k1;
+    f0 = f1;
+    k1 = std::max(k2, target);
+    f1 = tip_error(k1);
+  }
+  if (std::abs(f1) > 1e-5 * target)
+    throw Error(ErrorKind::kRuntime, "synth: the bridged frame's applied K did not converge",
+                {.value = fmt::format("K_tip error {:.3g} of the target", f1 / target)});
+  return b;
+}
+
+// The bridged field (hundreds of terms per point) tabulated every pixel and
+// interpolated bilinearly, except in cells that straddle the crack faces,
+// where it is evaluated exactly (the opening is a jump there).
+dic::DisplacementFunction Tabulated(const dic::BridgedCrackField& b, int width, int height) {
+  const int nx = width + 3, ny = height + 3;  // nodes at -1 .. width + 1
+  auto u = std::make_shared<std::vector<double>>(static_cast<size_t>(nx) * ny);
+  auto v = std::make_shared<std::vector<double>>(u->size());
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i)
+      b(i - 1.0, j - 1.0, &(*u)[j * nx + i], &(*v)[j * nx + i]);
+  return [b, u, v, nx, ny](double X, double Y, double* ux, double* vy) {
+    const double fx = X + 1, fy = Y + 1;
+    const int i = static_cast<int>(std::floor(fx)), j = static_cast<int>(std::floor(fy));
+    const bool faces = X < b.tip_x + 1 && std::abs(Y - b.tip_y) < 1.5;
+    if (faces || i < 0 || j < 0 || i + 1 >= nx || j + 1 >= ny) return b(X, Y, ux, vy);
+    const double tx = fx - i, ty = fy - j;
+    auto lerp = [&](const std::vector<double>& a) {
+      const size_t k = static_cast<size_t>(j) * nx + i;
+      return (1 - ty) * ((1 - tx) * a[k] + tx * a[k + 1]) +
+             ty * ((1 - tx) * a[k + nx] + tx * a[k + nx + 1]);
+    };
+    *ux = lerp(*u);
+    *vy = lerp(*v);
+  };
+}
+
 // Speckle frames: frame 0 unloaded, then the LEFM field of the far-field K
 // (tip plus bridging, so the opening grows as in the test) at each frame's
 // simulated crack length, with a small rigid motion.
@@ -122,8 +192,26 @@ void RenderFrames(const SynthRequest& request, const SimulationResult& sim,
     frame.field.k_over_2mu = frame.K_I / (2 * mu) / std::sqrt(test.window.scale);
     frame.field.translation_x = 0.3 * f;
     frame.field.translation_y = -0.2 * f;
-    frame.image = f == 0 ? renderer.RenderReference(request.seed * 1000 + f)
-                         : renderer.Render(frame.field, request.seed * 1000 + f);
+    const double zone_px = (frame.crack_length - request.scene.specimen.notch) / test.window.scale;
+    if (f > 0 && request.bridged_field && zone_px > 0.5) {
+      const dic::BridgedCrackField b =
+          BridgedFrame(request, frame.field, zone_px, test.window.scale, mu, test.effective_modulus);
+      frame.field.k_over_2mu = b.k_over_2mu;
+      frame.K_I = b.k_over_2mu * 2 * mu * std::sqrt(test.window.scale);
+      frame.J_ff = frame.K_I * frame.K_I / test.effective_modulus;
+      frame.delta_root = b.OpeningAt(zone_px) * test.window.scale;
+      frame.image = renderer.Render(Tabulated(b, request.image_width, request.image_height),
+                                    request.seed * 1000 + f);
+    } else {
+      if (f > 0 && request.bridged_field) {  // at the notch: no zone yet, K = K_tip,c
+        frame.J_ff = request.scene.fracture->J_tip_c;
+        frame.K_I = std::sqrt(test.effective_modulus * frame.J_ff);
+        frame.field.k_over_2mu = frame.K_I / (2 * mu) / std::sqrt(test.window.scale);
+        frame.delta_root = 0;
+      }
+      frame.image = f == 0 ? renderer.RenderReference(request.seed * 1000 + f)
+                           : renderer.Render(frame.field, request.seed * 1000 + f);
+    }
     test.frames.push_back(std::move(frame));
     progress.Update(f + 1);
   }
@@ -200,11 +288,15 @@ SynthTest MakeSyntheticTest(const SynthRequest& request) {
 std::string SynthTest::TruthCsv() const {
   std::string truth =
       "frame, record_row, crack_length [mm], tip_x [px], tip_y [px], K_I [MPa m^0.5], "
-      "translation_x [px], translation_y [px]\n";
+      "translation_x [px], translation_y [px], J_ff [J/m^2], delta_root [mm]\n";
+  auto num = [](double v, double scale) {
+    return std::isfinite(v) ? fmt::format("{:.6g}", v * scale) : std::string();
+  };
   for (const SynthFrame& f : frames)
-    truth += fmt::format("{}, {}, {:.4f}, {:.3f}, {:.3f}, {:.5f}, {:.3f}, {:.3f}\n", f.index,
-                         f.record_row, f.crack_length * 1e3, f.field.tip_x, f.field.tip_y,
-                         f.K_I * 1e-6, f.field.translation_x, f.field.translation_y);
+    truth += fmt::format("{}, {}, {:.4f}, {:.3f}, {:.3f}, {:.5f}, {:.3f}, {:.3f}, {}, {}\n",
+                         f.index, f.record_row, f.crack_length * 1e3, f.field.tip_x,
+                         f.field.tip_y, f.K_I * 1e-6, f.field.translation_x,
+                         f.field.translation_y, num(f.J_ff, 1), num(f.delta_root, 1e3));
   return truth;
 }
 

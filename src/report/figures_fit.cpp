@@ -102,6 +102,40 @@ void AddRCurveFigure(const ReportInput& in, FigureSet& set) {
   }
 }
 
+// The law-free curves (bridgefit lawfree): one file per route, its band
+// and line appended to the law plot; widens x_max to their openings.
+std::string LawFreeCurves(const ReportInput& in, FigureSet& set, double* x_max) {
+  if (!in.law_free) return "";
+  std::string plot;
+  const char* colours[] = {"#2ca02c", "#9467bd"};
+  for (size_t c = 0; c < in.law_free->curves.size() && c < 2; ++c) {
+    const LawFreeView::Curve& k = in.law_free->curves[c];
+    const std::string file = fmt::format("lawfree_{}.dat", c);
+    std::string dat = "# delta[mm] sigma[MPa] lower[MPa] upper[MPa]\n";
+    for (size_t j = 0; j < k.delta.size() && j < k.sigma.size(); ++j) {
+      const double lo = j < k.lower.size() ? k.lower[j] : NAN;
+      const double hi = j < k.upper.size() ? k.upper[j] : NAN;
+      dat += fmt::format("{:.8g} {:.8g} {:.8g} {:.8g}\n", k.delta[j] * 1e3, k.sigma[j] * 1e-6,
+                         std::max(lo, 0.0) * 1e-6, hi * 1e-6);
+    }
+    WriteFile(set.dir / file, dat);
+    if (!k.delta.empty()) *x_max = std::max(*x_max, k.delta.back());
+    // gnuplot's enhanced text: J_{ff}, {/Symbol d}.
+    const std::string route = k.route == "J_ff(delta*)"    ? "J_{ff}({/Symbol d}*)"
+                              : k.route == "R(delta_root)" ? "R({/Symbol d}_{root})"
+                                                           : k.route;
+    const std::string what =
+        fmt::format("law-free {}{}", route, k.identified ? "" : " (bounds only)");
+    plot += fmt::format(", '{}' u 1:3:4 w filledcurves fc rgb '{}' fs transparent solid 0.25 t '{} 95% band'",
+                        file, colours[c], what);
+    plot += fmt::format(", '{}' u 1:2 w l lw 2 lc rgb '{}' t '{}'", file, colours[c], what);
+  }
+  if (!in.law_free->curves.empty())
+    set.notes.push_back("law figure: the law-free sigma(delta) from " + in.law_free->file.string() +
+                        " drawn over the fit (where they disagree beyond the band, the family is wrong)");
+  return plot;
+}
+
 void AddLawFigure(const ReportInput& in, FigureSet& set) {
   const FitView& f = in.fit;
   const Estimate* sc = f.Find("sigma_c");
@@ -125,6 +159,7 @@ void AddLawFigure(const ReportInput& in, FigureSet& set) {
   double x_max = 1.5 * std::max(d_best, d_lo);
   if (!std::isfinite(d_hi)) x_max = std::max(x_max, 2.5 * d_lo);
   if (truth_law) x_max = std::max(x_max, 1.2 * truth_law->delta_c);
+  const std::string law_free_plot = LawFreeCurves(in, set, &x_max);
   const laws::BridgingLaw best{&shape, sc->value, d_best};
   const laws::BridgingLaw low{&shape, s_lo, d_lo};
   std::string dat = "# delta[mm] lower[MPa] upper[MPa] best[MPa] truth[MPa]\n";
@@ -150,7 +185,7 @@ void AddLawFigure(const ReportInput& in, FigureSet& set) {
         "', '' u 1:4 w l lw 2 lc rgb '#ff7f0e' t '" +
         (at_bound ? "best {/Symbol s}_c with {/Symbol d}_c at its lower bound" : "best fit") + "'";
   if (truth_law) gp += ", '' u 1:5 w l lw 2 dt 2 lc rgb 'black' t 'true law (synthetic test)'";
-  gp += "\n";
+  gp += law_free_plot + "\n";
   set.Add("law.png", "fit",
           "Bridging law: best fit and the shaded region of laws consistent with the 95% CIs; "
           "where &delta;<sub>c</sub> and J<sub>B</sub> are only bounded below the region is open to the right.");

@@ -20,6 +20,7 @@
 #include "bridgefit/dic/image.hpp"
 #include "bridgefit/io/hdf5.hpp"
 #include "bridgefit/pipeline/fit_file.hpp"
+#include "bridgefit/pipeline/law_free.hpp"
 #include "figure_check.hpp"
 
 namespace fs = std::filesystem;
@@ -288,6 +289,51 @@ TEST(Report, LawRegionFollowsTheBounds) {
     ++rows;
   }
   EXPECT_GT(rows, 100);
+  fs::remove_all(dir);
+}
+
+// `report --lawfree`: the law-free curve and its band (lower clipped at 0)
+// written in mm and MPa next to the law figure and plotted over it.
+TEST(Report, LawFreeCurveDrawnOverTheFittedLaw) {
+  const fs::path dir = TempDir("lawfree");
+  const fs::path fit = WriteFitFile(dir);
+  pipeline::LawFreeRun run;
+  run.dic_file = "dic.h5";
+  run.frames = 12;
+  laws::LawFreeResult r;
+  for (int j = 0; j <= 10; ++j) {
+    const double d = 0.3e-3 * j / 10;
+    r.delta.push_back(d);
+    r.sigma.push_back(0.45e6 * (1 - d / 2e-3));
+    r.sigma_standard_error.push_back(0.05e6);
+    r.sigma_lower.push_back(r.sigma.back() - 0.5e6);  // negative: drawn from 0
+    r.sigma_upper.push_back(r.sigma.back() + 0.1e6);
+  }
+  run.far_field = r;
+  pipeline::WriteLawFreeH5(dir / "lawfree.h5", run);
+  report::ReportOptions options;
+  options.lawfree_h5 = dir / "lawfree.h5";
+  const report::ReportSummary s = pipeline::WriteFitReport(fit, dir / "report", options);
+  EXPECT_TRUE(std::find(s.figures.begin(), s.figures.end(), "law.png") != s.figures.end());
+  std::ifstream in(dir / "report" / "lawfree_0.dat");
+  std::string line;
+  std::getline(in, line);
+  EXPECT_NE(line.find("delta[mm] sigma[MPa] lower[MPa] upper[MPa]"), std::string::npos) << line;
+  double d, sigma, lo, hi;
+  int rows = 0;
+  while (in >> d >> sigma >> lo >> hi) {
+    EXPECT_NEAR(d, r.delta[rows] * 1e3, 1e-9);
+    EXPECT_NEAR(sigma, r.sigma[rows] * 1e-6, 1e-7);
+    EXPECT_EQ(lo, 0.0);
+    EXPECT_NEAR(hi, r.sigma_upper[rows] * 1e-6, 1e-7);
+    ++rows;
+  }
+  EXPECT_EQ(rows, 11);
+  std::ifstream gp(dir / "report" / "report.gp");
+  std::stringstream text;
+  text << gp.rdbuf();
+  EXPECT_NE(text.str().find("'lawfree_0.dat' u 1:2 w l"), std::string::npos);
+  EXPECT_NE(text.str().find("'lawfree_0.dat' u 1:3:4 w filledcurves"), std::string::npos);
   fs::remove_all(dir);
 }
 

@@ -12,6 +12,7 @@
 #include "bridgefit/dic/correlation.hpp"
 #include "bridgefit/dic/crack.hpp"
 #include "bridgefit/dic/crack_path.hpp"
+#include "bridgefit/dic/frame_j.hpp"
 
 namespace bridgefit::dic {
 
@@ -31,6 +32,10 @@ struct CrackSequenceOptions {
   // CrackBandPoints), which follows the tip; true: every grid point.
   bool full_field = false;
   bool keep_fields = false;   // keep each frame's displacement field
+  // Per-frame J_ff and delta* (dic/frame_j.hpp) while each field is in
+  // memory. With it enabled every grid point is correlated (as with
+  // full_field): the far-field domains reach beyond the crack band.
+  FrameJOptions j_integral;
   bool show_progress = true;  // on stderr
 
   bool IsValid(std::string* why) const;
@@ -59,6 +64,7 @@ struct FrameResult {
   CrackTipResult tip;
   CorrelationSummary correlation;
   double valid_fraction = 0;
+  FrameJ j;  // status kNotRequested unless options.j_integral.enabled
   DisplacementField field;  // only with keep_fields
 };
 
@@ -68,6 +74,7 @@ struct CrackSequenceResult {
   double points_per_s = 0;  // IC-GN solves per second over the whole run
   std::size_t points = 0;   // grid points per frame
   double mean_correlated_points = 0;  // per deformed frame (the crack band, or every point)
+  bool j_integral = false;  // frames carry J_ff and delta* (options.j_integral.enabled)
   std::string BriefReport() const;
 };
 
@@ -86,6 +93,11 @@ CrackPathOptions PathOptionsFor(const CrackSequenceOptions& options, int width, 
 // uncertainty and the flags. Fills r's path, tip, length and flag members.
 void LocateCrackInField(const DisplacementField& field, const CrackSequenceOptions& options,
                         const CrackPathOptions& path_opt, FrameResult* r);
+
+// r->j from the field when options.j_integral.enabled (kNoTip without a
+// tip), along the line the length is measured on.
+void MeasureFrameJ(const DisplacementField& field, const CrackSequenceOptions& options,
+                   FrameResult* r);
 
 // crack_length_m of the frames with a length: non-decreasing in time
 // (weighted isotonic regression of the raw lengths).

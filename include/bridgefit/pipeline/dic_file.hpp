@@ -13,9 +13,15 @@
 
 namespace bridgefit::pipeline {
 
-// `--csv`: one row per frame, lengths in mm, positions in px.
+// `--csv`: one row per frame, lengths in mm, positions in px; with the J
+// integral (result.j_integral) also J_ff [J/m^2], its spread [%], the
+// domains that gave it, J_status, delta_star [mm], its uncertainty [mm] and
+// delta_star_status (numbers empty where the status is not ok).
 void WriteDicCsv(const std::string& path, const dic::CrackSequenceResult& result);
-// `--out`: /dic (atomic: the file appears complete or not at all).
+// `--out`: /dic (atomic: the file appears complete or not at all); with the
+// J integral also /dic/J_ff [J/m^2], J_ff_spread [%], J_domains_ok,
+// J_status, delta_star [m], delta_star_uncertainty [m], root_distance [m],
+// delta_star_status and the attributes notch_length_m, j_elastic.
 void WriteDicH5(const std::string& path, const dic::CrackSequenceResult& result,
                 const dic::CrackSequenceOptions& options);
 
@@ -26,6 +32,20 @@ struct DicCrackLengths {
 };
 // Throws Error(kInput) naming the file and the missing column.
 DicCrackLengths ReadDicCrackLengths(const std::string& path);
+
+// The J-integral route's input from a dic.h5 (issue 21): per frame the
+// image, crack length [m], J_ff [J/m^2] and its spread [%], delta* and its
+// uncertainty [m] (NaN where the status is not "ok"), the statuses, and the
+// notch's crack length [m]. Throws Error(kInput) naming the file and the
+// missing dataset when the file holds no J integral (the way out: rerun dic
+// with --scene S --j-integral).
+struct DicJSeries {
+  std::vector<std::string> image;
+  std::vector<double> crack_length, J_ff, J_ff_spread_percent, delta_star, delta_star_uncertainty;
+  std::vector<std::string> J_status, delta_star_status;
+  double notch_length = NAN;
+};
+DicJSeries ReadDicJSeries(const std::filesystem::path& path);
 
 // The report's view of a DIC run from its CSV and/or HDF5 (either may be
 // empty): frames with tips, openings and why each is doubtful, the crack

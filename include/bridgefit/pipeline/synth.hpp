@@ -33,6 +33,14 @@ struct SynthRequest {
   // where it fits the specimen, else one that does).
   double scale = NAN;                  // [m/px]
   double image_x0 = NAN;               // image's left edge from the load line [m]
+  // false: each frame is the unbridged LEFM field of K = sqrt(E' J_ff) (the
+  // reduced model's J_ff). true (needs [bridging]): a bridged crack
+  // (dic::BridgedCrackField, semi-infinite, plane elasticity) whose faces
+  // from the notch root a0 to the tip carry the scene's law and whose
+  // applied K is solved so that K_tip = sqrt(E' J_tip,c): the frames then
+  // obey PHYSICS eq. (1) exactly (J_ff = J_tip,c + W(delta_root)) with the
+  // opening of this field, not the finite specimen's (issue 21).
+  bool bridged_field = false;
   bool progress = false;
   void Check() const;  // throws Error (kUsage / kInput) naming the field
 };
@@ -59,6 +67,7 @@ struct SynthFrame {
   double crack_length = 0.0;   // [m], the true tip
   double K_I = 0.0;            // [Pa m^0.5]
   double J_ff = NAN;           // far-field J the K is made from [J/m^2]
+  double delta_root = NAN;     // bridged field: opening at the notch root [m]
   dic::ModeICrackField field;  // the displacement field rendered
   dic::Image image;
 };

@@ -44,6 +44,7 @@ struct ReportOptions {
   std::filesystem::path images_dir;    // where the DIC images are when their recorded
                                        // paths do not resolve (default: next to dic_h5)
   ReferenceColumn reference;           // optional
+  std::filesystem::path lawfree_h5;    // optional: bridgefit lawfree --out, drawn over the law
   std::filesystem::path truth_scene;   // optional: scene TOML with the true law (synthetic tests)
   std::string gnuplot = "gnuplot";     // executable
   int max_flagged_frames = 6;          // DIC frames flagged doubtful drawn at most

@@ -85,6 +85,18 @@ struct ReferenceView {
   std::vector<double> crack_length, value;  // [m], [J/m^2] (rows with both finite)
 };
 
+// A law-free sigma(delta) (bridgefit lawfree --out, /lawfree): per route the
+// curve with its band, drawn over the fitted law.
+struct LawFreeView {
+  struct Curve {
+    std::string route;  // "J_ff(delta*)" or "R(delta_root)"
+    std::vector<double> delta, sigma, lower, upper;  // [m], [Pa]
+    bool identified = false;  // false: J_B, delta_c bounds only (R route: sigma + C delta)
+  };
+  std::filesystem::path file;
+  std::vector<Curve> curves;
+};
+
 struct TruthView {
   bool present = false;
   std::optional<laws::LawShape> shape;  // the true law's shape (bridging in the scene)
@@ -98,6 +110,7 @@ struct ReportInput {
   bool record_from_images = false;  // its crack length came from DIC (rcurve --crack-length-from)
   std::optional<DicView> dic;
   std::optional<ReferenceView> reference;
+  std::optional<LawFreeView> law_free;
   TruthView truth;
   std::vector<std::string> notes;  // what could not be read, and why
 };

@@ -1,0 +1,69 @@
+#pragma once
+// Per-frame far-field J and notch-root opening delta* along a DIC sequence
+// (PHYSICS sections 3 and 10, the J-integral route; issue 21), computed from
+// each frame's field while it is in memory (dic/j_integral.hpp does the
+// integral; this unit places the domains and the crack band per frame).
+//
+// Per frame with a tip: the crack runs along the line the length is
+// measured on; the notch root sits at s_root = (notch_length - offset) /
+// scale along it (px), so root_distance = s_tip - s_root. The far-field
+// domains are annuli centred on the zone's midpoint with r_in >= half the
+// zone plus `margin_points`, nested between that and the largest radius
+// that stays inside the grid. Points within the crack band (band half
+// width of the tip options) of the line behind the tip are set to
+// kCrackBand first: with the path found from the data they are correlated
+// across the faces and smeared. delta*'s stretch along the line is cut to
+// 0.9 of the zone (integral.opening_half_length at most, 2 points at
+// least); a tip within one grid step of the root gives delta* = 0 (the
+// root is the tip: the onset of growth).
+
+#include <string>
+
+#include "bridgefit/dic/correlation.hpp"
+#include "bridgefit/dic/j_integral.hpp"
+
+namespace bridgefit::dic {
+
+struct FrameJOptions {
+  bool enabled = false;
+  ElasticConstants elastic;
+  // Crack length of the initial notch root [m], measured as the crack
+  // lengths are (along the line, times the scale, plus the offset).
+  double notch_length_m = 0;
+  int far_field_domains = 3;
+  double margin_points = 2;  // r_in beyond half the zone, grid points
+  // Gradient window, fit order, valid fraction, opening rows and half
+  // length; `domains`, `metres_per_unit` and `domain_units` are set per frame.
+  JIntegralOptions integral;
+  bool IsValid(std::string* why) const;
+};
+
+enum class FrameJStatus {
+  kNotRequested,
+  kOk,
+  kNoTip,            // the frame has no crack tip (reference frame, no opening)
+  kNoFarFieldDomain  // every far-field domain failed (why: their statuses)
+};
+const char* FrameJStatusName(FrameJStatus status);  // "ok", "no_tip", ...
+
+struct FrameJ {
+  FrameJStatus status = FrameJStatus::kNotRequested;
+  std::string why;                // status detail ("" when ok)
+  double J_ff = 0;                // mean over the kOk far-field domains [J/m^2] (0 unless ok)
+  double J_ff_spread_percent = 0; // (max - min) / mean over them [%]
+  int domains_ok = 0, domains = 0;
+  double root_distance_m = 0;     // tip to notch root along the line [m]
+  bool delta_star_ok = false;
+  std::string delta_star_why;     // when !delta_star_ok
+  double delta_star = 0;          // opening at the notch root [m] (0 unless ok)
+  double delta_star_uncertainty = 0;  // standard uncertainty [m]
+};
+
+// `field` in px (reference positions); tip and line from a located frame.
+// Never throws for a frame that cannot be measured (a status); throws
+// Error(kUsage) for invalid options.
+FrameJ ComputeFrameJ(const DisplacementField& field, double tip_x_px, double tip_y_px,
+                     double tip_s_px, double line_dx, double line_dy, double band_half_width_px,
+                     double scale_m_per_px, double offset_m, const FrameJOptions& options);
+
+}  // namespace bridgefit::dic

@@ -1,0 +1,202 @@
+// `bridgefit lawfree` as a call (pipeline/law_free.hpp, issue 21).
+#include "bridgefit/pipeline/law_free.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include <fmt/format.h>
+
+#include "bridgefit/core/error.hpp"
+#include "bridgefit/core/progress.hpp"
+#include "bridgefit/pipeline/dic_file.hpp"
+#include "bridgefit/pipeline/rcurve_file.hpp"
+
+namespace bridgefit::pipeline {
+
+dic::FrameJOptions FrameJOptionsFromScene(const Scene& scene) {
+  dic::FrameJOptions o;
+  o.enabled = true;
+  const MaterialSpec& m = scene.material;
+  const bool strain = scene.specimen.plane == PlaneCondition::kPlaneStrain;
+  if (m.orthotropic) {
+    if (strain)
+      throw Error(ErrorKind::kInput,
+                  "the DIC J integral is plane stress; an orthotropic plane-strain scene has no "
+                  "plane-stress equivalent here",
+                  {.file = scene.source, .field = "specimen.plane", .value = "plane_strain",
+                   .expected = "plane_stress for an orthotropic material"});
+    o.elastic = dic::ElasticConstants::Orthotropic(m.E1, m.E2, m.G12, m.nu12);
+  } else if (strain) {
+    o.elastic = dic::ElasticConstants::Isotropic(m.E / (1 - m.nu * m.nu), m.nu / (1 - m.nu));
+  } else {
+    o.elastic = dic::ElasticConstants::Isotropic(m.E, m.nu);
+  }
+  o.notch_length_m = scene.specimen.notch;
+  try {
+    o.elastic.Validate();
+  } catch (const Error& e) {
+    throw e.WithContext({.file = scene.source});
+  }
+  return o;
+}
+
+bool LawFreeRequest::IsValid(std::string* why) const {
+  auto fail = [&](const std::string& m) {
+    if (why) *why = m;
+    return false;
+  };
+  if (dic_file.empty()) return fail("a DIC file (dic.h5 with the J integral) is needed");
+  if (!far_field_route && rcurve_file.empty())
+    return fail("no route: the J_ff route is off and no R curve is given");
+  if (!(j_relative_floor > 0) || !(r_relative_floor > 0))
+    return fail("the relative uncertainty floors must be > 0");
+  if (J_tip_c && !(std::isfinite(*J_tip_c) && *J_tip_c >= 0))
+    return fail("J_tip_c must be finite and >= 0");
+  return options.IsValid(why);
+}
+
+namespace {
+
+// Frames with both J and delta* ok -> J route samples; the others skipped
+// with a note each.
+laws::FarFieldJSamples JSamples(const DicJSeries& s, const LawFreeRequest& request,
+                                std::vector<std::string>& notes) {
+  laws::FarFieldJSamples out;
+  for (size_t k = 0; k < s.image.size(); ++k) {
+    const bool j_ok = s.J_status[k] == "ok" && std::isfinite(s.J_ff[k]);
+    const bool d_ok = s.delta_star_status[k] == "ok" && std::isfinite(s.delta_star[k]);
+    if (!j_ok || !d_ok) {
+      if (s.J_status[k].rfind("no_tip", 0) != 0 || k > 0)
+        notes.push_back(fmt::format("frame {} ({}) skipped: J {}, delta* {}", k, s.image[k],
+                                    s.J_status[k], s.delta_star_status[k]));
+      continue;
+    }
+    const double spread = std::isfinite(s.J_ff_spread_percent[k]) ? s.J_ff_spread_percent[k] : 0;
+    out.opening.push_back(s.delta_star[k]);
+    out.J_ff.push_back(s.J_ff[k]);
+    out.uncertainty.push_back(std::max(0.5 * spread / 100, request.j_relative_floor) *
+                              std::abs(s.J_ff[k]));
+  }
+  out.onset_opening = request.onset_opening;
+  return out;
+}
+
+// R points -> (delta_root, R): delta* per frame interpolated linearly in
+// crack length (frames at one length averaged), never extrapolated.
+laws::RCurveSamples RSamples(const DicJSeries& s, const RCurve& rc, const LawFreeRequest& request,
+                             std::vector<std::string>& notes) {
+  std::map<double, std::pair<double, int>> by_length;  // a -> (sum delta, count)
+  for (size_t k = 0; k < s.image.size(); ++k)
+    if (s.delta_star_status[k] == "ok" && std::isfinite(s.delta_star[k]) &&
+        std::isfinite(s.crack_length[k])) {
+      auto& e = by_length[s.crack_length[k]];
+      e.first += s.delta_star[k];
+      ++e.second;
+    }
+  laws::RCurveSamples out;
+  out.J_tip_c = request.J_tip_c;
+  if (by_length.size() < 2) {
+    notes.push_back("R route: fewer than two frames with delta* and a crack length");
+    return out;
+  }
+  std::vector<double> a, d;
+  for (const auto& [length, e] : by_length) {
+    a.push_back(length);
+    d.push_back(e.first / e.second);
+  }
+  std::vector<double> sorted_R(rc.R);
+  std::sort(sorted_R.begin(), sorted_R.end());
+  const double median_R = sorted_R.empty() ? 0 : sorted_R[sorted_R.size() / 2];
+  const bool has_u = rc.R_uncertainty.size() == rc.R.size();
+  if (!has_u)
+    notes.push_back(fmt::format("R route: the R curve has no uncertainty; {:.0f}% of the median R "
+                                "({:.4g} J/m^2) assumed",
+                                100 * request.r_relative_floor, median_R));
+  int outside = 0;
+  for (size_t i = 0; i < rc.R.size(); ++i) {
+    const double ai = rc.crack_length[i];
+    if (!(ai >= a.front() && ai <= a.back()) || !std::isfinite(rc.R[i])) {
+      ++outside;
+      continue;
+    }
+    const size_t j = std::min<size_t>(
+        std::upper_bound(a.begin(), a.end(), ai) - a.begin(), a.size() - 1);
+    const double t = (ai - a[j - 1]) / (a[j] - a[j - 1]);
+    out.opening.push_back(d[j - 1] + t * (d[j] - d[j - 1]));
+    out.R.push_back(rc.R[i]);
+    const double u = has_u ? rc.R_uncertainty[i] / rc.uncertainty_coverage : 0;
+    out.uncertainty.push_back(u > 0 ? u : request.r_relative_floor * std::abs(median_R));
+  }
+  if (outside > 0)
+    notes.push_back(fmt::format(
+        "R route: {} of {} R points outside the frames' crack lengths {:.4g}-{:.4g} mm skipped",
+        outside, rc.R.size(), a.front() * 1e3, a.back() * 1e3));
+  // Equal openings (points between two frames of equal delta*) would repeat.
+  return out;
+}
+
+}  // namespace
+
+LawFreeRun RunLawFree(const LawFreeRequest& request) {
+  std::string why;
+  if (!request.IsValid(&why)) throw Error(ErrorKind::kUsage, "invalid law-free request: " + why);
+  Stopwatch watch;
+  LawFreeRun run;
+  run.dic_file = request.dic_file.string();
+  run.rcurve_file = request.rcurve_file.string();
+  const DicJSeries series = ReadDicJSeries(request.dic_file);
+  run.frames = static_cast<int>(series.image.size());
+  std::vector<std::string> failures;
+  if (request.far_field_route) {
+    run.j_samples = JSamples(series, request, run.notes);
+    try {
+      run.far_field = laws::LawFromFarFieldJ(run.j_samples, request.options);
+    } catch (const Error& e) {
+      if (e.kind() == ErrorKind::kUsage) throw;
+      failures.push_back("J_ff route: " + e.message());
+    }
+  }
+  if (!request.rcurve_file.empty()) {
+    const RCurve rc = ReadRCurveFile(request.rcurve_file.string());
+    run.r_samples = RSamples(series, rc, request, run.notes);
+    try {
+      run.r_curve = laws::LawFromRCurve(run.r_samples, request.options);
+    } catch (const Error& e) {
+      if (e.kind() == ErrorKind::kUsage) throw;
+      failures.push_back("R route: " + e.message());
+    }
+  }
+  if (!run.far_field && !run.r_curve) {
+    std::string all;
+    for (const std::string& f : failures) all += (all.empty() ? "" : "; ") + f;
+    throw Error(ErrorKind::kInput, "no law-free route could run: " + all,
+                {.file = run.dic_file,
+                 .expected = "at least min_points frames with J_ff and delta* status ok"});
+  }
+  for (const std::string& f : failures) run.notes.push_back(f);
+  run.wall_s = watch.Seconds();
+  return run;
+}
+
+std::string LawFreeRun::BriefReport() const {
+  std::string s = fmt::format("law-free bridging law from {} ({} frames){}\n", dic_file, frames,
+                              rcurve_file.empty() ? "" : " and " + rcurve_file);
+  auto route = [&](const char* name, const std::optional<laws::LawFreeResult>& r) {
+    if (!r) return;
+    s += fmt::format("{}:\n", name);
+    s += r->Summary();
+    if (!r->sigma.empty()) {
+      const auto peak = std::max_element(r->sigma.begin(), r->sigma.end()) - r->sigma.begin();
+      s += fmt::format("  peak sigma {:.4g} MPa at delta {:.4g} mm; grid to {:.4g} mm\n",
+                       r->sigma[peak] * 1e-6, r->delta[peak] * 1e3, r->delta.back() * 1e3);
+    }
+  };
+  route("J_ff(delta*) route (eq. 1)", far_field);
+  route("R(delta_root) route (eq. 3)", r_curve);
+  for (const std::string& n : notes) s += "  note: " + n + "\n";
+  s += fmt::format("({:.2f} s)\n", wall_s);
+  return s;
+}
+
+}  // namespace bridgefit::pipeline

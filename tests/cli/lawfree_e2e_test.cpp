@@ -1,0 +1,150 @@
+// The law-free route through the product (issue 21), end to end:
+//   bridgefit synth --bridged-field  (speckle frames of a bridged crack whose
+//                                     faces carry a linear law, K_tip = K_tip,c)
+//   bridgefit dic --scene --j-integral (J_ff and delta* per frame)
+//   bridgefit lawfree                  (sigma(delta) from J_ff(delta*))
+// against the generator's truth (images/truth.csv: J_ff, delta_root per
+// frame) and the scene's law.
+//
+// What holds and is asserted (measured on this set-up, 16 frames 400 x 320
+// px at 0.1 mm/px, subset 31 px, step 5 px; docs/LAW_FREE.md):
+//  - every frame but the reference has J_ff; delta* too, except frames whose
+//    zone is shorter than 2 grid points + the tip's error (a status, skipped
+//    by lawfree with a note);
+//  - delta* per frame within 3 % (+ 1 um) of the generator's root opening
+//    where the zone is at least 4 mm (measured <= 2 %), within 10 % for
+//    shorter zones (measured -5 to -8 %: the stretch is cut to 0.9 of the
+//    zone), exactly 0 at the onset frame;
+//  - J_ff per frame within 8 % of the generator's (measured 0.3-4 %: the
+//    domain integral on DIC gradients scatters a few percent);
+//  - J_tip,c within 5 % (measured 0.1 %);
+//  - the mean sigma over the covered openings, W(delta_max) / delta_max,
+//    within 10 % of the law's (measured -3.5 %; -7 % on 480 x 400 px frames).
+// What does not hold and is only printed: sigma(delta) pointwise within
+// 10 %. The J scatter of a few percent (per frame up to 4 %) over a rise
+// J_ff - J_tip,c of about 55 % of J_tip,c, differentiated, gives a worst
+// pointwise error of 12.8 % here and 42 % on the 480 x 400 px variant
+// (largest at the ends of the range; the band missed the truth mid-range
+// there). 10 % pointwise would need several times less J scatter or many
+// more frames. Also not asserted: the J route then claims a plateau
+// ("steady state", J_B about 100 J/m^2 and delta_c about 0.09 mm as values)
+// although the true law (J_B 1000 J/m^2, delta_c 2 mm) is far from it: the
+// J scatter hides the slow rise at the end (docs/LAW_FREE.md).
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include "../cli/cli_helpers.hpp"
+#include "bridgefit/io/csv.hpp"
+#include "bridgefit/pipeline/dic_file.hpp"
+#include "bridgefit/pipeline/law_free.hpp"
+
+namespace bridgefit::pipeline {
+namespace {
+namespace fs = std::filesystem;
+using bridgefit::testing::RunCli;
+
+constexpr double kSigmaC = 1e6, kDeltaC = 2e-3, kJtip = 200;  // the scene's law
+double Sigma(double d) { return d < kDeltaC ? kSigmaC * (1 - d / kDeltaC) : 0.0; }
+double Work(double d) { return kSigmaC * (d - d * d / (2 * kDeltaC)); }
+
+TEST(LawFreeEndToEnd, SynthDicLawFreeRecoversTheLinearLaw) {
+  const fs::path dir = fs::temp_directory_path() / ("bf_lawfree_e2e_" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  std::ofstream(dir / "scene.toml") << R"([specimen]
+type = "ct"
+width = "100 mm"
+height = "120 mm"
+thickness = "12.7 mm"
+notch = "30 mm"
+plane = "stress"
+[material]
+E = "3 GPa"
+nu = 0.3
+[fracture]
+J_tip_c = "200 J/m^2"
+[bridging]
+law = "linear"
+sigma_c = "1 MPa"
+J_B = "1000 J/m^2"
+[run]
+max_crack_length = "45 mm"
+)";
+  const std::string d = "'" + dir.string() + "'";
+  auto run = [](const std::string& args) {
+    const auto r = RunCli(args);
+    EXPECT_EQ(r.exit_code, 0) << args << "\n" << r.err;
+    return r;
+  };
+  run("synth " + d + "/scene.toml --out " + d + " --frames 16 --bridged-field --image-width 400 "
+      "--image-height 320 --scale 0.1mm --image-x0 15mm --quiet");
+  run("dic " + d + "/images --crack-line 0,160,399,160 --scale 0.1mm/px --offset 15mm --scene " + d +
+      "/scene.toml --j-integral --out " + d + "/dic.h5 --csv " + d + "/dic.csv --quiet");
+  const auto lawfree = run("lawfree " + d + "/dic.h5 --out " + d + "/lawfree.h5");
+  std::printf("%s", lawfree.out.c_str());
+
+  // Per frame against the generator.
+  const io::CsvTable truth = io::ReadCsvTable(dir / "images" / "truth.csv");
+  const std::vector<double> true_j = truth.columns[truth.Find("J_ff")];
+  const std::vector<double> true_delta = truth.ColumnSi("delta_root", Dimension::Length());
+  const DicJSeries dic = ReadDicJSeries(dir / "dic.h5");
+  ASSERT_EQ(dic.image.size(), true_j.size());
+  for (size_t k = 1; k < dic.image.size(); ++k) {
+    ASSERT_EQ(dic.J_status[k], "ok") << "frame " << k;
+    if (dic.delta_star_status[k] != "ok") {
+      // delta* needs a stretch of 2 grid points (10 px = 1 mm) behind the
+      // tip and ahead of the root: a frame with a shorter zone is a status
+      // (and lawfree skips it with a note), never a number.
+      std::printf("frame %2zu: delta* %s (true zone %.2f mm)\n", k, dic.delta_star_status[k].c_str(),
+                  (truth.ColumnSi("crack_length", Dimension::Length())[k] - 30e-3) * 1e3);
+      EXPECT_EQ(dic.delta_star_status[k].rfind("failed: ", 0), 0u);
+      EXPECT_LT(truth.ColumnSi("crack_length", Dimension::Length())[k] - 30e-3, 2.5e-3);
+      EXPECT_NE(lawfree.out.find(fmt::format("frame {} (", k)), std::string::npos);
+      continue;
+    }
+    const double j_err = dic.J_ff[k] / true_j[k] - 1;
+    std::printf("frame %2zu: J_ff %7.2f (true %7.2f, %+5.1f %%, spread %4.1f %%), delta* %.4f mm "
+                "(true %.4f mm)\n",
+                k, dic.J_ff[k], true_j[k], 100 * j_err, dic.J_ff_spread_percent[k],
+                dic.delta_star[k] * 1e3, true_delta[k] * 1e3);
+    EXPECT_LT(std::abs(j_err), 0.08) << "frame " << k;
+    // Zones shorter than 8 grid points (4 mm) cut delta*'s stretch (0.9 of
+    // the zone): fewer points and the near-tip curvature bias it low
+    // (measured -5 to -8 % at 2.5-3.5 mm); longer zones use the full stretch.
+    const double zone = truth.ColumnSi("crack_length", Dimension::Length())[k] - 30e-3;
+    const double tolerance = zone < 4e-3 ? 0.10 : 0.03;
+    EXPECT_NEAR(dic.delta_star[k], true_delta[k], tolerance * true_delta[k] + 1e-6)
+        << "frame " << k << ", zone " << zone * 1e3 << " mm";
+  }
+
+  // The law.
+  const LawFreeRun out = ReadLawFreeH5(dir / "lawfree.h5");
+  ASSERT_TRUE(out.far_field.has_value());
+  const laws::LawFreeResult& r = *out.far_field;
+  EXPECT_NEAR(r.J_tip_c, kJtip, 0.05 * kJtip);
+  double worst = 0;
+  for (size_t j = 0; j < r.delta.size(); ++j) {
+    const double err = r.sigma[j] / Sigma(r.delta[j]) - 1;
+    worst = std::max(worst, std::abs(err));
+  }
+  const double delta_max = r.delta.back();
+  // Mean sigma over [0, delta_max]: the fitted rise of J_ff (the grid's
+  // trapezoid area of sigma) against the law's W(delta_max).
+  double area = 0;
+  for (size_t j = 1; j < r.delta.size(); ++j)
+    area += 0.5 * (r.sigma[j] + r.sigma[j - 1]) * (r.delta[j] - r.delta[j - 1]);
+  const double mean_err = area / Work(delta_max) - 1;
+  std::printf("law-free J route: J_tip,c %.1f J/m^2 (true %.0f), openings to %.4f mm, mean sigma "
+              "error %+.1f %%, worst pointwise sigma error %.1f %% (not asserted)\n",
+              r.J_tip_c, kJtip, delta_max * 1e3, 100 * mean_err, 100 * worst);
+  EXPECT_LT(std::abs(mean_err), 0.10);
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace bridgefit::pipeline
