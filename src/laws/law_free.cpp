@@ -164,6 +164,8 @@ bool LawFreeOptions::IsValid(std::string* why) const {
   if (!(plateau_span > 0.0 && plateau_span < 1.0)) return fail("plateau_span must be in (0, 1)");
   if (plateau_min_points < 3) return fail("plateau_min_points must be >= 3");
   if (!(plateau_z > 0.0)) return fail("plateau_z must be > 0");
+  if (!(plateau_rise_fraction > 0.0 && plateau_rise_fraction < 1.0))
+    return fail("plateau_rise_fraction must be in (0, 1)");
   if (onset_window < 2) return fail("onset_window must be >= 2");
   if (!(onset_kink_ratio > 1.0)) return fail("onset_kink_ratio must be > 1");
   return true;

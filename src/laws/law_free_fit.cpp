@@ -56,8 +56,9 @@ Line FitLine(const Samples& s, int i0, int i1) {
 // z standard errors of zero, the standard error scaled up by the line's own
 // scatter when the samples scatter more than their stated u.
 struct TailTest {
-  bool flat = false;
+  bool flat = false;  // the slope is not significantly different from zero
   double mean = 0.0, mean_se = 0.0;
+  double slope = 0.0, slope_se = 0.0;
 };
 TailTest TestTail(const Samples& s, int p, double z) {
   const int n = static_cast<int>(s.x.size());
@@ -79,7 +80,9 @@ TailTest TestTail(const Samples& s, int p, double z) {
   const int count = n - p;
   const double scatter = std::sqrt(std::max(1.0, chi2_line / (count - 2)));
   TailTest t;
-  t.flat = std::abs(slope) <= z * scatter / std::sqrt(sxx);
+  t.slope = slope;
+  t.slope_se = scatter / std::sqrt(sxx);
+  t.flat = std::abs(slope) <= z * t.slope_se;
   t.mean = my;
   t.mean_se = std::sqrt(std::max(1.0, chi2_mean / (count - 1)) / sw);
   return t;
@@ -241,6 +244,14 @@ Plateau FindPlateau(const Samples& s, int first, const LawFreeOptions& options) 
     if (s.x[n - 1] - s.x[p] < options.plateau_span * range) continue;
     const TailTest t = TestTail(s, p, options.plateau_z);
     if (!t.flat) continue;
+    // Not significantly rising is not enough (noisy data never are): the
+    // rise the tail still allows over its span, at plateau_z standard
+    // errors, must be a small part of the curve's rise to the plateau, or
+    // the noise, not the law, made it flat (an equivalence test).
+    const double allowed = (std::abs(t.slope) + options.plateau_z * t.slope_se) *
+                           (s.x[n - 1] - s.x[p]);
+    const double rise = t.mean - s.y[first];
+    if (!(rise > 0.0 && allowed <= options.plateau_rise_fraction * rise)) continue;
     plateau.found = true;
     plateau.start = p;
     plateau.mean = t.mean;

@@ -51,8 +51,11 @@
 // when they cover at least `plateau_span` of the opening range and
 // `plateau_min_points` samples and a weighted straight line through them has
 // a slope within plateau_z standard errors of zero (the standard error from
-// the stated u_i, scaled up by the line's own scatter when that is larger);
-// the smallest such p starts the plateau. Then J_B = plateau mean -
+// the stated u_i, scaled up by the line's own scatter when that is larger)
+// and a rise still allowed over the tail ((|slope| + plateau_z SE) x span)
+// of at most plateau_rise_fraction of the curve's rise to the plateau (an
+// equivalence test: scattered data that merely fail to show a rise are not
+// a plateau); the smallest such p starts the plateau. Then J_B = plateau mean -
 // J_tip,c and delta_c = the opening (from the onset) where the plateau
 // starts: where the curve levels off to within the noise, which for laws
 // that fade smoothly to zero lies below the true delta_c (measured 0.78-1.0
@@ -87,6 +90,10 @@ struct LawFreeOptions {
   double plateau_span = 0.15;  // flat tail must cover this fraction of the opening range
   int plateau_min_points = 6;
   double plateau_z = 2.0;  // flatness test threshold (standard errors)
+  // ... and the rise the tail still allows over its span (|slope| +
+  // plateau_z SE) must be at most this fraction of the curve's rise to the
+  // plateau: flatness established, not just "not rejected" by noisy data.
+  double plateau_rise_fraction = 0.1;
   // Onset detection (J_ff route, when the caller gives no onset; see above).
   int onset_window = 4;
   double onset_kink_ratio = 5.0;
