@@ -155,7 +155,9 @@ TEST(FuzzRegressions, FieldExportsGiveAFiniteNodeSpacing) {
       const dic::FieldFile f = dic::ReadFieldText(Slurp(file), file.string());
       const double spacing = dic::PointSpacing(f.field);
       EXPECT_TRUE(std::isfinite(spacing) && spacing >= 0) << file << ": " << spacing;
-      if (file.filename() == "dice_subsets_on_one_line.txt") EXPECT_DOUBLE_EQ(spacing, 10.0);
+      if (file.filename() == "dice_subsets_on_one_line.txt") {
+        EXPECT_DOUBLE_EQ(spacing, 10.0);
+      }
     } catch (const Error&) {  // a clean refusal is fine too
     }
   }
