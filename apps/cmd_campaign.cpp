@@ -80,7 +80,9 @@ class CampaignCommand final : public Command {
   void Register(CLI::App& sub) override {
     sub.add_option("manifest", manifest_, "Campaign manifest (TOML, docs/FORMATS.md)")
         ->required();
-    sub.add_option("--out", out_, "Output folder: summary.csv, statistics.csv, specimens/NAME.h5")
+    sub.add_option("--out", out_,
+                   "Output folder: summary.csv, statistics.csv, specimens/NAME.h5, campaign.h5, "
+                   "report/index.html")
         ->required();
     sub.add_option("--jobs", jobs_, "Specimens fitted at once (0: the machine's cores)")
         ->default_val(0)
@@ -102,7 +104,8 @@ class CampaignCommand final : public Command {
       PrintJson(ResultJson(result, out_));
     } else {
       std::cout << result.BriefReport() << "  written: " << out_ << "/summary.csv, "
-                << out_ << "/statistics.csv, " << out_ << "/specimens/\n";
+                << out_ << "/statistics.csv, " << out_ << "/specimens/, " << out_
+                << "/campaign.h5, " << out_ << "/report/index.html\n";
     }
     for (const campaign::SpecimenOutcome& s : result.specimens)
       if (!s.ok())

@@ -12,6 +12,7 @@
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/io/hdf5.hpp"
 #include "bridgefit/pipeline/fit_file.hpp"
+#include "bridgefit/report/campaign_report.hpp"
 
 namespace bridgefit::campaign {
 namespace {
@@ -245,6 +246,57 @@ void WriteCampaignH5(const CampaignResult& result, const std::filesystem::path& 
   file.Commit();
 }
 
+// The report's view of an estimate (SI, as the fit file stores it).
+report::Estimate EstimateView(const std::string& name, const inverse::ParameterEstimate& e) {
+  report::Estimate v;
+  v.name = name;
+  v.units = SiUnit(name);
+  v.value = e.value;
+  v.ci_low = e.ci95_low;
+  v.ci_high = e.ci95_high;
+  v.lower_bound = e.lower_bound;
+  v.present = true;
+  v.identified = e.identified;
+  v.fixed = e.fixed;
+  v.note = e.note;
+  return v;
+}
+
+// The campaign report's view of the result (report/campaign_report.hpp).
+report::CampaignView CampaignReportView(const CampaignResult& result) {
+  report::CampaignView view;
+  view.name = result.manifest.name;
+  for (const SpecimenOutcome& s : result.specimens) {
+    report::CampaignSpecimenView v;
+    v.name = s.name;
+    v.status = Status(s);
+    v.error = s.error;
+    if (s.ran()) {
+      const pipeline::FitRun& run = *s.run;
+      v.crack_length = run.data.crack_length;
+      v.R = run.data.R;
+      v.fitted_crack_length = run.summary.fitted_crack_length;
+      v.fitted_R = run.summary.fitted_R;
+      if (s.ok())
+        for (const char* name : {"sigma_c", "J_B", "delta_c", "J_tip_c"})
+          v.estimates.push_back(EstimateView(name, Estimate(run.summary, name)));
+    }
+    for (const ParameterStatistics& p : result.statistics)
+      for (const std::string& n : p.outliers)
+        if (n == s.name) v.outlier_in.push_back(p.parameter);
+    view.specimens.push_back(std::move(v));
+  }
+  for (const ParameterStatistics& p : result.statistics) {
+    std::string outliers;
+    for (const std::string& n : p.outliers) outliers += (outliers.empty() ? "" : " ") + n;
+    view.statistics.push_back({p.parameter, p.unit, p.values, p.bounds, p.mean * p.scale,
+                               p.sd * p.scale, p.cv * 100, p.median * p.scale,
+                               p.campaign_lower_bound * p.scale, p.bound_from, outliers, p.note});
+  }
+  if (result.joint) view.joint_text = result.joint->BriefReport();
+  return view;
+}
+
 }  // namespace
 
 void WriteCampaignOutputs(const CampaignResult& result, const std::filesystem::path& dir) {
@@ -259,6 +311,7 @@ void WriteCampaignOutputs(const CampaignResult& result, const std::filesystem::p
   if (result.joint) WriteTextFileAtomic(dir / "joint.csv", JointCsv(*result.joint));
   WriteTextFileAtomic(dir / "summary.csv", SummaryCsv(result));
   WriteCampaignH5(result, dir);
+  report::WriteCampaignReport(CampaignReportView(result), dir / "report");
 }
 
 }  // namespace bridgefit::campaign

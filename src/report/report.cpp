@@ -48,38 +48,6 @@ std::string ShellQuote(const std::string& text) {
   return out + "'";
 }
 
-// A sibling temporary folder, removed unless released.
-struct StagingFolder {
-  fs::path target, parent, path;
-  std::string leaf;
-  long long stamp = 0;
-  explicit StagingFolder(const fs::path& out_dir) {
-    target = fs::absolute(out_dir).lexically_normal();
-    parent = target.has_filename() ? target.parent_path() : target.parent_path().parent_path();
-    leaf = target.has_filename() ? target.filename().string() : target.parent_path().filename().string();
-    fs::create_directories(parent);
-    stamp = std::chrono::steady_clock::now().time_since_epoch().count();
-    path = parent / fmt::format(".{}.tmp-{}-{}", leaf, ::getpid(), stamp);
-    fs::create_directories(path);
-  }
-  ~StagingFolder() {
-    std::error_code ec;
-    if (!path.empty()) fs::remove_all(path, ec);
-  }
-  // Replaces the target folder by the finished one.
-  void Publish() {
-    std::error_code ec;
-    fs::path old;
-    if (fs::exists(target)) {
-      old = parent / fmt::format(".{}.old-{}-{}", leaf, ::getpid(), stamp);
-      fs::rename(target, old);
-    }
-    fs::rename(path, target);
-    path.clear();
-    if (!old.empty()) fs::remove_all(old, ec);
-  }
-};
-
 detail::FigureSet BuildFigures(const detail::ReportInput& in, const fs::path& dir, const ReportOptions& options) {
   detail::FigureSet set;
   set.dir = dir;
@@ -94,8 +62,12 @@ detail::FigureSet BuildFigures(const detail::ReportInput& in, const fs::path& di
   return set;
 }
 
+}  // namespace
+
+namespace detail {
+
 // Runs gnuplot on the script in `dir`; every figure must exist afterwards.
-void RunGnuplot(const detail::FigureSet& set, const std::string& gnuplot) {
+void RunGnuplot(const FigureSet& set, const std::string& gnuplot) {
   detail::WriteFile(set.dir / "report.gp", set.gp);
   const std::string command =
       "cd " + ShellQuote(set.dir.string()) + " && " + ShellQuote(gnuplot) + " report.gp > gnuplot.log 2>&1";
@@ -111,7 +83,7 @@ void RunGnuplot(const detail::FigureSet& set, const std::string& gnuplot) {
   }
 }
 
-}  // namespace
+}  // namespace detail
 
 ReportSummary WriteFitReport(const ReportInput& input, const fs::path& out_dir, const ReportOptions& options) {
   std::string why;
@@ -119,9 +91,9 @@ ReportSummary WriteFitReport(const ReportInput& input, const fs::path& out_dir, 
   if (out_dir.empty()) throw Error(ErrorKind::kUsage, "the output folder is empty", {.field = "--out"});
   Stopwatch watch;
   const fs::path& fit_h5 = input.fit_path;
-  StagingFolder staging(out_dir);
+  detail::StagingFolder staging(out_dir);
   const detail::FigureSet set = BuildFigures(input, staging.path, options);
-  RunGnuplot(set, options.gnuplot);
+  detail::RunGnuplot(set, options.gnuplot);
   const std::string title = options.title.empty() ? fit_h5.filename().string() : options.title;
   detail::WriteFile(staging.path / "index.html", detail::PageHtml(input, set, title, fit_h5));
   staging.Publish();

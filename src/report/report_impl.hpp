@@ -8,11 +8,16 @@
 //   FlagFrames -> Add*Figure (figures_fit.cpp, figures_record.cpp,
 //   figures_dic.cpp) -> RunGnuplot -> WritePage (page.cpp) -> Publish.
 
+#include <unistd.h>
+
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include <fmt/format.h>
 
 #include "bridgefit/core/records.hpp"
 #include "bridgefit/laws/law.hpp"
@@ -78,6 +83,42 @@ std::string Num(double v, double factor = 1.0);
 std::string Escape(const std::string& text);
 std::string GnuplotText(const std::string& text);  // single-quoted gnuplot string content
 void WriteFile(const fs::path& path, const std::string& text);
+// A sibling temporary folder, removed unless released.
+struct StagingFolder {
+  fs::path target, parent, path;
+  std::string leaf;
+  long long stamp = 0;
+  explicit StagingFolder(const fs::path& out_dir) {
+    target = fs::absolute(out_dir).lexically_normal();
+    parent = target.has_filename() ? target.parent_path() : target.parent_path().parent_path();
+    leaf = target.has_filename() ? target.filename().string() : target.parent_path().filename().string();
+    fs::create_directories(parent);
+    stamp = std::chrono::steady_clock::now().time_since_epoch().count();
+    path = parent / fmt::format(".{}.tmp-{}-{}", leaf, ::getpid(), stamp);
+    fs::create_directories(path);
+  }
+  ~StagingFolder() {
+    std::error_code ec;
+    if (!path.empty()) fs::remove_all(path, ec);
+  }
+  // Replaces the target folder by the finished one.
+  void Publish() {
+    std::error_code ec;
+    fs::path old;
+    if (fs::exists(target)) {
+      old = parent / fmt::format(".{}.old-{}-{}", leaf, ::getpid(), stamp);
+      fs::rename(target, old);
+    }
+    fs::rename(path, target);
+    path.clear();
+    if (!old.empty()) fs::remove_all(old, ec);
+  }
+};
+
+// Runs gnuplot on set.gp in set.dir; every figure must exist afterwards
+// (throws Error naming the script and gnuplot's log otherwise).
+void RunGnuplot(const FigureSet& set, const std::string& gnuplot);
+
 // Each figure starts from the same state (multiplot leaves size/origin/margins set).
 extern const char* const kTerminal;
 // Two stacked panels (data above, residuals below) with explicit screen

@@ -226,6 +226,19 @@ TEST(Campaign, IdenticalSpecimensGiveTheSingleFitAndAnUnreadableOneFailsAlone) {
   EXPECT_EQ(h5.ReadNumberAttribute("/campaign/joint", "consistent"), 1.0);
   EXPECT_DOUBLE_EQ(h5.ReadNumberAttribute("/campaign/joint/parameters/J_tip_c", "value"),
                    r.joint->summary.J_tip_c.value);
+
+  // The campaign report: every R curve with its fit in one figure, the
+  // specimen table (the failed one with its reason), statistics, joint fit.
+  const fs::path report = dir.path / "out" / "report";
+  ASSERT_TRUE(fs::exists(report / "index.html"));
+  EXPECT_GT(fs::file_size(report / "rcurves.png"), 1000u);
+  std::ifstream page_in(report / "index.html");
+  const std::string page((std::istreambuf_iterator<char>(page_in)), std::istreambuf_iterator<char>());
+  for (const char* needle : {"rcurves.png", ">A<", ">B<", ">broken<", "id=\"statistics\"",
+                             "id=\"joint\"", "J<sub>B</sub>"})
+    EXPECT_NE(page.find(needle), std::string::npos) << needle;
+  EXPECT_TRUE(fs::exists(report / "campaign_data_0.dat"));
+  EXPECT_TRUE(fs::exists(report / "campaign_fit_1.dat"));
 }
 
 }  // namespace
