@@ -71,10 +71,10 @@ std::string Cell(const Estimate& e) {
 std::string PageHtml(const CampaignView& view, const detail::FigureSet& set) {
   std::ostringstream out;
   out << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>"
-      << Escape(view.name) << "</title><style>body{font-family:sans-serif;max-width:1100px;margin:auto}"
+      << Escape(view.name) << "</title>" << detail::kBrowserCheck << "<style>body{font-family:sans-serif;max-width:1100px;margin:auto}"
       << "table{border-collapse:collapse}td,th{border:1px solid #bbb;padding:3px 6px}"
       << ".flag{background:#fde2c8}</style></head><body>\n";
-  out << "<h1>Campaign: " << Escape(view.name) << "</h1>\n";
+  out << "<h1>Campaign: " << Escape(view.name) << "</h1>\n" << detail::kBrowserCheckElement;
   out << "<p>" << view.specimens.size() << " specimens. Intervals are the total 95% intervals "
       << "(statistical and model error); a bound is a PHYSICS 7 lower bound (the test did not "
       << "reach steady state). Flagged cells are outliers by the campaign's robust rule "

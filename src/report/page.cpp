@@ -9,9 +9,11 @@
 namespace bridgefit::report::detail {
 namespace {
 
+}  // namespace
+
 // Browser self-check: #bf-check ends as "ok" only when every image decoded
 // and no script error happened (read back by the headless-Chromium tests).
-const char* const kHead = R"(<script>
+const char* const kBrowserCheck = R"(<script>
 window.addEventListener('error', function (e) {
   var m = document.getElementById('bf-check');
   if (m) { m.setAttribute('data-status', 'script-error'); m.textContent = 'script error: ' + e.message; }
@@ -28,7 +30,13 @@ window.addEventListener('load', function () {
                              : 'all ' + document.images.length + ' figures loaded';
 });
 </script>
-<style>
+)";
+const char* const kBrowserCheckElement =
+    "<p id=\"bf-check\" data-status=\"pending\">figures not checked (JavaScript off?)</p>\n";
+
+namespace {
+
+const char* const kStyle = R"(<style>
 body { font-family: sans-serif; max-width: 1000px; margin: 1em auto; color: #222; }
 table { border-collapse: collapse; margin: 0.5em 0 1em 0; }
 th, td { border: 1px solid #bbb; padding: 3px 8px; text-align: left; }
@@ -122,7 +130,8 @@ std::string Figures(const FigureSet& set, const std::string& section) {
 std::string PageHtml(const ReportInput& in, const FigureSet& set, const std::string& title, const fs::path& fit_h5) {
   std::string h = "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n";
   h += "<title>bridgefit report: " + Escape(title) + "</title>\n";
-  h += kHead;
+  h += kBrowserCheck;
+  h += kStyle;
   h += "<h1>Bridging-law fit: " + Escape(title) + "</h1>\n";
   h += "<p class=\"verdict\"><b>Identifiability verdict:</b> " + Escape(in.fit.verdict) + "</p>\n";
   h += ResultsTable(in);
@@ -145,7 +154,7 @@ std::string PageHtml(const ReportInput& in, const FigureSet& set, const std::str
     h += "</ul>\n";
   }
   h += "<p>Figures drawn by gnuplot from <code>report.gp</code> and the <code>*.dat</code> files in this folder.</p>\n";
-  h += "<p id=\"bf-check\" data-status=\"pending\">figures not checked (JavaScript off?)</p>\n";
+  h += kBrowserCheckElement;
   h += "</body>\n</html>\n";
   return h;
 }

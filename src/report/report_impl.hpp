@@ -119,6 +119,11 @@ struct StagingFolder {
 // (throws Error naming the script and gnuplot's log otherwise).
 void RunGnuplot(const FigureSet& set, const std::string& gnuplot);
 
+// The page's browser self-check (page.cpp): the script for <head> and the
+// #bf-check element it sets to "ok" when every image decoded.
+extern const char* const kBrowserCheck;
+extern const char* const kBrowserCheckElement;
+
 // Each figure starts from the same state (multiplot leaves size/origin/margins set).
 extern const char* const kTerminal;
 // Two stacked panels (data above, residuals below) with explicit screen

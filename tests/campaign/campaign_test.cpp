@@ -13,6 +13,7 @@
 #include <fstream>
 
 #include "../cli/cli_helpers.hpp"
+#include "../report/figure_check.hpp"
 #include "bridgefit/campaign/campaign.hpp"
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/io/campaign_manifest.hpp"
@@ -239,6 +240,14 @@ TEST(Campaign, IdenticalSpecimensGiveTheSingleFitAndAnUnreadableOneFailsAlone) {
     EXPECT_NE(page.find(needle), std::string::npos) << needle;
   EXPECT_TRUE(fs::exists(report / "campaign_data_0.dat"));
   EXPECT_TRUE(fs::exists(report / "campaign_fit_1.dat"));
+  // The page in headless Chromium: every figure decodes, no script error.
+  const std::string chromium = report_check::FindChromium();
+  if (chromium.empty()) {
+    std::cout << "chromium not installed: browser check of the campaign report skipped\n";
+  } else {
+    const std::string dom = report_check::DumpDom(chromium, report / "index.html", dir.path);
+    EXPECT_EQ(report_check::CheckStatus(dom), "ok") << dom.substr(0, 400);
+  }
 }
 
 }  // namespace
