@@ -121,6 +121,10 @@ std::string OutcomeLine(const SpecimenOutcome& s) {
 }  // namespace
 
 bool CampaignOptions::IsValid(std::string* why) const {
+  if (fit_threads < 0) {
+    if (why) *why = fmt::format("fit_threads must be >= 0 (0: cores / jobs), got {}", fit_threads);
+    return false;
+  }
   if (jobs < 0) {
     if (why) *why = fmt::format("jobs must be >= 0 (0: the machine's cores), got {}", jobs);
     return false;
@@ -242,6 +246,14 @@ CampaignResult RunCampaign(const io::CampaignManifest& manifest, const CampaignO
   const int hw = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   result.jobs = std::clamp(options.jobs > 0 ? options.jobs : hw, 1,
                            static_cast<int>(result.specimens.size()));
+  // The cores are shared: each fit's profiles get hw / jobs threads (the
+  // default 2 per fit over-subscribed 2 cores with 2 specimens at once:
+  // speed-up 0.98, bench/campaign_bench.cpp); a thread count the request
+  // sets wins. Threads do not change a fit's result (inverse/fit.hpp).
+  for (SpecimenOutcome& s : result.specimens)
+    if (s.request.fit.threads == 0)
+      s.request.fit.threads =
+          options.fit_threads > 0 ? options.fit_threads : std::max(1, hw / result.jobs);
   const auto t0 = std::chrono::steady_clock::now();
   std::atomic<std::size_t> next{0};
   std::atomic<int> done{0};

@@ -29,6 +29,9 @@ struct CampaignOptions {
   // After the separate fits: one law for every specimen that converged
   // (pipeline::RunJointFit) with the likelihood-ratio consistency test.
   bool joint = false;
+  // Profile threads of each fit (inverse::FitOptions::threads); 0: the
+  // machine's cores / jobs, at least 1 (a request that sets its own wins).
+  int fit_threads = 0;
   bool IsValid(std::string* why) const;
 };
 
