@@ -134,27 +134,22 @@ ResolutionChoice ChooseResolution(const ModelAtResolution& model_at, const laws:
     const double h = o.coarsest * std::pow(r, 2 - j);
     return rungs[j] = EvaluateRung(model_at(h), shape, used, answer, at, scale2, &choice.runs);
   };
-  // A size whose coarser solve fails (a DCB arm too coarse for Newton
-  // there) is judged from the next finer solve instead, as the model error
-  // does (model_error.hpp): the order assumed, beta = (p_h - p_h/r) r^p /
-  // (r^p - 1), and the criterion on beta times F_s(assumed) / F_s(observed)
-  // (the wider safety factor of the total interval it would get).
-  const double assumed_rp = std::pow(r, o.error.assumed_order);
-  const double widen = o.error.unverified_safety_factor / o.error.safety_factor;
-  auto FinerFallback = [&](ResolutionLevel& level, const Rung& fine, const Rung& finer,
-                           const ForwardModel* model_h, const ForwardModel* model_finer,
-                           const std::string& coarse_failure) {
-    level.status = ModelErrorStatus::kOrderNotObserved;
-    if (!finer.ok) {
-      level.note = coarse_failure + fmt::format("; the finer {:.3g} mm solve: {}",
-                                                level.resolution / r * 1e3, finer.note);
-      return;
-    }
-    level.meets = true;
-    std::string worst;
+  // A level judged against one other size (the coarser r h, or the finer
+  // h / r): beta = (p_other - p_h) / denominator for each estimate, each
+  // |beta| x widen against bias_fraction x its sd, and the prediction's bias
+  // in the data (kOutputBiasNoiseLimit). Sets level.bias and
+  // level.output_bias_noise_rms, clears level.meets where a test fails;
+  // returns the largest ratio's text and the data-bias text.
+  struct Judged {
+    std::string worst, predicted;
+  };
+  auto Judge = [&](ResolutionLevel& level, const Rung& fine, const Rung& other, double other_h,
+                   double denominator, double widen) {
+    Judged out;
     double worst_ratio = 0.0;
+    std::string worst;
     for (std::size_t k = 0; k < free.size(); ++k) {
-      const double bias = (fine.estimate[k] - finer.estimate[k]) * assumed_rp / (assumed_rp - 1.0);
+      const double bias = (other.estimate[k] - fine.estimate[k]) / denominator;
       level.bias[free[k]] = bias;
       if (!checked[k]) continue;
       const double ratio = widen * std::abs(bias) / fine.sd[k];
@@ -164,22 +159,46 @@ ResolutionChoice ChooseResolution(const ModelAtResolution& model_at, const laws:
         worst = ParameterName(free[k]);
       }
     }
+    out.worst = fmt::format("largest bias {:.2g} sd ({})", worst_ratio, worst);
+    // The model's own error where the data can see it: a prediction whose
+    // bias exceeds the noise can move a verdict (bridging, steady state)
+    // that the estimates' Richardson terms do not show.
     std::array<double, kParameterCount> p = at;
     for (std::size_t k = 0; k < free.size(); ++k) p[free[k]] = fine.estimate[k];
-    // (y_h - y_h/r) r^p / (r^p - 1): OutputBiasInNoise's (coarse - fine) / denominator.
     const double noise_rms = OutputBiasInNoise(
-        model_finer, model_h, shape, used, {p[kSigmaC], p[kJB], p[kJTipC]},
-        used.weighted() ? 1.0 : scale2, (assumed_rp - 1.0) / assumed_rp);
+        model_at(level.resolution), model_at(other_h), shape, used,
+        {p[kSigmaC], p[kJB], p[kJTipC]}, used.weighted() ? 1.0 : scale2, denominator);
     level.output_bias_noise_rms = noise_rms;
-    level.note = coarse_failure + fmt::format(
-        "; judged from the finer {:.3g} mm solve, order {:g} assumed: largest bias {:.2g} sd ({}) "
-        "with the x{:.3g} of the assumed order's safety factor",
-        level.resolution / r * 1e3, o.error.assumed_order, worst_ratio, worst, widen);
     if (std::isfinite(noise_rms)) {
-      level.note += fmt::format("; predicted {} bias {:.2g} noise sd rms",
-                                used.target == FitTarget::kLoad ? "load" : "R", noise_rms);
+      out.predicted = fmt::format("; predicted {} bias {:.2g} noise sd rms",
+                                  used.target == FitTarget::kLoad ? "load" : "R", noise_rms);
       if (noise_rms > kOutputBiasNoiseLimit) level.meets = false;
     }
+    return out;
+  };
+  // A size whose coarser solve fails (a DCB arm too coarse for Newton
+  // there) is judged from the next finer solve instead, as the model error
+  // does (model_error.hpp): the order assumed, beta = (p_h/r - p_h) /
+  // (r^-p - 1), and the criterion on beta times F_s(assumed) / F_s(observed)
+  // (the wider safety factor of the total interval it would get).
+  const double widen = o.error.unverified_safety_factor / o.error.safety_factor;
+  auto FinerFallback = [&](ResolutionLevel& level, const Rung& fine, const Rung& finer,
+                           const std::string& coarse_failure) {
+    level.status = ModelErrorStatus::kOrderNotObserved;
+    const double h = level.resolution;
+    if (!finer.ok) {
+      level.note = coarse_failure + fmt::format("; the finer {:.3g} mm solve: {}", h / r * 1e3,
+                                                finer.note);
+      return;
+    }
+    level.meets = true;
+    const Judged j =
+        Judge(level, fine, finer, h / r, std::pow(r, -o.error.assumed_order) - 1.0, widen);
+    level.note = coarse_failure +
+                 fmt::format("; judged from the finer {:.3g} mm solve, order {:g} assumed: {} with "
+                             "the x{:.3g} of the assumed order's safety factor",
+                             h / r * 1e3, o.error.assumed_order, j.worst, widen) +
+                 j.predicted;
   };
   for (int j = 2;; ++j) {
     const double h = o.coarsest * std::pow(r, 2 - j);
@@ -198,7 +217,7 @@ ResolutionChoice ChooseResolution(const ModelAtResolution& model_at, const laws:
       const Rung& coarse = rung(j - 1);
       const Rung& coarser = rung(j - 2);
       if (!coarse.ok && !finest) {
-        FinerFallback(level, fine, rung(j + 1), model_at(h), model_at(h / r),
+        FinerFallback(level, fine, rung(j + 1),
                       fmt::format("the {:.3g} mm solve: {}", r * h * 1e3, coarse.note));
       } else if (!coarse.ok) {
         level.note = fmt::format("the {:.3g} mm solve: {}", r * h * 1e3, coarse.note);
@@ -218,37 +237,11 @@ ResolutionChoice ChooseResolution(const ModelAtResolution& model_at, const laws:
         level.status = order.observed || order.no_difference ? ModelErrorStatus::kEstimated
                                                              : ModelErrorStatus::kOrderNotObserved;
         level.meets = level.status == ModelErrorStatus::kEstimated;
-        std::string worst;
-        double worst_ratio = 0.0;
-        for (std::size_t k = 0; k < free.size(); ++k) {
-          const double bias = (coarse.estimate[k] - fine.estimate[k]) / order.denominator;
-          level.bias[free[k]] = bias;
-          if (!checked[k]) continue;
-          const double ratio = std::abs(bias) / fine.sd[k];
-          if (!(ratio <= o.bias_fraction)) level.meets = false;
-          if (!(ratio <= worst_ratio)) {
-            worst_ratio = ratio;
-            worst = ParameterName(free[k]);
-          }
-        }
-        level.note = level.status == ModelErrorStatus::kEstimated
-                         ? fmt::format("largest bias {:.2g} sd ({})", worst_ratio, worst)
-                         : "order not observed: " + order.problem;
-        // The model's own error where the data can see it: a prediction
-        // whose bias exceeds the noise can move a verdict (bridging,
-        // steady state) that the estimates' Richardson terms do not show.
-        std::array<double, kParameterCount> p = at;
-        for (std::size_t k = 0; k < free.size(); ++k) p[free[k]] = fine.estimate[k];
-        const double noise_rms = OutputBiasInNoise(model_at(h), model_at(r * h), shape, used,
-                                                   {p[kSigmaC], p[kJB], p[kJTipC]},
-                                                   used.weighted() ? 1.0 : scale2,
-                                                   order.denominator);
-        level.output_bias_noise_rms = noise_rms;
-        if (std::isfinite(noise_rms)) {
-          level.note += fmt::format("; predicted {} bias {:.2g} noise sd rms",
-                                    used.target == FitTarget::kLoad ? "load" : "R", noise_rms);
-          if (noise_rms > kOutputBiasNoiseLimit) level.meets = false;
-        }
+        const Judged judged = Judge(level, fine, coarse, r * h, order.denominator, 1.0);
+        level.note = (level.status == ModelErrorStatus::kEstimated
+                          ? judged.worst
+                          : "order not observed: " + order.problem) +
+                     judged.predicted;
       }
     }
     choice.levels.push_back(level);
