@@ -13,11 +13,10 @@
 #include "bridgefit/dic/fields.hpp"
 #include "bridgefit/dic/sequence.hpp"
 #include "bridgefit/io/hdf5.hpp"
-#include "bridgefit/io/scene_file.hpp"
-#include "bridgefit/pipeline/law_free.hpp"
 #include "command.hpp"
 #include "bridgefit/pipeline/dic_file.hpp"
 #include "dic_output.hpp"
+#include "j_integral_flags.hpp"
 
 namespace bridgefit::cli {
 namespace {
@@ -50,12 +49,7 @@ class CrackCommand final : public Command {
     sub.add_option("--fit-radius", fit_radius_, "Williams fit radius in the fields' unit");
     sub.add_option("--out", out_, "Write results to this HDF5 file");
     sub.add_option("--csv", csv_, "Write one row per frame to this CSV file");
-    sub.add_option("--scene", scene_,
-                   "Scene TOML: elastic constants and notch for --j-integral (the crack lengths "
-                   "must be measured as the scene's notch is: use --offset)");
-    sub.add_flag("--j-integral", j_integral_,
-                 "Per frame: far-field J (domain integral) and the notch-root opening delta* "
-                 "(needs --scene; for `lawfree`)");
+    j_integral_.Add(&sub);
   }
 
   int Run(const CommonOptions& common) override {
@@ -112,10 +106,7 @@ class CrackCommand final : public Command {
       opt.tip.threshold_floor_px = ParseQuantity(threshold_, Dimension::Pixel());
     }
     opt.path.min_jump_px = opt.tip.threshold_floor_px;
-    if (j_integral_ && scene_.empty())
-      throw Error(ErrorKind::kUsage, "--j-integral needs --scene (elastic constants and notch)",
-                  {.field = "--j-integral", .expected = "--scene scene.toml"});
-    if (j_integral_) opt.j_integral = pipeline::FrameJOptionsFromScene(io::ReadSceneFile(scene_));
+    opt.j_integral = j_integral_.Options();
     const dic::CrackSequenceResult result =
         dic::AnalyzeCrackFields(files, opt, /*auto_defaults=*/false);
     dic::CrackSequenceOptions used = opt;
@@ -128,9 +119,10 @@ class CrackCommand final : public Command {
 
  private:
   std::vector<std::string> files_;
-  std::string crack_line_, scale_, tip_method_, threshold_, offset_, out_, csv_, scene_;
+  std::string crack_line_, scale_, tip_method_, threshold_, offset_, out_, csv_;
   double band_ = 0, fit_radius_ = 0;
-  bool fixed_line_ = false, j_integral_ = false;
+  bool fixed_line_ = false;
+  JIntegralFlags j_integral_;  // --scene, --j-integral
 };
 
 }  // namespace

@@ -15,11 +15,10 @@
 #include "bridgefit/dic/image.hpp"
 #include "bridgefit/dic/sequence.hpp"
 #include "bridgefit/io/hdf5.hpp"
-#include "bridgefit/io/scene_file.hpp"
-#include "bridgefit/pipeline/law_free.hpp"
 #include "command.hpp"
 #include "bridgefit/pipeline/dic_file.hpp"
 #include "dic_output.hpp"
+#include "j_integral_flags.hpp"
 
 namespace bridgefit::cli {
 namespace {
@@ -83,12 +82,7 @@ class DicCommand final : public Command {
     sub.add_option("--out", out_, "Write results to this HDF5 file");
     sub.add_flag("--fields", fields_, "With --out: also store every displacement field");
     sub.add_option("--csv", csv_, "Write one row per frame to this CSV file");
-    sub.add_option("--scene", scene_,
-                   "Scene TOML: elastic constants and notch for --j-integral (the crack lengths "
-                   "must be measured as the scene's notch is: use --offset)");
-    sub.add_flag("--j-integral", j_integral_,
-                 "Per frame: far-field J (domain integral) and the notch-root opening delta* "
-                 "(needs --scene; for `lawfree`)");
+    j_integral_.Add(&sub);
   }
 
   int Run(const CommonOptions& common) override {
@@ -162,10 +156,7 @@ class DicCommand final : public Command {
     opt.path.search_half_width_px = path_search_;
     opt.keep_fields = fields_ && !out_.empty();
     opt.show_progress = !common.quiet;
-    if (j_integral_ && scene_.empty())
-      throw Error(ErrorKind::kUsage, "--j-integral needs --scene (elastic constants and notch)",
-                  {.field = "--j-integral", .expected = "--scene scene.toml"});
-    if (j_integral_) opt.j_integral = pipeline::FrameJOptionsFromScene(io::ReadSceneFile(scene_));
+    opt.j_integral = j_integral_.Options();
     std::string why;
     if (!opt.IsValid(&why)) throw Error(ErrorKind::kUsage, why);
 
@@ -184,12 +175,13 @@ class DicCommand final : public Command {
  private:
   std::vector<std::string> images_;
   std::string crack_line_, scale_, tip_method_, threshold_, offset_, roi_, shape_, interpolation_,
-      out_, csv_, scene_;
+      out_, csv_;
   int subset_ = 31, step_ = 5, search_ = 40, threads_ = 0;
   double min_zncc_ = 0.8, fit_radius_ = 0;
   double path_search_ = 40;
   bool full_field_ = false;
-  bool no_incremental_ = false, fields_ = false, fixed_line_ = false, j_integral_ = false;
+  bool no_incremental_ = false, fields_ = false, fixed_line_ = false;
+  JIntegralFlags j_integral_;  // --scene, --j-integral
 };
 
 }  // namespace
