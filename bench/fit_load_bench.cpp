@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_sizes.hpp"
 #include "bridgefit/inverse/fit.hpp"
 #include "bridgefit/models/reduced.hpp"
 #include "bridgefit/pipeline/fit.hpp"
@@ -44,14 +45,6 @@ ExperimentRecord ExactRecord(const Scene& scene) {
   return RecordAlongPath(models::SimulateReduced(scene, options), 20, 400);
 }
 
-std::vector<double> ParseSizes(const std::string& text) {
-  std::vector<double> out;
-  std::stringstream stream(text);
-  std::string item;
-  while (std::getline(stream, item, ',')) out.push_back(std::atof(item.c_str()) * 1e-3);
-  return out;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -61,7 +54,7 @@ int main(int argc, char** argv) {
   }
   const std::string prefix = argv[1];
   const int draws = argc > 2 ? std::atoi(argv[2]) : 10;
-  const std::vector<double> sizes = ParseSizes(argc > 3 ? argv[3] : "2,1,0.5");
+  const std::vector<double> sizes = ParseSizesMm(argc > 3 ? argv[3] : "2,1,0.5");
   Scene truth = ReferenceCtScene();
   AddLinearBridging(truth, kTruthSigmaC, 500.0);
   const ExperimentRecord exact = ExactRecord(truth);

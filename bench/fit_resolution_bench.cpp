@@ -30,6 +30,7 @@
 
 #include <fmt/format.h>
 
+#include "bench_sizes.hpp"
 #include "bridgefit/inverse/reduced_forward.hpp"
 #include "bridgefit/io/scene_file.hpp"
 #include "bridgefit/models/reduced.hpp"
@@ -104,14 +105,6 @@ std::string Coverage(const FitSummary& s, const LawParameters& truth) {
   return fmt::format("{}/{}", covered, identified);
 }
 
-std::vector<double> ParseSizes(const std::string& text) {
-  std::vector<double> out;
-  std::stringstream stream(text);
-  std::string item;
-  while (std::getline(stream, item, ',')) out.push_back(std::atof(item.c_str()) * 1e-3);
-  return out;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -123,7 +116,7 @@ int main(int argc, char** argv) {
   const std::string prefix = argv[1];
   const std::string size_text = argc > 2 ? argv[2] : "4,2,1,0.5,0.25";
   const std::vector<double> sizes =
-      size_text == "none" ? std::vector<double>{} : ParseSizes(size_text);
+      size_text == "none" ? std::vector<double>{} : ParseSizesMm(size_text);
   const std::string only = argc > 4 ? argv[4] : "";
   const unsigned seed = argc > 3 ? static_cast<unsigned>(std::atoi(argv[3])) : 1u;
   const std::string root = BRIDGEFIT_SOURCE_DIR;

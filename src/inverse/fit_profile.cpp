@@ -180,8 +180,8 @@ class ProfileSearch {
     const double ckk = (*covariance)(k_, k_);
     if (!(std::isfinite(ckk) && ckk > 0.0)) return;
     const double sd = std::sqrt(ckk), v0 = full_[index_], x0 = best_.x[k_];
-    first_step_[0] = x0 - ToBox(index_, v0 - 1.96 * sd, options_);
-    first_step_[1] = ToBox(index_, v0 + 1.96 * sd, options_) - x0;
+    wald_offset_[0] = x0 - ToBox(index_, v0 - 1.96 * sd, options_);
+    wald_offset_[1] = ToBox(index_, v0 + 1.96 * sd, options_) - x0;
     // d x / d p of a box coordinate at the optimum.
     auto box_rate = [&](int index) {
       const double p = full_[index], lo = options_.lower[index], hi = options_.upper[index];
@@ -197,7 +197,7 @@ class ProfileSearch {
 
   // The first step out from the optimum on one side (box coordinates).
   double FirstStep(double direction) const {
-    const double wald = first_step_[direction > 0 ? 1 : 0];
+    const double wald = wald_offset_[direction > 0 ? 1 : 0];
     if (!(std::isfinite(wald) && wald > 0.0)) return kFirstStep;
     return std::clamp(0.3 * wald, kFirstStep, 0.25);
   }
@@ -206,7 +206,7 @@ class ProfileSearch {
   // inside the interval moved along the linearised path (near the optimum).
   std::vector<double> StartAt(double x) const {
     std::vector<double> start = warm_;
-    const double reach = 2.0 * std::max(first_step_[0], first_step_[1]);
+    const double reach = 2.0 * std::max(wald_offset_[0], wald_offset_[1]);
     if (!(std::abs(x - best_.x[k_]) <= reach)) return start;
     const double dx = x - warm_[k_];
     for (std::size_t j = 0; j < start.size(); ++j)
@@ -352,7 +352,7 @@ class ProfileSearch {
   Profile& profile_;
   std::vector<double> warm_;  // the nearest point solved inside the interval
   std::vector<double> slope_;  // d p_j / d p_k along the linearised profile path
-  std::array<double, 2> first_step_ = {NAN, NAN};  // Wald end offsets below, above (box)
+  std::array<double, 2> wald_offset_ = {NAN, NAN};  // Wald end offsets below, above (box)
   int resolves_ = 0;
 };
 
