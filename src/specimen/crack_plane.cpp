@@ -121,15 +121,39 @@ struct DofMap {
   std::vector<int> index;  // index within its kind
 };
 
-CrackPlaneModel Build(const Domain& d, const MaterialSpec& material, PlaneCondition plane,
-                      double thickness, const std::string& key) {
-  Stopwatch watch;
+// The grid of a domain: graded lines, the retained crack-plane nodes.
+struct Grid {
+  std::vector<double> xs, ys;
+  int nx = 0, ny = 0;
+  int first_retained_ix = 0;  // grid column of the notch node
+  int n_retained = 0;         // notch node + a0 .. a_last
+  int Node(int ix, int iy) const { return iy * (nx + 1) + ix; }
+};
+
+// Elements of the grid, the CT pin hole immersed: an element keeps the
+// fraction of its area outside the hole as a stiffness factor.
+struct Elements {
+  std::vector<double> solid;  // per element, 0..1
+  std::vector<char> active;   // per node: touched by an element
+  int count = 0;
+};
+
+// The stiffness blocks (interior i, retained r) and the unit load pattern.
+struct Blocks {
+  Eigen::SparseMatrix<double> k_ii, k_ir;
+  Eigen::MatrixXd k_rr;
+  Eigen::VectorXd w_i, w_r;
+};
+
+// Grid lines: h-spaced through the retained zone (3 fine cells either side),
+// graded outwards to the domain's edges; a line on the load line x = 0.
+Grid GridLines(const Domain& d) {
   const double h = d.h;
-  // ---- grid lines ----
   const int left_fine = std::min(3, static_cast<int>(std::floor((d.notch - d.x0) / h + 1e-9)));
   const int right_fine = std::min(3, static_cast<int>(std::floor((d.x1 - d.a_last) / h + 1e-9)));
   const int retained_steps = static_cast<int>(std::lround((d.a_last - d.notch) / h));
-  std::vector<double> xs;
+  Grid g;
+  std::vector<double>& xs = g.xs;
   {
     const double xf0 = d.notch - left_fine * h;
     // Leftward from xf0, with a grid line on the load line x = 0 when it is
@@ -152,7 +176,8 @@ CrackPlaneModel Build(const Domain& d, const MaterialSpec& material, PlaneCondit
     for (double s : right) xs.push_back(x += s);
     if (!right.empty()) xs.back() = d.x1;
   }
-  std::vector<double> ys{0.0};
+  std::vector<double>& ys = g.ys;
+  ys.push_back(0.0);
   if (d.uniform_y_cells > 0) {
     for (int j = 1; j <= d.uniform_y_cells; ++j) ys.push_back(d.y1 * j / d.uniform_y_cells);
   } else {
@@ -160,21 +185,26 @@ CrackPlaneModel Build(const Domain& d, const MaterialSpec& material, PlaneCondit
     for (double s : GradedSteps(d.y1, h / d.grading, d.grading, d.coarse)) ys.push_back(y += s);
     ys.back() = d.y1;
   }
-  const int nx = static_cast<int>(xs.size()) - 1, ny = static_cast<int>(ys.size()) - 1;
-  const int first_retained_ix = static_cast<int>(std::lround(
+  g.nx = static_cast<int>(xs.size()) - 1;
+  g.ny = static_cast<int>(ys.size()) - 1;
+  g.first_retained_ix = static_cast<int>(std::lround(
       std::distance(xs.begin(), std::lower_bound(xs.begin(), xs.end(), d.notch - h - 0.5 * h))));
-  const int n_retained = retained_steps + 2;  // notch node + a0 .. a_last
+  g.n_retained = retained_steps + 2;  // notch node + a0 .. a_last
+  return g;
+}
 
-  // ---- elements ----
-  auto node = [&](int ix, int iy) { return iy * (nx + 1) + ix; };
-  // The CT pin hole is immersed in the grid, not cut out along element
-  // edges: an element keeps the fraction of its area outside the hole
-  // (sampled on 8 x 8 points) as a stiffness factor. A staircase of whole
-  // elements would change the hole's area, and with it the compliance, by
-  // up to 2% as the graded grid shifts with h.
-  std::vector<double> solid(static_cast<size_t>(nx) * ny, 1.0);
-  std::vector<char> active(static_cast<size_t>(nx + 1) * (ny + 1), 0);
-  int elements = 0;
+// The CT pin hole is immersed in the grid, not cut out along element
+// edges: an element keeps the fraction of its area outside the hole
+// (sampled on 8 x 8 points) as a stiffness factor. A staircase of whole
+// elements would change the hole's area, and with it the compliance, by
+// up to 2% as the graded grid shifts with h.
+Elements ImmerseHole(const Domain& d, const Grid& g) {
+  const std::vector<double>& xs = g.xs;
+  const std::vector<double>& ys = g.ys;
+  const int nx = g.nx, ny = g.ny;
+  Elements e;
+  e.solid.assign(static_cast<size_t>(nx) * ny, 1.0);
+  e.active.assign(static_cast<size_t>(nx + 1) * (ny + 1), 0);
   for (int iy = 0; iy < ny; ++iy)
     for (int ix = 0; ix < nx; ++ix) {
       // Elements clear of the circle (nearest point farther than r) are solid.
@@ -192,45 +222,57 @@ CrackPlaneModel Build(const Domain& d, const MaterialSpec& material, PlaneCondit
             const double y = ys[iy] + (sy + 0.5) / kSamples * (ys[iy + 1] - ys[iy]);
             outside += std::hypot(x - d.hole_xc, y - d.hole_yc) >= d.hole_r;
           }
-        solid[iy * nx + ix] = double(outside) / (kSamples * kSamples);
+        e.solid[iy * nx + ix] = double(outside) / (kSamples * kSamples);
         if (outside == 0) continue;
       }
-      ++elements;
-      active[node(ix, iy)] = active[node(ix + 1, iy)] = 1;
-      active[node(ix + 1, iy + 1)] = active[node(ix, iy + 1)] = 1;
+      ++e.count;
+      e.active[g.Node(ix, iy)] = e.active[g.Node(ix + 1, iy)] = 1;
+      e.active[g.Node(ix + 1, iy + 1)] = e.active[g.Node(ix, iy + 1)] = 1;
     }
+  return e;
+}
 
-  // ---- dof classification ----
-  const int n_nodes = (nx + 1) * (ny + 1);
+// Dof classes: u_x free but for one node (rigid translation); u_y on the
+// crack plane retained over the zone, fixed on the ligament (symmetry).
+DofMap ClassifyDofs(const Grid& g, const Elements& e, int& n_interior) {
+  const int n_nodes = (g.nx + 1) * (g.ny + 1);
   DofMap map;
   map.kind.assign(2 * n_nodes, DofMap::kFixed);
   map.index.assign(2 * n_nodes, -1);
-  int n_interior = 0;
-  for (int iy = 0; iy <= ny; ++iy)
-    for (int ix = 0; ix <= nx; ++ix) {
-      const int nd = node(ix, iy);
-      if (!active[nd]) continue;
+  n_interior = 0;
+  for (int iy = 0; iy <= g.ny; ++iy)
+    for (int ix = 0; ix <= g.nx; ++ix) {
+      const int nd = g.Node(ix, iy);
+      if (!e.active[nd]) continue;
       // u_x: free, except one node fixing the rigid translation.
-      if (!(iy == 0 && ix == nx)) {
+      if (!(iy == 0 && ix == g.nx)) {
         map.kind[2 * nd] = DofMap::kInterior;
         map.index[2 * nd] = n_interior++;
       }
       if (iy == 0) {
-        const int r = ix - first_retained_ix;
-        if (r >= 0 && r < n_retained) {
+        const int r = ix - g.first_retained_ix;
+        if (r >= 0 && r < g.n_retained) {
           map.kind[2 * nd + 1] = DofMap::kRetained;
           map.index[2 * nd + 1] = r;
           continue;
         }
-        if (r >= n_retained) continue;  // ligament: u_y = 0 (symmetry)
+        if (r >= g.n_retained) continue;  // ligament: u_y = 0 (symmetry)
       }
       map.kind[2 * nd + 1] = DofMap::kInterior;
       map.index[2 * nd + 1] = n_interior++;
     }
+  return map;
+}
 
-  // ---- load pattern (unit load per unit thickness) ----
-  Eigen::VectorXd w_i = Eigen::VectorXd::Zero(n_interior);
-  Eigen::VectorXd w_r = Eigen::VectorXd::Zero(n_retained);
+// The load pattern (unit load per unit thickness) on the interior and
+// retained dofs: pin bearing, end load or notch-face pressure.
+void AddLoadPattern(const Domain& d, const Grid& g, const DofMap& map, Blocks& b) {
+  const std::vector<double>& xs = g.xs;
+  const std::vector<double>& ys = g.ys;
+  const int ny = g.ny;
+  auto node = [&](int ix, int iy) { return g.Node(ix, iy); };
+  Eigen::VectorXd& w_i = b.w_i;
+  Eigen::VectorXd& w_r = b.w_r;
   auto add_load = [&](int nd, double value) {
     const int dof = 2 * nd + 1;
     if (map.kind[dof] == DofMap::kInterior) w_i[map.index[dof]] += value;
@@ -272,23 +314,31 @@ CrackPlaneModel Build(const Domain& d, const MaterialSpec& material, PlaneCondit
   } else {
     // Unit pressure on the notch faces x0 .. a0 - h (the retained part is the
     // caller's traction).
-    const double end = xs[first_retained_ix];
-    for (int ix = 0; ix <= first_retained_ix; ++ix) {
+    const double end = xs[g.first_retained_ix];
+    for (int ix = 0; ix <= g.first_retained_ix; ++ix) {
       const double left = ix > 0 ? xs[ix] - xs[ix - 1] : 0.0;
       const double right = xs[ix] < end - 1e-12 ? xs[ix + 1] - xs[ix] : 0.0;
       add_load(node(ix, 0), 0.5 * (left + right));
     }
   }
+}
 
-  // ---- assembly ----
-  const Matrix3 D = ElasticityMatrix(material, plane);
+// QM6 element stiffnesses (one per element size) into the K_ii, K_iR and
+// K_RR blocks.
+void Assemble(const Grid& g, const Elements& e, const DofMap& map, const Matrix3& D, int n_interior,
+              Blocks& b) {
+  const std::vector<double>& xs = g.xs;
+  const std::vector<double>& ys = g.ys;
+  const int nx = g.nx, ny = g.ny, n_retained = g.n_retained;
+  auto node = [&](int ix, int iy) { return g.Node(ix, iy); };
   std::map<std::pair<double, double>, Matrix8> cache;
   std::vector<Eigen::Triplet<double>> t_ii, t_ir;
-  Eigen::MatrixXd k_rr = Eigen::MatrixXd::Zero(n_retained, n_retained);
-  t_ii.reserve(static_cast<size_t>(elements) * 50);
+  Eigen::MatrixXd& k_rr = b.k_rr;
+  k_rr = Eigen::MatrixXd::Zero(n_retained, n_retained);
+  t_ii.reserve(static_cast<size_t>(e.count) * 50);
   for (int iy = 0; iy < ny; ++iy)
     for (int ix = 0; ix < nx; ++ix) {
-      const double fraction = solid[iy * nx + ix];
+      const double fraction = e.solid[iy * nx + ix];
       if (fraction == 0.0) continue;
       const std::pair<double, double> size{xs[ix + 1] - xs[ix], ys[iy + 1] - ys[iy]};
       auto it = cache.find(size);
@@ -302,30 +352,42 @@ CrackPlaneModel Build(const Domain& d, const MaterialSpec& material, PlaneCondit
       for (int a = 0; a < 8; ++a) {
         const int ka = map.kind[dofs[a]], ia = map.index[dofs[a]];
         if (ka == DofMap::kFixed) continue;
-        for (int b = 0; b < 8; ++b) {
-          const int kb = map.kind[dofs[b]], ib = map.index[dofs[b]];
+        for (int bb = 0; bb < 8; ++bb) {
+          const int kb = map.kind[dofs[bb]], ib = map.index[dofs[bb]];
           if (kb == DofMap::kFixed) continue;
           if (ka == DofMap::kInterior && kb == DofMap::kInterior)
-            t_ii.emplace_back(ia, ib, ke(a, b));
+            t_ii.emplace_back(ia, ib, ke(a, bb));
           else if (ka == DofMap::kInterior && kb == DofMap::kRetained)
-            t_ir.emplace_back(ia, ib, ke(a, b));
+            t_ir.emplace_back(ia, ib, ke(a, bb));
           else if (ka == DofMap::kRetained && kb == DofMap::kRetained)
-            k_rr(ia, ib) += ke(a, b);
+            k_rr(ia, ib) += ke(a, bb);
         }
       }
     }
-  Eigen::SparseMatrix<double> k_ii(n_interior, n_interior), k_ir(n_interior, n_retained);
-  k_ii.setFromTriplets(t_ii.begin(), t_ii.end());
-  k_ir.setFromTriplets(t_ir.begin(), t_ir.end());
+  b.k_ii.resize(n_interior, n_interior);
+  b.k_ir.resize(n_interior, n_retained);
+  b.k_ii.setFromTriplets(t_ii.begin(), t_ii.end());
+  b.k_ir.setFromTriplets(t_ir.begin(), t_ir.end());
+}
 
-  // ---- static condensation: S = K_RR - K_Ri K_ii^-1 K_iR ----
+// Static condensation onto the retained openings, S = K_RR - K_Ri K_ii^-1
+// K_iR, with the load's condensed pattern and the compliances and couplings
+// of the load line, the mouth and the gauge point.
+void Condense(const Domain& d, const Grid& g, const DofMap& map, const Blocks& blocks,
+              const std::string& key, CrackPlaneModel& model) {
+  const std::vector<double>& xs = g.xs;
+  const int n_retained = g.n_retained;
+  const int n_interior = static_cast<int>(blocks.k_ii.rows());
+  auto node = [&](int ix, int iy) { return g.Node(ix, iy); };
+  const Eigen::SparseMatrix<double>& k_ii = blocks.k_ii;
+  const Eigen::SparseMatrix<double>& k_ir = blocks.k_ir;
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(k_ii);
   if (solver.info() != Eigen::Success)
     throw Error(ErrorKind::kRuntime, "the finite-element stiffness matrix is singular",
                 {.field = "mesh", .value = key});
   Eigen::MatrixXd rhs(n_interior, n_retained + 1);
   rhs.leftCols(n_retained) = Eigen::MatrixXd(k_ir);
-  rhs.col(n_retained) = w_i;
+  rhs.col(n_retained) = blocks.w_i;
   Eigen::MatrixXd sol(n_interior, n_retained + 1);
   const int columns = n_retained + 1;
 #pragma omp parallel for schedule(dynamic, 4)
@@ -333,22 +395,14 @@ CrackPlaneModel Build(const Domain& d, const MaterialSpec& material, PlaneCondit
   const auto X = sol.leftCols(n_retained);
   const Eigen::VectorXd Y = sol.col(n_retained);
 
-  CrackPlaneModel model;
-  model.key = key;
-  model.load_kind = d.load == LoadKind::kPin ? "pin" : d.load == LoadKind::kEnd ? "end"
-                                                                                : "face-pressure";
-  model.resolution = h;
-  model.notch = d.notch;
-  model.thickness = thickness;
-  model.effective_modulus = EffectiveModulus(material, plane);
   model.node_x.resize(n_retained);
-  for (int r = 0; r < n_retained; ++r) model.node_x[r] = d.notch + (r - 1) * h;
-  const Eigen::MatrixXd S = k_rr - k_ir.transpose() * X;
+  for (int r = 0; r < n_retained; ++r) model.node_x[r] = d.notch + (r - 1) * d.h;
+  const Eigen::MatrixXd S = blocks.k_rr - k_ir.transpose() * X;
   const Eigen::MatrixXd S_sym = 0.5 * (S + S.transpose());
   model.stiffness.assign(S_sym.data(), S_sym.data() + S_sym.size());
-  const Eigen::VectorXd g = w_r - k_ir.transpose() * Y;
-  model.load.assign(g.data(), g.data() + g.size());
-  model.load_compliance = w_i.dot(Y);
+  const Eigen::VectorXd load = blocks.w_r - k_ir.transpose() * Y;
+  model.load.assign(load.data(), load.data() + load.size());
+  model.load_compliance = blocks.w_i.dot(Y);
   model.load_coupling = model.load;  // q = w_R - X^T w_i = g (Maxwell-Betti)
   const int mouth_dof = map.index[2 * node(0, 0) + 1];
   BF_DEBUG_ASSERT(map.kind[2 * node(0, 0) + 1] == DofMap::kInterior);
@@ -364,8 +418,34 @@ CrackPlaneModel Build(const Domain& d, const MaterialSpec& material, PlaneCondit
   model.gauge_compliance = Y[gauge_dof];
   model.gauge_coupling.resize(n_retained);
   for (int r = 0; r < n_retained; ++r) model.gauge_coupling[r] = -X(gauge_dof, r);
-  model.elements = elements;
-  model.dofs = n_interior + n_retained;
+}
+
+// The crack-plane model of a domain, in named stages: grid, immersed hole,
+// dof classes, load pattern, assembly, static condensation.
+CrackPlaneModel Build(const Domain& d, const MaterialSpec& material, PlaneCondition plane,
+                      double thickness, const std::string& key) {
+  Stopwatch watch;
+  const Grid grid = GridLines(d);
+  const Elements elements = ImmerseHole(d, grid);
+  int n_interior = 0;
+  const DofMap map = ClassifyDofs(grid, elements, n_interior);
+  Blocks blocks;
+  blocks.w_i = Eigen::VectorXd::Zero(n_interior);
+  blocks.w_r = Eigen::VectorXd::Zero(grid.n_retained);
+  AddLoadPattern(d, grid, map, blocks);
+  Assemble(grid, elements, map, ElasticityMatrix(material, plane), n_interior, blocks);
+
+  CrackPlaneModel model;
+  model.key = key;
+  model.load_kind = d.load == LoadKind::kPin ? "pin" : d.load == LoadKind::kEnd ? "end"
+                                                                                : "face-pressure";
+  model.resolution = d.h;
+  model.notch = d.notch;
+  model.thickness = thickness;
+  model.effective_modulus = EffectiveModulus(material, plane);
+  Condense(d, grid, map, blocks, key, model);
+  model.elements = elements.count;
+  model.dofs = n_interior + grid.n_retained;
   model.build_s = watch.Seconds();
   return model;
 }
