@@ -5,15 +5,11 @@
 //   bridgefit crack nodemaps/ --crack-line 0,0,60,0 --offset 20mm --json
 //   bridgefit crack "DICe_solution_*.txt" --scale 0.02mm/px --out crack.h5
 
-#include <cmath>
-#include <filesystem>
-
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/core/units.hpp"
-#include "bridgefit/dic/fields.hpp"
 #include "bridgefit/dic/sequence.hpp"
-#include "bridgefit/io/hdf5.hpp"
 #include "command.hpp"
+#include "bridgefit/pipeline/crack_fields.hpp"
 #include "bridgefit/pipeline/dic_file.hpp"
 #include "dic_output.hpp"
 #include "j_integral_flags.hpp"
@@ -73,47 +69,15 @@ class CrackCommand final : public Command {
     }
     opt.method = dic::ParseTipMethod(tip_method_);
     opt.show_progress = !common.quiet;
-    const auto files = dic::ExpandFieldArguments(files_);
-    // Ncorr v7.3 files are HDF5: each is read in a child first, with matio
-    // as NcorrFile reads it (its attribute reads take libhdf5 paths the
-    // generic walk does not), including files a folder or glob names
-    // (fuzz_ncorr: libhdf5 crashes in H5HG_read on corrupt ones).
-    // MAT v5 files too: a 584-byte header made matio allocate 2.6 GB and
-    // run for minutes. The child gets 10 s plus 1 s per 10 MB of file.
-    for (const auto& file : files)
-      if (dic::IsMatFile(file)) {
-        std::error_code ec;
-        const double mb = static_cast<double>(std::filesystem::file_size(file, ec)) / 1e6;
-        io::CheckH5FileInChildProcess(file, 10.0 + (ec ? 0.0 : mb / 10.0),
-                                      [&file] { dic::ReadEveryNcorrFrame(file); });
-      }
-    // The unit of the fields decides how the threshold and radius read.
-    dic::FieldFile first;
-    std::string first_name;
-    dic::FieldFrames(files).Next(&first, &first_name);
-    const double m_per_unit = first.IsPixels() ? opt.scale_m_per_px : first.m_per_unit;
-    if (!(m_per_unit > 0))
-      throw Error(ErrorKind::kUsage, "the fields are in px: a scale is needed",
-                  {.file = first_name, .field = "--scale", .expected = "e.g. '0.05mm/px'"});
-    const double spacing = dic::PointSpacing(first.field);
-    BF_CHECK_INPUT(spacing > 0, "cannot tell the point spacing", {.file = first_name});
-    dic::SetFieldDefaults(spacing, band_ > 0 ? band_ : 1.5 * spacing, &opt);
-    if (fit_radius_ > 0) opt.tip.fit_radius_px = opt.tip.sqrt_window_px = fit_radius_;
-    try {
-      opt.tip.threshold_floor_px = ParseQuantity(threshold_, Dimension::Length()) / m_per_unit;
-    } catch (const Error&) {
-      if (!first.IsPixels()) throw;
-      opt.tip.threshold_floor_px = ParseQuantity(threshold_, Dimension::Pixel());
-    }
-    opt.path.min_jump_px = opt.tip.threshold_floor_px;
     opt.j_integral = j_integral_.Options();
-    const dic::CrackSequenceResult result =
-        dic::AnalyzeCrackFields(files, opt, /*auto_defaults=*/false);
-    dic::CrackSequenceOptions used = opt;
-    used.scale_m_per_px = m_per_unit;
-    if (!csv_.empty()) pipeline::WriteDicCsv(csv_, result);
-    if (!out_.empty()) pipeline::WriteDicH5(out_, result, used);
-    PrintDicResult(result, used, common.json, first.unit);
+    pipeline::CrackFieldsRequest request{
+        .fields = files_,
+        .options = opt,
+        .settings = {.band = band_, .fit_radius = fit_radius_, .threshold = threshold_}};
+    const pipeline::CrackFieldsRun run = pipeline::RunCrackFields(request);
+    if (!csv_.empty()) pipeline::WriteDicCsv(csv_, run.result);
+    if (!out_.empty()) pipeline::WriteDicH5(out_, run.result, run.used);
+    PrintDicResult(run.result, run.used, common.json, run.result.length_unit);
     return 0;
   }
 

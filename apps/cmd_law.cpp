@@ -101,37 +101,23 @@ class LawCommand final : public Command {
     laws::LawScales given{ParseOptionQuantity(sigma_c_, Dimension::Stress(), "--sigma-c"),
                           ParseOptionQuantity(delta_c_, Dimension::Length(), "--delta-c"),
                           ParseOptionQuantity(J_B_, Dimension::EnergyPerArea(), "--jb")};
+    laws::ShapeSpec spec{.family = family, .peak_ratio = peak_ratio_, .alpha = alpha_};
     try {
-    switch (family) {
-      case laws::LawFamily::kLinear: shape = laws::MakeLinearShape(); break;
-      case laws::LawFamily::kCubic: shape = laws::MakeCubicShape(); break;
-      case laws::LawFamily::kTriangular: shape = laws::MakeTriangularShape(peak_ratio_); break;
-      case laws::LawFamily::kExponential: shape = laws::MakeExponentialShape(alpha_); break;
-      case laws::LawFamily::kTrilinear: {
+      if (family == laws::LawFamily::kTrilinear) {
         if (trilinear_.empty())
           throw Error(ErrorKind::kUsage, "the trilinear law needs its break points",
                       {.field = "--trilinear", .expected = "'s0,d1,s1,d2,s2'"});
-        const auto v = ParseOptionNumbers(trilinear_, "--trilinear", 5);
-        shape = laws::MakeTrilinearShape(v[0], v[1], v[2], v[3], v[4]);
-        break;
+        spec.trilinear = ParseOptionNumbers(trilinear_, "--trilinear", 5);
       }
-      case laws::LawFamily::kTable: {
+      if (family == laws::LawFamily::kTable) {
         if (table_.empty())
           throw Error(ErrorKind::kUsage, "the table law needs --table FILE",
                       {.field = "--table", .expected = "a CSV with columns delta and sigma"});
         const io::CsvTable table = io::ReadCsvTable(table_);
-        const auto delta = table.ColumnSi("delta", Dimension::Length());
-        const auto sigma = table.ColumnSi("sigma", Dimension::Stress());
-        double table_sigma_c = 0, table_delta_c = 0;
-        shape = laws::MakeTableShape(delta, sigma, &table_sigma_c, &table_delta_c);
-        if (!std::isfinite(given.sigma_c) && !std::isfinite(given.delta_c) &&
-            !std::isfinite(given.J_B)) {
-          given.sigma_c = table_sigma_c;
-          given.delta_c = table_delta_c;
-        }
-        break;
+        spec.table_delta = table.ColumnSi("delta", Dimension::Length());
+        spec.table_sigma = table.ColumnSi("sigma", Dimension::Stress());
       }
-    }
+      shape = laws::MakeShape(spec, &given);
     } catch (const Error& e) {
       // Shape parameters come from options (usage); a table file's content is data.
       if (e.kind() != ErrorKind::kInput || family == laws::LawFamily::kTable) throw;

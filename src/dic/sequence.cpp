@@ -6,6 +6,7 @@
 
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/core/progress.hpp"
+#include "bridgefit/core/units.hpp"
 #include "bridgefit/dic/fields.hpp"
 
 namespace bridgefit::dic {
@@ -92,9 +93,37 @@ void SetFieldDefaults(double spacing, double band, CrackSequenceOptions* o) {
   o->path.search_half_width_px = std::max(o->path.search_half_width_px, 8.0 * spacing);
 }
 
+namespace {
+
+// The first file's settings: its point spacing, the Williams radius and
+// the jump threshold in the fields' unit.
+void ApplyFieldSettings(const FieldFile& file, const std::string& name,
+                        const FieldSettings& settings, CrackSequenceOptions* options) {
+  if (settings.from_spacing) {
+    const double spacing = PointSpacing(file.field);
+    BF_CHECK_INPUT(spacing > 0, "cannot tell the point spacing (fewer than two valid points)",
+                   {.file = name});
+    SetFieldDefaults(spacing, settings.band > 0 ? settings.band : 1.5 * spacing, options);
+  }
+  if (settings.fit_radius > 0)
+    options->tip.fit_radius_px = options->tip.sqrt_window_px = settings.fit_radius;
+  if (settings.threshold.empty()) return;
+  try {
+    options->tip.threshold_floor_px =
+        ParseQuantity(settings.threshold, Dimension::Length()) / options->scale_m_per_px;
+  } catch (const Error&) {
+    if (!file.IsPixels()) throw;
+    options->tip.threshold_floor_px = ParseQuantity(settings.threshold, Dimension::Pixel());
+  }
+  options->path.min_jump_px = options->tip.threshold_floor_px;
+}
+
+}  // namespace
+
 CrackSequenceResult AnalyzeCrackFields(const std::vector<std::filesystem::path>& files,
-                                       CrackSequenceOptions options, bool auto_defaults,
-                                       double band) {
+                                       CrackSequenceOptions options,
+                                       const FieldSettings& settings,
+                                       CrackSequenceOptions* used) {
   if (files.empty()) throw Error(ErrorKind::kInput, "no field files given");
   Stopwatch watch;
   CrackSequenceResult out;
@@ -114,12 +143,7 @@ CrackSequenceResult AnalyzeCrackFields(const std::vector<std::filesystem::path>&
       if (!(options.scale_m_per_px > 0))
         throw Error(ErrorKind::kUsage, "the fields are in px: a scale is needed",
                     {.file = name, .field = "--scale", .expected = "e.g. '0.05mm/px'"});
-      if (auto_defaults) {
-        const double spacing = PointSpacing(file.field);
-        BF_CHECK_INPUT(spacing > 0, "cannot tell the point spacing (fewer than two valid points)",
-                       {.file = name});
-        SetFieldDefaults(spacing, band > 0 ? band : 1.5 * spacing, &options);
-      }
+      ApplyFieldSettings(file, name, settings, &options);
       std::string why;
       if (!options.IsValid(&why)) throw Error(ErrorKind::kUsage, "invalid crack options: " + why);
       path_opt = PathOptionsFor(options, 0, 0);
@@ -143,6 +167,8 @@ CrackSequenceResult AnalyzeCrackFields(const std::vector<std::filesystem::path>&
   }
   progress.Finish();
   MakeMonotone(&out.frames);
+  out.length_unit = unit;
+  if (used) *used = options;
   out.wall_s = watch.Seconds();
   return out;
 }

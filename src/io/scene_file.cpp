@@ -144,39 +144,23 @@ std::optional<BridgingSpec> ParseBridging(const toml::table& root, const std::st
       bridging.OptionalQuantity("delta_c", Dimension::Length()).value_or(NAN),
       bridging.OptionalQuantity("J_B", Dimension::EnergyPerArea()).value_or(NAN)};
   try {
-    switch (family) {
-      case laws::LawFamily::kLinear: b.shape = laws::MakeLinearShape(); break;
-      case laws::LawFamily::kCubic: b.shape = laws::MakeCubicShape(); break;
-      case laws::LawFamily::kTriangular:
-        b.shape = laws::MakeTriangularShape(bridging.Number("peak_ratio", laws::kDefaultPeakRatio));
-        break;
-      case laws::LawFamily::kExponential:
-        b.shape = laws::MakeExponentialShape(bridging.Number("alpha", laws::kDefaultExponentialAlpha));
-        break;
-      case laws::LawFamily::kTrilinear: {
-        const auto v = bridging.Numbers("trilinear", 5);
-        b.shape = laws::MakeTrilinearShape(v[0], v[1], v[2], v[3], v[4]);
-        break;
-      }
-      case laws::LawFamily::kTable: {
-        std::filesystem::path table = bridging.String("table", "", true);
-        if (table.is_relative())
-          table = std::filesystem::path(source_name).parent_path() / table;
-        b.table_file = table.string();
-        // A table is small: refused at its own limit (a scene naming
-        // /dev/zero would otherwise read until memory runs out).
-        const CsvTable csv = ReadCsvTable(table, CsvKind::kLawTable);
-        double sc = 0, dc = 0;
-        b.shape = laws::MakeTableShape(csv.ColumnSi("delta", Dimension::Length()),
-                                       csv.ColumnSi("sigma", Dimension::Stress()), &sc, &dc);
-        if (!std::isfinite(given.sigma_c) && !std::isfinite(given.delta_c) &&
-            !std::isfinite(given.J_B)) {
-          given.sigma_c = sc;
-          given.delta_c = dc;
-        }
-        break;
-      }
+    laws::ShapeSpec spec{.family = family};
+    if (family == laws::LawFamily::kTriangular)
+      spec.peak_ratio = bridging.Number("peak_ratio", laws::kDefaultPeakRatio);
+    if (family == laws::LawFamily::kExponential)
+      spec.alpha = bridging.Number("alpha", laws::kDefaultExponentialAlpha);
+    if (family == laws::LawFamily::kTrilinear) spec.trilinear = bridging.Numbers("trilinear", 5);
+    if (family == laws::LawFamily::kTable) {
+      std::filesystem::path table = bridging.String("table", "", true);
+      if (table.is_relative()) table = std::filesystem::path(source_name).parent_path() / table;
+      b.table_file = table.string();
+      // A table is small: refused at its own limit (a scene naming
+      // /dev/zero would otherwise read until memory runs out).
+      const CsvTable csv = ReadCsvTable(table, CsvKind::kLawTable);
+      spec.table_delta = csv.ColumnSi("delta", Dimension::Length());
+      spec.table_sigma = csv.ColumnSi("sigma", Dimension::Stress());
     }
+    b.shape = laws::MakeShape(spec, &given);
     b.scales = laws::CompleteScales(b.shape, given);
   } catch (const Error& e) {
     ErrorContext c = bridging.Context(e.context().field.empty() ? "law" : e.context().field.c_str());

@@ -111,6 +111,35 @@ std::optional<LawShape> DefaultShape(LawFamily family) {
   }
 }
 
+LawShape MakeShape(const ShapeSpec& spec, LawScales* given) {
+  switch (spec.family) {
+    case LawFamily::kLinear: return MakeLinearShape();
+    case LawFamily::kCubic: return MakeCubicShape();
+    case LawFamily::kTriangular: return MakeTriangularShape(spec.peak_ratio);
+    case LawFamily::kExponential: return MakeExponentialShape(spec.alpha);
+    case LawFamily::kTrilinear: {
+      const std::vector<double>& v = spec.trilinear;
+      BF_CHECK_INPUT(v.size() == 5, "the trilinear law needs its five break-point values",
+                     {.field = "trilinear", .value = std::to_string(v.size()) + " values",
+                      .expected = "s0, d1, s1, d2, s2"});
+      return MakeTrilinearShape(v[0], v[1], v[2], v[3], v[4]);
+    }
+    case LawFamily::kTable: {
+      BF_CHECK_INPUT(!spec.table_delta.empty(), "the table law needs its (delta, sigma) points",
+                     {.field = "table", .expected = "a CSV with columns delta and sigma"});
+      double sigma_c = 0, delta_c = 0;
+      LawShape shape = MakeTableShape(spec.table_delta, spec.table_sigma, &sigma_c, &delta_c);
+      if (given && !std::isfinite(given->sigma_c) && !std::isfinite(given->delta_c) &&
+          !std::isfinite(given->J_B)) {
+        given->sigma_c = sigma_c;
+        given->delta_c = delta_c;
+      }
+      return shape;
+    }
+  }
+  return MakeLinearShape();
+}
+
 std::vector<LawShape> ComparedShapes() {
   return {MakeLinearShape(), MakeCubicShape(), MakeTriangularShape(kDefaultPeakRatio),
           MakeExponentialShape(kDefaultExponentialAlpha)};

@@ -75,6 +75,9 @@ struct CrackSequenceResult {
   std::size_t points = 0;   // grid points per frame
   double mean_correlated_points = 0;  // per deformed frame (the crack band, or every point)
   bool j_integral = false;  // frames carry J_ff and delta* (options.j_integral.enabled)
+  // Exported fields (AnalyzeCrackFields): the fields' coordinate unit ("px",
+  // "mm", ...), in which the *_px members are.
+  std::string length_unit = "px";
   std::string BriefReport() const;
 };
 
@@ -109,16 +112,31 @@ void MakeMonotone(std::vector<FrameResult>* frames);
 // max(10 band, 12 spacings), path resolution 1.5 spacings.
 void SetFieldDefaults(double spacing, double band, CrackSequenceOptions* options);
 
+// The settings of AnalyzeCrackFields that follow the fields: with
+// `from_spacing`, SetFieldDefaults(the first file's point spacing, `band`
+// or 1.5 spacings); then the Williams radius and the jump threshold's floor
+// (also the path's smallest jump) where given.
+struct FieldSettings {
+  bool from_spacing = true;
+  double band = 0;        // <= 0: 1.5 point spacings [field unit]
+  double fit_radius = 0;  // > 0: Williams fit radius and sqrt window [field unit]
+  // Floor of the jump threshold: a length ("0.001mm"), or for fields in px
+  // also a pixel count ("0.5px"); empty: the options' own.
+  std::string threshold;
+};
+
 // Crack length from exported displacement fields, one file per frame, read
 // one at a time (fields are relative to the reference already, so every file
 // is a frame). Lengths use options.scale_m_per_px as metres per field unit:
 // for fields in a length unit it is overwritten from the file (all files must
-// share it); for fields in px it must be given. When `auto_defaults`, the
-// tip and path settings follow SetFieldDefaults(spacing of the first file,
-// band or 1.5 spacings when band <= 0). Throws Error(kInput) naming the file.
+// share it); for fields in px it must be given. The tip and path settings
+// follow `settings` (FieldSettings); `used` (optional) receives the options
+// as applied (scale in metres per field unit). Throws Error(kInput) naming
+// the file.
 CrackSequenceResult AnalyzeCrackFields(const std::vector<std::filesystem::path>& files,
-                                       CrackSequenceOptions options, bool auto_defaults = true,
-                                       double band = 0);
+                                       CrackSequenceOptions options,
+                                       const FieldSettings& settings = {},
+                                       CrackSequenceOptions* used = nullptr);
 
 // The crack band of a frame: the grid points within `strip` of the line
 // (from `strip` behind its start on, to the grid's end ahead) and, with a

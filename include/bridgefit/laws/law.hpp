@@ -192,4 +192,20 @@ struct LawScales {
 // disagree, or if any is not positive.
 LawScales CompleteScales(const LawShape& shape, const LawScales& given);
 
+// A law family with its shape options, as a scene file or the command line
+// gives them (already parsed, SI).
+struct ShapeSpec {
+  LawFamily family = LawFamily::kLinear;
+  double peak_ratio = kDefaultPeakRatio;         // triangular
+  double alpha = kDefaultExponentialAlpha;       // exponential
+  std::vector<double> trilinear;                 // s0, d1, s1, d2, s2
+  std::vector<double> table_delta, table_sigma;  // table: [m], [Pa]
+};
+// The one home of the family -> shape rule (scene files and `bridgefit
+// law`): the family's shape from its options. A table also sets the scales
+// when none of the three is given (its peak and last opening). Throws Error
+// (field "trilinear" or "table") when the family's data is missing, or as
+// the Make*Shape functions do.
+LawShape MakeShape(const ShapeSpec& spec, LawScales* given);
+
 }  // namespace bridgefit::laws
