@@ -3,6 +3,7 @@
 // every run to OUT (17 digits), so that two builds can be compared number by
 // number (scripts/compare_forward.py OLD NEW).
 //   bf_reduced_forward_bench OUT [resolution_mm=0.5] [reps=20] [solver=hybrid|bordered|dense]
+//       [only: runs whose "geometry draw" name contains it] [tolerance=1e-10]
 // Cases: the CT of tests/data/scenes/ct_mdf.toml grown to 85 mm with linear
 // softening (the issue-7 truths and a fit's spread of sigma_c and J_B), the
 // cubic, triangular and exponential shapes, no bridging; and the DCB of
@@ -30,13 +31,15 @@ struct Draw {
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(stderr, "usage: bf_reduced_forward_bench OUT [resolution_mm] [reps] [solver]\n");
+    std::fprintf(stderr, "usage: bf_reduced_forward_bench OUT [resolution_mm] [reps] [solver] [only] [tolerance]\n");
     return 2;
   }
   const double h = (argc > 2 ? std::atof(argv[2]) : 0.5) * 1e-3;
   const int reps = argc > 3 ? std::atoi(argv[3]) : 20;
   const std::string solver_name = argc > 4 ? argv[4] : "hybrid";
+  const std::string only = argc > 5 ? argv[5] : "";
   models::ReducedOptions options;
+  if (argc > 6) options.tolerance = std::atof(argv[6]);
   options.solver = solver_name == "dense"      ? models::ReducedOptions::Solver::kDense
                    : solver_name == "bordered" ? models::ReducedOptions::Solver::kBordered
                                                : models::ReducedOptions::Solver::kHybrid;
@@ -73,6 +76,7 @@ int main(int argc, char** argv) {
     mesh.max_crack_length = geometry.a_max;  // 0: the scene's default
     const models::ReducedModel model(scene, mesh);
     for (const Draw& d : geometry.draws) {
+      if ((std::string(geometry.name) + " " + d.name).find(only) == std::string::npos) continue;
       const laws::BridgingLaw law{&d.shape, d.sigma_c, d.J_B / (d.shape.Area() * d.sigma_c)};
       const laws::BridgingLaw* law_ptr = d.J_B > 0.0 ? &law : nullptr;
       std::vector<double> seconds;

@@ -411,6 +411,36 @@ class BorderedGrowth {
     return std::isfinite(p_);
   }
 
+  // The load step of a Newton iteration. Along the linearized force
+  // equations, u(dp) = u - x1 + x2 dp (x1 = K^-1 r_u, x2 = K^-1 g), the
+  // reaction R_t and the opening u_{t-1} are affine in dp, so J_tip of (2) is
+  // a quadratic in dp: its larger root (the load side, as in SolveUnbridged)
+  // is taken instead of the root of rG's linearization, which overshoots
+  // from the warm start (the node behind the tip starts shut, where
+  // d J_tip / d u_{t-1} = 0) and then needs a second step, and where points
+  // cross delta_c on the way, rank-one updates back and forth. Same root, same
+  // convergence test; for linear softening on its loading branch it is the
+  // solution in one step. Falls back to the linearized step where the
+  // quadratic has no root.
+  double LoadStep(double r_G, double e) const {
+    const int t = t_;
+    const Eigen::Ref<const Eigen::VectorXd> s_t = S_.col(t).head(t);
+    const double R0 = s_t.dot(u_.head(t) - x1_.head(t)) - g_[t] * p_ + tip_force_;
+    const double R1 = s_t.dot(x2_.head(t)) - g_[t];
+    const double U0 = u_[t - 1] - x1_[t - 1], U1 = x2_[t - 1];
+    const double A = R1 * R1 * phi_ + U1 * U1 / psi_;
+    const double B = 2.0 * (R0 * R1 * phi_ + U0 * U1 / psi_);
+    const double C = R0 * R0 * phi_ + U0 * U0 / psi_ - 2.0 * h_ * J_tip_c_;
+    const double disc = B * B - 4.0 * A * C;
+    if (A > 0.0 && disc >= 0.0) {
+      // Larger root, in the form without cancellation.
+      const double q = -0.5 * (B + std::copysign(std::sqrt(disc), B));
+      const double root = q != 0.0 ? std::max(q / A, C / q) : 0.0;
+      if (std::isfinite(root)) return root;
+    }
+    return (-r_G + a_.head(t).dot(x1_.head(t))) / (a_.head(t).dot(x2_.head(t)) + e);
+  }
+
   // Chord Newton on (u, p) with a backtracking line search; the first step
   // starts from the unbridged LEFM load.
   bool SolveChordNewton() {
@@ -451,7 +481,7 @@ class BorderedGrowth {
       // [K -g; a^T e] [du; dp] = -[r_u; r_G] by block elimination.
       x1_.head(t) = r_u_.head(t);
       tangent_.Solve(x1_.head(t));
-      const double dp = (-r_G + a_.head(t).dot(x1_.head(t))) / (a_.head(t).dot(x2_.head(t)) + e);
+      const double dp = LoadStep(r_G, e);
       double lambda = 1.0, trial = INFINITY, trial_p = p_, trial_rg = 0.0, trial_e = 0.0;
       for (int ls = 0; ls < 30; ++ls, lambda *= 0.5) {
         trial_u_.head(t) = u_.head(t) + lambda * (x2_.head(t) * dp - x1_.head(t));
