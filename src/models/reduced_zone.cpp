@@ -103,70 +103,93 @@ void RecordPoint(const CrackPlaneModel& m, const laws::BridgingLaw* law, double 
   result.points.push_back(point);
 }
 
-// Dense LDL^T factor of a symmetric matrix that grows by bordering (one new
-// last row) and takes rank-one diagonal updates (Bennett's algorithm), both
-// O(m^2). L is unit lower triangular, column-major.
-class GrowingLdlt {
- public:
-  explicit GrowingLdlt(int capacity) : L_(Eigen::MatrixXd::Zero(capacity, capacity)), d_(capacity) {}
-  int size() const { return m_; }
-  double pivot(int i) const { return d_[i]; }
-  // Pivot the new row (column `col` of the matrix above the diagonal, and its
-  // diagonal) would get; fills `l` with its L entries. Does not modify.
-  double Preview(const Eigen::Ref<const Eigen::VectorXd>& col, double diagonal,
-                 Eigen::VectorXd& l) const {
-    l.head(m_) = col.head(m_);
-    for (int k = 0; k < m_; ++k) {
-      const double y = l[k];
-      if (y != 0.0) l.segment(k + 1, m_ - k - 1).noalias() -= L_.col(k).segment(k + 1, m_ - k - 1) * y;
-    }
-    double pivot = diagonal;
-    for (int k = 0; k < m_; ++k) {
-      const double y = l[k];
-      l[k] = y / d_[k];
-      pivot -= y * l[k];
-    }
-    return pivot;
+double GrowingLdlt::Preview(const Eigen::Ref<const Eigen::VectorXd>& col, double diagonal,
+                            Eigen::VectorXd& l) const {
+  l.head(m_) = col.head(m_);
+  for (int k = 0; k < m_; ++k) {
+    const double y = l[k];
+    if (y != 0.0) l.segment(k + 1, m_ - k - 1).noalias() -= L_.col(k).segment(k + 1, m_ - k - 1) * y;
   }
-  void Border(const Eigen::Ref<const Eigen::VectorXd>& col, double diagonal, Eigen::VectorXd& l) {
-    const double pivot = Preview(col, diagonal, l);
-    L_.row(m_).head(m_) = l.head(m_).transpose();
-    L_(m_, m_) = 1.0;
-    d_[m_] = pivot;
-    ++m_;
+  double pivot = diagonal;
+  for (int k = 0; k < m_; ++k) {
+    const double y = l[k];
+    l[k] = y / d_[k];
+    pivot -= y * l[k];
   }
-  // A + alpha e_j e_j^T.
-  void AddToDiagonal(int j, double alpha, Eigen::VectorXd& w) {
-    w.segment(j, m_ - j).setZero();
-    w[j] = 1.0;
-    for (int c = j; c < m_; ++c) {
-      const double p = w[c];
-      if (p == 0.0) continue;
-      const double d_old = d_[c];
-      d_[c] = d_old + alpha * p * p;
-      const double beta = p * alpha / d_[c];
-      alpha *= d_old / d_[c];
-      for (int i = c + 1; i < m_; ++i) {
-        w[i] -= p * L_(i, c);
-        L_(i, c) += beta * w[i];
-      }
-    }
-  }
-  // x = A^-1 r (in place).
-  void Solve(Eigen::Ref<Eigen::VectorXd> x) const {
-    for (int k = 0; k < m_; ++k)
-      if (x[k] != 0.0) x.segment(k + 1, m_ - k - 1).noalias() -= L_.col(k).segment(k + 1, m_ - k - 1) * x[k];
-    x.head(m_).array() /= d_.head(m_).array();
-    for (int k = m_ - 1; k >= 0; --k)
-      x[k] -= L_.col(k).segment(k + 1, m_ - k - 1).dot(x.segment(k + 1, m_ - k - 1));
-  }
+  return pivot;
+}
 
- private:
-  Eigen::MatrixXd L_;
-  Eigen::VectorXd d_;
-  int m_ = 0;
-};
+void GrowingLdlt::Border(const Eigen::Ref<const Eigen::VectorXd>& col, double diagonal,
+                         Eigen::VectorXd& l) {
+  const double pivot = Preview(col, diagonal, l);
+  L_.row(m_).head(m_) = l.head(m_).transpose();
+  L_(m_, m_) = 1.0;
+  d_[m_] = pivot;
+  ++m_;
+}
 
+void GrowingLdlt::AddToDiagonal(int j, double alpha, Eigen::VectorXd& w) {
+  w.segment(j, m_ - j).setZero();
+  w[j] = 1.0;
+  for (int c = j; c < m_; ++c) {
+    const double p = w[c];
+    if (p == 0.0) continue;
+    const double d_old = d_[c];
+    d_[c] = d_old + alpha * p * p;
+    const double beta = p * alpha / d_[c];
+    alpha *= d_old / d_[c];
+    for (int i = c + 1; i < m_; ++i) {
+      w[i] -= p * L_(i, c);
+      L_(i, c) += beta * w[i];
+    }
+  }
+}
+
+void GrowingLdlt::SolveLeading(Eigen::Ref<Eigen::VectorXd> x, int m) const {
+  for (int k = 0; k < m; ++k)
+    if (x[k] != 0.0) x.segment(k + 1, m - k - 1).noalias() -= L_.col(k).segment(k + 1, m - k - 1) * x[k];
+  x.head(m).array() /= d_.head(m).array();
+  for (int k = m - 1; k >= 0; --k)
+    x[k] -= L_.col(k).segment(k + 1, m - k - 1).dot(x.segment(k + 1, m - k - 1));
+}
+
+ElasticTables::ElasticTables(const CrackPlaneModel& m) : factor(m.size()) {
+  const int n = m.size();
+  const Eigen::Map<const Eigen::MatrixXd> S(m.stiffness.data(), n, n);
+  const Eigen::Map<const Eigen::VectorXd> g(m.load.data(), n);
+  Eigen::VectorXd work(n);
+  for (int t = 0; t < n; ++t) factor.Border(S.col(t), S(t, t), work);
+  Linv = factor.L().triangularView<Eigen::UnitLower>().solve(Eigen::MatrixXd::Identity(n, n));
+  Linv.triangularView<Eigen::StrictlyUpper>().setZero();
+  y = Linv * g;
+}
+
+void ZoneSystem::FromFlexibility(const Eigen::MatrixXd& F, const Eigen::VectorXd& Fg,
+                                 const Eigen::VectorXd& v) {
+  const int k = t - z0;
+  F_zz = F.block(z0, z0, k, k);
+  F_back = F.row(t - 1).segment(z0, k).transpose();
+  Fg_z = Fg.segment(z0, k);
+  Fg_back = Fg[t - 1];
+  v_z = v.segment(z0, k);
+}
+
+void ZoneSystem::FromTables(const ElasticTables& tables) {
+  const int k = t - z0;
+  const auto W = tables.Linv.block(z0, z0, k, k);  // lower triangular
+  Eigen::VectorXd d_inv(k);
+  for (int i = 0; i < k; ++i) d_inv[i] = 1.0 / tables.factor.pivot(z0 + i);
+  // F_zz = W^T D^-1 W (rows s < z0 of Linv vanish on the zone's columns).
+  const Eigen::MatrixXd scaled = d_inv.asDiagonal() * W;
+  F_zz.noalias() = W.transpose() * scaled;
+  F_back = W.row(k - 1).transpose() * d_inv[k - 1];
+  Fg_z.noalias() = W.transpose() * d_inv.cwiseProduct(tables.y.segment(z0, k));
+  Fg_back = Fg_z[k - 1];
+  v_z = -tables.Linv.row(t).segment(z0, k).transpose();
+  phi = 1.0 / tables.factor.pivot(t);
+  psi = 1.0 / tables.factor.pivot(t - 1);
+  alpha = -tables.y[t];
+}
 
 // Borders the flexibility of the free nodes 0..t-1 with node t once it is
 // released (v = F s_t, phi its flexibility).
@@ -181,15 +204,16 @@ void BorderFlexibility(Eigen::MatrixXd& F, const Eigen::VectorXd& v, double phi,
 // nodes z0..t-1 (k of them): Newton on (u_zone, p) with a dense LU, O(k^3).
 // F is the flexibility of nodes 0..t-1, Fg = F g, v = F s_t. On success `u`
 // (nodes 0..t-1) and `p` hold the solution.
-bool SolveZoneDense(const Eigen::MatrixXd& F, const Eigen::VectorXd& Fg, const Eigen::VectorXd& v,
-                    double phi, double alpha, double psi, double tip_force, int z0, int t, double h,
-                    const laws::BridgingLaw& law, const std::vector<double>& delta_max,
-                    double J_tip_c, const ReducedOptions& options, Eigen::VectorXd& u, double& p,
-                    int& newton_total) {
-  const int k = t - z0;
+bool SolveZoneDense(const ZoneSystem& zone, double h, const laws::BridgingLaw& law,
+                    const std::vector<double>& delta_max, double J_tip_c,
+                    const ReducedOptions& options, Eigen::VectorXd& uz, double& p,
+                    Eigen::VectorXd& b, int& newton_total) {
+  const int z0 = zone.z0;
+  const int k = zone.t - z0;
+  const double phi = zone.phi, psi = zone.psi, alpha = zone.alpha;
   auto face_length = [&](int r) { return r == 1 ? 0.5 * h : h; };
-  Eigen::VectorXd b(k), db(k);
-  Eigen::VectorXd uz = u.segment(z0, k);
+  b.resize(k);
+  Eigen::VectorXd db(k);
   auto evaluate = [&](const Eigen::VectorXd& x_u, double x_p, Eigen::VectorXd* residual,
                       Eigen::MatrixXd* jacobian) {
     for (int i = 0; i < k; ++i) {
@@ -198,26 +222,24 @@ bool SolveZoneDense(const Eigen::MatrixXd& F, const Eigen::VectorXd& Fg, const E
       b[i] = face_length(r) * ts.sigma;
       db[i] = 2.0 * face_length(r) * ts.slope;
     }
-    const auto F_zz = F.block(z0, z0, k, k);
-    const auto F_back = F.row(t - 1).segment(z0, k);
-    const double reaction = alpha * x_p + tip_force - v.segment(z0, k).dot(b);
-    const double u_back = Fg[t - 1] * x_p - F_back.dot(b);
+    const double reaction = alpha * x_p + zone.tip_force - zone.v_z.dot(b);
+    const double u_back = zone.Fg_back * x_p - zone.F_back.dot(b);
     const double G = CentredTipEnergy(reaction, phi, u_back, psi, h);
     residual->resize(k + 1);
-    residual->head(k).noalias() = x_u - Fg.segment(z0, k) * x_p;
-    residual->head(k).noalias() += F_zz * b;
+    residual->head(k).noalias() = x_u - zone.Fg_z * x_p;
+    residual->head(k).noalias() += zone.F_zz * b;
     const double sqrtG = std::sqrt(std::max(G, 1e-300));
     (*residual)[k] = sqrtG / std::sqrt(J_tip_c) - 1.0;
     if (!jacobian) return;
     jacobian->resize(k + 1, k + 1);
-    jacobian->topLeftCorner(k, k).noalias() = F_zz * db.asDiagonal();
+    jacobian->topLeftCorner(k, k).noalias() = zone.F_zz * db.asDiagonal();
     jacobian->topLeftCorner(k, k).diagonal().array() += 1.0;
-    jacobian->col(k).head(k) = -Fg.segment(z0, k);
+    jacobian->col(k).head(k) = -zone.Fg_z;
     const double scale = 1.0 / (2.0 * sqrtG * std::sqrt(J_tip_c) * h);
     jacobian->row(k).head(k) =
-        -scale * (reaction * phi * v.segment(z0, k).transpose() + u_back / psi * F_back)
+        -scale * (reaction * phi * zone.v_z.transpose() + u_back / psi * zone.F_back.transpose())
                      .cwiseProduct(db.transpose());
-    (*jacobian)(k, k) = scale * (reaction * phi * alpha + u_back / psi * Fg[t - 1]);
+    (*jacobian)(k, k) = scale * (reaction * phi * alpha + u_back / psi * zone.Fg_back);
   };
   auto norm = [&](const Eigen::VectorXd& r, const Eigen::VectorXd& x_u) {
     const double u_scale = std::max(x_u.cwiseAbs().maxCoeff(), 1e-12);
@@ -252,7 +274,6 @@ bool SolveZoneDense(const Eigen::MatrixXd& F, const Eigen::VectorXd& Fg, const E
   if (!converged && current < options.tolerance) converged = true;
   if (!converged) return false;
   evaluate(uz, p, &residual, nullptr);  // tractions b at the solution
-  u.head(t).noalias() = Fg.head(t) * p - F.block(0, z0, t, k) * b;
   return true;
 }
 
@@ -268,40 +289,33 @@ namespace {
 //   -> Record -> Border.
 class BorderedGrowth {
  public:
-  BorderedGrowth(const CrackPlaneModel& m, const laws::BridgingLaw* law, double J_tip_c,
-                 const ReducedOptions& options, int& newton_total)
-      : m_(m), law_(law), J_tip_c_(J_tip_c), options_(options), newton_total_(newton_total),
+  BorderedGrowth(const CrackPlaneModel& m, const ElasticTables& tables,
+                 const laws::BridgingLaw* law, double J_tip_c, const ReducedOptions& options,
+                 int& newton_total)
+      : m_(m), tables_(tables), elastic_(tables.factor), law_(law), J_tip_c_(J_tip_c),
+        options_(options), newton_total_(newton_total),
         n_(m.size()), h_(m.resolution), S_(m.stiffness.data(), n_, n_), g_(m.load.data(), n_),
         tip_traction_(law ? law->Traction(0.0) : 0.0), delta_max_(n_, 0.0), broken_(n_, 0),
-        elastic_(n_), tangent_(n_), slope_(Eigen::VectorXd::Zero(n_)), work_(n_), work2_(n_),
+        tangent_(n_), slope_(Eigen::VectorXd::Zero(n_)), work_(n_), work2_(n_),
         u_(Eigen::VectorXd::Zero(n_)), b_(n_), db_(n_), r_u_(n_), a_(n_), x1_(n_), x2_(n_),
         trial_u_(n_), trial_r_(n_), trial_a_(n_),
-        force_scale_(S_.diagonal().cwiseAbs().maxCoeff()),
-        // The flexibility of the free nodes too (bordering, O(t^2) per crack
-        // length) for crack lengths whose bridged zone is short: there the
-        // dense zone solve (O(k^3)) is cheaper than O(t^2) iterations on all
-        // free nodes.
-        F_(Eigen::MatrixXd::Zero(n_, n_)), v_(n_), Fg_(n_) {
-    elastic_.Border(S_.col(0), S_(0, 0), work_);
+        force_scale_(S_.diagonal().cwiseAbs().maxCoeff()) {
     tangent_.Border(S_.col(0), S_(0, 0), work_);
-    F_(0, 0) = 1.0 / S_(0, 0);
   }
 
   // The equilibrium with the tip at node t: false when Newton did not
   // converge or the load is not positive.
   bool Solve(int t) {
     BeginStep(t);
-    const Eigen::Ref<const Eigen::VectorXd> s_t = S_.col(t).head(t);
-    v_.head(t).noalias() = F_.topLeftCorner(t, t) * s_t;
     const int zone_size = law_ ? t - z0_ : 0;
+    // Short bridged zone: the dense zone solve (O(k^3), the zone's
+    // flexibility from the elastic tables) is cheaper than O(t^2)
+    // iterations on all free nodes.
     const bool dense_zone = options_.solver == ReducedOptions::Solver::kHybrid && zone_size > 0 &&
                             p_ > 0.0 && std::pow(zone_size, 3) < 6.0 * t * t;
     bool converged = false;
     if (dense_zone) {
-      Fg_.head(t).noalias() = F_.topLeftCorner(t, t) * g_.head(t);
-      const double alpha = v_.head(t).dot(g_.head(t)) - g_[t];
-      converged = SolveZoneDense(F_, Fg_, v_, phi_, alpha, F_(t - 1, t - 1), tip_force_, z0_, t, h_,
-                                 *law_, delta_max_, J_tip_c_, options_, u_, p_, newton_total_);
+      converged = SolveDenseZone();
     } else if (!law_) {
       converged = SolveUnbridged();
     } else {
@@ -324,8 +338,6 @@ class BorderedGrowth {
   // shut; its slope is the envelope's at zero opening.
   void Border() {
     const int t = t_;
-    BorderFlexibility(F_, v_, phi_, t);
-    elastic_.Border(S_.col(t), S_(t, t), work_);
     double slope_t = 0.0;
     if (law_) slope_t = 2.0 * FaceLength(t) * BridgingTraction(*law_, 0.0, 0.0).slope;
     tangent_.Border(S_.col(t), S_(t, t) + slope_t, work_);
@@ -339,7 +351,7 @@ class BorderedGrowth {
   // The tip node's flexibility terms and the first node of the bridged zone.
   void BeginStep(int t) {
     t_ = t;
-    phi_ = 1.0 / elastic_.Preview(S_.col(t), S_(t, t), work_);
+    phi_ = 1.0 / elastic_.pivot(t);
     psi_ = 1.0 / elastic_.pivot(t - 1);
     tip_force_ = law_ ? tip_traction_ * FaceLength(t) : 0.0;
     z0_ = 1;
@@ -398,6 +410,24 @@ class BorderedGrowth {
     return std::max(ru.head(t).cwiseAbs().maxCoeff() / (force_scale_ * u_scale), std::abs(rg));
   }
 
+  // The zone's flexibility form (SolveZoneDense); the free nodes' openings
+  // then follow from S_ff u = g p - b.
+  bool SolveDenseZone() {
+    const int t = t_;
+    zone_.z0 = z0_;
+    zone_.t = t;
+    zone_.tip_force = tip_force_;
+    zone_.FromTables(tables_);
+    zone_u_ = u_.segment(z0_, t - z0_);
+    if (!SolveZoneDense(zone_, h_, *law_, delta_max_, J_tip_c_, options_, zone_u_, p_, zone_b_,
+                        newton_total_))
+      return false;
+    u_.head(t) = g_.head(t) * p_;
+    u_.segment(z0_, t - z0_) -= zone_b_;
+    elastic_.SolveLeading(u_.head(t), t);
+    return true;
+  }
+
   // No law: linear in p, u = p S^-1 g, J_tip quadratic in p.
   bool SolveUnbridged() {
     const int t = t_;
@@ -449,7 +479,7 @@ class BorderedGrowth {
     if (t == 1) p_ = 0.0;
     if (p_ <= 0.0) {
       x2_.head(t) = g_.head(t);
-      elastic_.Solve(x2_.head(t));
+      elastic_.SolveLeading(x2_.head(t), t);
       const double R1 = s_t.dot(x2_.head(t)) - g_[t];
       p_ = std::sqrt(2.0 * h_ * J_tip_c_ / (R1 * R1 * phi_ + x2_[t - 1] * x2_[t - 1] / psi_));
       // The openings of that load (issue 17): from u = 0 the residual is
@@ -506,6 +536,8 @@ class BorderedGrowth {
   }
 
   const CrackPlaneModel& m_;
+  const ElasticTables& tables_;
+  const GrowingLdlt& elastic_;  // of all crack-plane nodes (ElasticTables)
   const laws::BridgingLaw* law_;
   const double J_tip_c_;
   const ReducedOptions& options_;
@@ -517,14 +549,14 @@ class BorderedGrowth {
   const double tip_traction_;
   std::vector<double> delta_max_;
   std::vector<char> broken_;
-  GrowingLdlt elastic_, tangent_;
+  GrowingLdlt tangent_;
   Eigen::VectorXd slope_;  // b' held in `tangent_`
   Eigen::VectorXd work_, work2_;
   Eigen::VectorXd u_, b_, db_, r_u_, a_, x1_, x2_, trial_u_, trial_r_, trial_a_;
   double p_ = 0.0;
   const double force_scale_;
-  Eigen::MatrixXd F_;
-  Eigen::VectorXd v_, Fg_;
+  ZoneSystem zone_;
+  Eigen::VectorXd zone_u_, zone_b_;
   // The step: tip node, its flexibility terms, tip force, first zone node.
   int t_ = 0, z0_ = 1;
   double phi_ = NAN, psi_ = NAN, tip_force_ = 0.0;
@@ -532,10 +564,11 @@ class BorderedGrowth {
 
 }  // namespace
 
-void GrowBordered(const CrackPlaneModel& m, const laws::BridgingLaw* law, double J_tip_c,
-                  const ReducedOptions& options, SimulationResult& result, int& newton_total) {
+void GrowBordered(const CrackPlaneModel& m, const ElasticTables& tables,
+                  const laws::BridgingLaw* law, double J_tip_c, const ReducedOptions& options,
+                  SimulationResult& result, int& newton_total) {
   const int n = m.size();
-  BorderedGrowth growth(m, law, J_tip_c, options, newton_total);
+  BorderedGrowth growth(m, tables, law, J_tip_c, options, newton_total);
   Progress progress("reduced model", static_cast<size_t>(n - 1), options.progress);
   for (int t = 1; t < n; ++t) {
     if (!growth.Solve(t)) {
