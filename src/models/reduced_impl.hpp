@@ -54,6 +54,8 @@ class GrowingLdlt {
   void Solve(Eigen::Ref<Eigen::VectorXd> x) const { SolveLeading(x, m_); }
   // x = A_m^-1 r with A_m the leading m x m block (m <= size()).
   void SolveLeading(Eigen::Ref<Eigen::VectorXd> x, int m) const;
+  // Two right-hand sides in one pass over L.
+  void Solve2(Eigen::Ref<Eigen::VectorXd> x, Eigen::Ref<Eigen::VectorXd> y) const;
 
  private:
   Eigen::MatrixXd L_;

@@ -153,6 +153,36 @@ void GrowingLdlt::SolveLeading(Eigen::Ref<Eigen::VectorXd> x, int m) const {
     x[k] -= L_.col(k).segment(k + 1, m - k - 1).dot(x.segment(k + 1, m - k - 1));
 }
 
+void GrowingLdlt::Solve2(Eigen::Ref<Eigen::VectorXd> x, Eigen::Ref<Eigen::VectorXd> y) const {
+  const int m = m_;
+  double* __restrict xs = x.data();
+  double* __restrict ys = y.data();
+  for (int k = 0; k < m; ++k) {
+    const double xk = xs[k], yk = ys[k];
+    if (xk == 0.0 && yk == 0.0) continue;
+    const double* __restrict l = L_.col(k).data();
+    for (int i = k + 1; i < m; ++i) {
+      xs[i] -= l[i] * xk;
+      ys[i] -= l[i] * yk;
+    }
+  }
+  for (int k = 0; k < m; ++k) {
+    xs[k] /= d_[k];
+    ys[k] /= d_[k];
+  }
+  // Back substitution, both sums in one pass.
+  for (int k = m - 1; k >= 0; --k) {
+    const double* __restrict l = L_.col(k).data();
+    double sx = 0.0, sy = 0.0;
+    for (int i = k + 1; i < m; ++i) {
+      sx += l[i] * xs[i];
+      sy += l[i] * ys[i];
+    }
+    xs[k] -= sx;
+    ys[k] -= sy;
+  }
+}
+
 ElasticTables::ElasticTables(const CrackPlaneModel& m) : factor(m.size()) {
   const int n = m.size();
   const Eigen::Map<const Eigen::MatrixXd> S(m.stiffness.data(), n, n);
@@ -298,7 +328,7 @@ class BorderedGrowth {
         tip_traction_(law ? law->Traction(0.0) : 0.0), delta_max_(n_, 0.0), broken_(n_, 0),
         tangent_(n_), slope_(Eigen::VectorXd::Zero(n_)), work_(n_), work2_(n_),
         u_(Eigen::VectorXd::Zero(n_)), b_(n_), db_(n_), r_u_(n_), a_(n_), x1_(n_), x2_(n_),
-        trial_u_(n_), trial_r_(n_), trial_a_(n_),
+        trial_u_(n_), trial_r_(n_), trial_a_(n_), b_u_(n_), du_(n_), step_r_(n_),
         force_scale_(S_.diagonal().cwiseAbs().maxCoeff()) {
     tangent_.Border(S_.col(0), S_(0, 0), work_);
   }
@@ -385,15 +415,20 @@ class BorderedGrowth {
     return changed;
   }
 
-  // Residuals: r_u = S u + b - g p (force), r_G = sqrt(J_tip / J_c) - 1, and
-  // the gradient a = d r_G / d u, e = d r_G / d p.
-  void Evaluate(const Eigen::VectorXd& x_u, double x_p, Eigen::VectorXd& ru, Eigen::VectorXd& grad,
-                double& rg, double& de) {
+  // Force residual r_u = S u + b - g p, with b the tractions of the last
+  // Slopes call (a product with S, O(t^2)).
+  void ForceResidual(const Eigen::VectorXd& x_u, double x_p, Eigen::VectorXd& ru) const {
     const int t = t_;
-    const Eigen::Ref<const Eigen::VectorXd> s_t = S_.col(t).head(t);
-    Slopes(x_u);
     ru.head(t).noalias() = S_.topLeftCorner(t, t).selfadjointView<Eigen::Lower>() * x_u.head(t);
     ru.head(t) += b_.head(t) - g_.head(t) * x_p;
+  }
+
+  // The tip residual r_G = sqrt(J_tip / J_c) - 1 and its gradient
+  // a = d r_G / d u, e = d r_G / d p (O(t)).
+  void TipResidual(const Eigen::VectorXd& x_u, double x_p, Eigen::VectorXd& grad, double& rg,
+                   double& de) const {
+    const int t = t_;
+    const Eigen::Ref<const Eigen::VectorXd> s_t = S_.col(t).head(t);
     const double reaction = s_t.dot(x_u.head(t)) - g_[t] * x_p + tip_force_;
     const double G = CentredTipEnergy(reaction, phi_, x_u[t - 1], psi_, h_);
     const double sqrtG = std::sqrt(std::max(G, 1e-300));
@@ -473,9 +508,21 @@ class BorderedGrowth {
 
   // Chord Newton on (u, p) with a backtracking line search; the first step
   // starts from the unbridged LEFM load.
+  //
+  // The force residual is a product with S only where it must be exact: the
+  // start of a crack length that does not follow a converged chord-Newton
+  // one, and the convergence test. Elsewhere it is carried: the last crack
+  // length's verified residual is the new one's on the old free nodes (same
+  // u, p and tractions; the new free node starts shut, one row, O(t)), and
+  // along a step (K du = g dp - r_u, K = S + diag(slope)) S du - g dp =
+  // -r_u - slope du, so a trial's residual is O(t) past its tractions.
+  // A converged point passes the same test on the residual computed from
+  // S as before.
   bool SolveChordNewton() {
     const int t = t_;
     const Eigen::Ref<const Eigen::VectorXd> s_t = S_.col(t).head(t);
+    const bool carried = carried_t_ == t - 1;
+    carried_t_ = -1;
     if (t == 1) p_ = 0.0;
     if (p_ <= 0.0) {
       x2_.head(t) = g_.head(t);
@@ -490,15 +537,36 @@ class BorderedGrowth {
     }
     Slopes(u_);
     Refresh(1e-9);
-    x2_.head(t) = g_.head(t);
-    tangent_.Solve(x2_.head(t));
+    if (carried) {
+      // r_u_ holds S u + b_old - g p on nodes 0..t-2 (b_old in b_u_).
+      r_u_.head(t - 1) += b_.head(t - 1) - b_u_.head(t - 1);
+      r_u_[t - 1] = S_.row(t - 1).head(t - 1).dot(u_.head(t - 1)) + b_[t - 1] - g_[t - 1] * p_;
+    } else {
+      ForceResidual(u_, p_, r_u_);
+    }
+    bool exact = true;  // r_u_ is S u + b - g p, not carried along a step
+    b_u_.head(t) = b_.head(t);
     double r_G = 0.0, e = 0.0;
-    Evaluate(u_, p_, r_u_, a_, r_G, e);
+    TipResidual(u_, p_, a_, r_G, e);
+    // x2 = K^-1 g and the first step's x1 = K^-1 r_u in one pass.
+    x2_.head(t) = g_.head(t);
+    x1_.head(t) = r_u_.head(t);
+    tangent_.Solve2(x2_.head(t), x1_.head(t));
+    bool x1_ready = true;
     double current = Norm(r_u_, u_, r_G);
     double previous = INFINITY;
     bool converged = false;
     for (int it = 0; it < options_.max_newton_iterations; ++it) {
       ++newton_total_;
+      if (current < options_.tolerance && !exact) {
+        Slopes(u_);
+        ForceResidual(u_, p_, r_u_);
+        TipResidual(u_, p_, a_, r_G, e);
+        b_u_.head(t) = b_.head(t);
+        exact = true;
+        x1_ready = false;
+        current = Norm(r_u_, u_, r_G);
+      }
       if (current < options_.tolerance) {
         converged = true;
         break;
@@ -506,32 +574,54 @@ class BorderedGrowth {
       if (current > 0.25 * previous && Refresh(1e-9)) {
         x2_.head(t) = g_.head(t);
         tangent_.Solve(x2_.head(t));
+        x1_ready = false;
       }
       previous = current;
       // [K -g; a^T e] [du; dp] = -[r_u; r_G] by block elimination.
-      x1_.head(t) = r_u_.head(t);
-      tangent_.Solve(x1_.head(t));
+      if (!x1_ready) {
+        x1_.head(t) = r_u_.head(t);
+        tangent_.Solve(x1_.head(t));
+      }
+      x1_ready = false;
       const double dp = LoadStep(r_G, e);
+      du_.head(t) = x2_.head(t) * dp - x1_.head(t);
+      // S du - g dp, and S u - g p (the residual without its tractions).
+      step_r_.head(t) = -r_u_.head(t) - slope_.head(t).cwiseProduct(du_.head(t));
+      r_u_.head(t) -= b_u_.head(t);
       double lambda = 1.0, trial = INFINITY, trial_p = p_, trial_rg = 0.0, trial_e = 0.0;
       for (int ls = 0; ls < 30; ++ls, lambda *= 0.5) {
-        trial_u_.head(t) = u_.head(t) + lambda * (x2_.head(t) * dp - x1_.head(t));
+        trial_u_.head(t) = u_.head(t) + lambda * du_.head(t);
         trial_p = p_ + lambda * dp;
         // The load stays positive: sqrt(J_tip) = sqrt(J_tip,c) has a root
         // at p < 0 too, which a full step can reach on a coarse mesh.
         if (!(trial_p > 0.0)) continue;
-        Evaluate(trial_u_, trial_p, trial_r_, trial_a_, trial_rg, trial_e);
+        Slopes(trial_u_);
+        trial_r_.head(t) = r_u_.head(t) + lambda * step_r_.head(t) + b_.head(t);
+        TipResidual(trial_u_, trial_p, trial_a_, trial_rg, trial_e);
         trial = Norm(trial_r_, trial_u_, trial_rg);
         if (trial < current * (1.0 - 1e-4 * lambda) || trial < options_.tolerance) break;
       }
       u_.head(t) = trial_u_.head(t);
       p_ = trial_p;
       r_u_.head(t) = trial_r_.head(t);
+      b_u_.head(t) = b_.head(t);
       a_.head(t) = trial_a_.head(t);
       r_G = trial_rg;
       e = trial_e;
       current = trial;
+      exact = false;
     }
-    if (!converged && current < options_.tolerance) converged = true;
+    if (!converged && current < options_.tolerance) {
+      if (!exact) {
+        Slopes(u_);
+        ForceResidual(u_, p_, r_u_);
+        TipResidual(u_, p_, a_, r_G, e);
+        b_u_.head(t) = b_.head(t);
+        current = Norm(r_u_, u_, r_G);
+      }
+      converged = current < options_.tolerance;
+    }
+    if (converged) carried_t_ = t;  // r_u_ and b_u_ hold the verified state
     return converged;
   }
 
@@ -553,6 +643,9 @@ class BorderedGrowth {
   Eigen::VectorXd slope_;  // b' held in `tangent_`
   Eigen::VectorXd work_, work2_;
   Eigen::VectorXd u_, b_, db_, r_u_, a_, x1_, x2_, trial_u_, trial_r_, trial_a_;
+  Eigen::VectorXd b_u_;            // tractions at u_ (the b of r_u_)
+  Eigen::VectorXd du_, step_r_;    // Newton direction and S du - g dp
+  int carried_t_ = -1;             // tip of the last verified chord-Newton solve
   double p_ = 0.0;
   const double force_scale_;
   ZoneSystem zone_;
