@@ -358,7 +358,6 @@ class BorderedGrowth {
   void Record(SimulationResult& result) {
     const int t = t_;
     const Eigen::Ref<const Eigen::VectorXd> s_t = S_.col(t).head(t);
-    Slopes(u_);
     const double R_t = s_t.dot(u_.head(t)) - g_[t] * p_ + tip_force_;
     const double J_tip = CentredTipEnergy(R_t, phi_, u_[t - 1], psi_, h_);
     RecordPoint(m_, law_, J_tip_c_, t, u_, p_, J_tip, delta_max_, broken_, result);
@@ -553,13 +552,14 @@ class BorderedGrowth {
     x1_.head(t) = r_u_.head(t);
     tangent_.Solve2(x2_.head(t), x1_.head(t));
     bool x1_ready = true;
+    bool b_at_u = true;  // b_ (and db_) are the tractions at u_
     double current = Norm(r_u_, u_, r_G);
     double previous = INFINITY;
     bool converged = false;
     for (int it = 0; it < options_.max_newton_iterations; ++it) {
       ++newton_total_;
       if (current < options_.tolerance && !exact) {
-        Slopes(u_);
+        if (!b_at_u) Slopes(u_);
         ForceResidual(u_, p_, r_u_);
         TipResidual(u_, p_, a_, r_G, e);
         b_u_.head(t) = b_.head(t);
@@ -592,10 +592,12 @@ class BorderedGrowth {
       for (int ls = 0; ls < 30; ++ls, lambda *= 0.5) {
         trial_u_.head(t) = u_.head(t) + lambda * du_.head(t);
         trial_p = p_ + lambda * dp;
+        b_at_u = false;
         // The load stays positive: sqrt(J_tip) = sqrt(J_tip,c) has a root
         // at p < 0 too, which a full step can reach on a coarse mesh.
         if (!(trial_p > 0.0)) continue;
         Slopes(trial_u_);
+        b_at_u = true;
         trial_r_.head(t) = r_u_.head(t) + lambda * step_r_.head(t) + b_.head(t);
         TipResidual(trial_u_, trial_p, trial_a_, trial_rg, trial_e);
         trial = Norm(trial_r_, trial_u_, trial_rg);
