@@ -4,16 +4,23 @@
 // number (scripts/compare_forward.py OLD NEW).
 //   bf_reduced_forward_bench OUT [resolution_mm=0.5] [reps=20] [solver=hybrid|bordered|dense]
 //       [only: runs whose "geometry draw" name contains it] [tolerance=1e-10]
+//   BF_SWEEP=N: instead, N random linear laws (seeded; sigma_c 0.03-10 MPa,
+//   J_B 1-5000 J/m^2, J_tip_c 300-3000 J/m^2, log-uniform) on each geometry,
+//   one run each: the spread a fit's searches visit, failures included.
 // Cases: the CT of tests/data/scenes/ct_mdf.toml grown to 85 mm with linear
 // softening (the issue-7 truths and a fit's spread of sigma_c and J_B), the
 // cubic, triangular and exponential shapes, no bridging; and the DCB of
 // data_samples/dcb_composite/scene.toml with linear softening.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <random>
 #include <string>
 #include <vector>
+
+#include <fmt/format.h>
 
 #include "bridgefit/io/scene_file.hpp"
 #include "bridgefit/laws/law.hpp"
@@ -75,7 +82,24 @@ int main(int argc, char** argv) {
     mesh.resolution = h;
     mesh.max_crack_length = geometry.a_max;  // 0: the scene's default
     const models::ReducedModel model(scene, mesh);
-    for (const Draw& d : geometry.draws) {
+    std::vector<Draw> draws = geometry.draws;
+    if (const char* sweep = std::getenv("BF_SWEEP")) {
+      draws.clear();
+      std::mt19937 rng(7);
+      std::uniform_real_distribution<double> unit(0.0, 1.0);
+      auto log_uniform = [&](double lo, double hi) {
+        return lo * std::pow(hi / lo, unit(rng));
+      };
+      static std::vector<std::string> names;
+      names.resize(std::atoi(sweep));
+      for (std::string& name : names) {
+        const double sigma_c = log_uniform(0.03e6, 10e6), J_B = log_uniform(1.0, 5000.0);
+        const double J_tip_c = log_uniform(300.0, 3000.0);
+        name = fmt::format("sweep_{:.4g}_{:.4g}_{:.4g}", sigma_c * 1e-6, J_B, J_tip_c);
+        draws.push_back({name.c_str(), linear, sigma_c, J_B, J_tip_c});
+      }
+    }
+    for (const Draw& d : draws) {
       if ((std::string(geometry.name) + " " + d.name).find(only) == std::string::npos) continue;
       const laws::BridgingLaw law{&d.shape, d.sigma_c, d.J_B / (d.shape.Area() * d.sigma_c)};
       const laws::BridgingLaw* law_ptr = d.J_B > 0.0 ? &law : nullptr;

@@ -328,7 +328,7 @@ class BorderedGrowth {
         tip_traction_(law ? law->Traction(0.0) : 0.0), delta_max_(n_, 0.0), broken_(n_, 0),
         tangent_(n_), slope_(Eigen::VectorXd::Zero(n_)), work_(n_), work2_(n_),
         u_(Eigen::VectorXd::Zero(n_)), b_(n_), db_(n_), r_u_(n_), a_(n_), x1_(n_), x2_(n_),
-        trial_u_(n_), trial_r_(n_), trial_a_(n_), b_u_(n_), du_(n_), step_r_(n_),
+        trial_u_(n_), trial_r_(n_), trial_a_(n_), b_u_(n_), du_(n_), step_r_(n_), start_u_(n_),
         force_scale_(S_.diagonal().cwiseAbs().maxCoeff()) {
     tangent_.Border(S_.col(0), S_(0, 0), work_);
   }
@@ -502,6 +502,12 @@ class BorderedGrowth {
       const double root = q != 0.0 ? std::max(q / A, C / q) : 0.0;
       if (std::isfinite(root)) return root;
     }
+    return LinearLoadStep(r_G, e);
+  }
+
+  // The root of rG's linearization: a^T du + e dp = -r_G with du = x2 dp - x1.
+  double LinearLoadStep(double r_G, double e) const {
+    const int t = t_;
     return (-r_G + a_.head(t).dot(x1_.head(t))) / (a_.head(t).dot(x2_.head(t)) + e);
   }
 
@@ -516,7 +522,10 @@ class BorderedGrowth {
   // along a step (K du = g dp - r_u, K = S + diag(slope)) S du - g dp =
   // -r_u - slope du, so a trial's residual is O(t) past its tractions.
   // A converged point passes the same test on the residual computed from
-  // S as before.
+  // S as before. Where the quadratic load step (LoadStep) does not converge
+  // (a few extreme CT laws, sigma_c 1-10 MPa with J_B 0.8-4.5 kJ/m^2), the
+  // crack length is solved again from the same start with the linearized
+  // load step, as before.
   bool SolveChordNewton() {
     const int t = t_;
     const Eigen::Ref<const Eigen::VectorXd> s_t = S_.col(t).head(t);
@@ -534,6 +543,19 @@ class BorderedGrowth {
       // load), "Newton did not converge at crack length a0".
       u_.head(t) = p_ * x2_.head(t);
     }
+    start_u_.head(t) = u_.head(t);
+    const double start_p = p_;
+    if (ChordNewton(carried, true)) return true;
+    u_.head(t) = start_u_.head(t);
+    p_ = start_p;
+    return ChordNewton(false, false);
+  }
+
+  // The iterations of SolveChordNewton; `carried`: r_u_ holds the last
+  // crack length's verified residual; `quadratic`: the load step of LoadStep
+  // (else the root of rG's linearization).
+  bool ChordNewton(bool carried, bool quadratic) {
+    const int t = t_;
     Slopes(u_);
     Refresh(1e-9);
     if (carried) {
@@ -583,7 +605,7 @@ class BorderedGrowth {
         tangent_.Solve(x1_.head(t));
       }
       x1_ready = false;
-      const double dp = LoadStep(r_G, e);
+      const double dp = quadratic ? LoadStep(r_G, e) : LinearLoadStep(r_G, e);
       du_.head(t) = x2_.head(t) * dp - x1_.head(t);
       // S du - g dp, and S u - g p (the residual without its tractions).
       step_r_.head(t) = -r_u_.head(t) - slope_.head(t).cwiseProduct(du_.head(t));
@@ -647,6 +669,7 @@ class BorderedGrowth {
   Eigen::VectorXd u_, b_, db_, r_u_, a_, x1_, x2_, trial_u_, trial_r_, trial_a_;
   Eigen::VectorXd b_u_;            // tractions at u_ (the b of r_u_)
   Eigen::VectorXd du_, step_r_;    // Newton direction and S du - g dp
+  Eigen::VectorXd start_u_;        // openings a crack length's Newton starts from
   int carried_t_ = -1;             // tip of the last verified chord-Newton solve
   double p_ = 0.0;
   const double force_scale_;
