@@ -43,6 +43,14 @@ struct Dual {
 };
 
 TractionSlope BridgingTraction(const laws::BridgingLaw& law, double delta, double delta_max) {
+  if (delta >= delta_max && law.shape->family == laws::LawFamily::kLinear) {
+    // The dual-number path below for s(d) = 1 - d, the same operations
+    // without the dual arithmetic (a fit's default law; called per node and
+    // trial).
+    const double d = delta / law.delta_c;
+    if (d < 0.0 || d >= 1.0) return {0.0, 0.0};
+    return {law.sigma_c * (1.0 - d), law.sigma_c * (0.0 - 1.0 / law.delta_c)};
+  }
   if (delta >= delta_max) {
     const Dual s = laws::ShapeValue(*law.shape, Dual(delta / law.delta_c, 1.0 / law.delta_c));
     return {law.sigma_c * s.v, law.sigma_c * s.d};
