@@ -54,8 +54,11 @@ class GrowingLdlt {
   void Solve(Eigen::Ref<Eigen::VectorXd> x) const { SolveLeading(x, m_); }
   // x = A_m^-1 r with A_m the leading m x m block (m <= size()).
   void SolveLeading(Eigen::Ref<Eigen::VectorXd> x, int m) const;
-  // Two right-hand sides in one pass over L.
-  void Solve2(Eigen::Ref<Eigen::VectorXd> x, Eigen::Ref<Eigen::VectorXd> y) const;
+  // Its two halves: z = L_m^-1 r, and x = L_m^-T D_m^-1 z (in place).
+  void ForwardLeading(Eigen::Ref<Eigen::VectorXd> x, int m) const;
+  void ScaleBackLeading(Eigen::Ref<Eigen::VectorXd> x, int m) const;
+  // x = L_m^-T x (in place).
+  void BackLeading(Eigen::Ref<Eigen::VectorXd> x, int m) const;
 
  private:
   Eigen::MatrixXd L_;

@@ -154,41 +154,23 @@ void GrowingLdlt::AddToDiagonal(int j, double alpha, Eigen::VectorXd& w) {
 }
 
 void GrowingLdlt::SolveLeading(Eigen::Ref<Eigen::VectorXd> x, int m) const {
-  for (int k = 0; k < m; ++k)
-    if (x[k] != 0.0) x.segment(k + 1, m - k - 1).noalias() -= L_.col(k).segment(k + 1, m - k - 1) * x[k];
-  x.head(m).array() /= d_.head(m).array();
-  for (int k = m - 1; k >= 0; --k)
-    x[k] -= L_.col(k).segment(k + 1, m - k - 1).dot(x.segment(k + 1, m - k - 1));
+  ForwardLeading(x, m);
+  ScaleBackLeading(x, m);
 }
 
-void GrowingLdlt::Solve2(Eigen::Ref<Eigen::VectorXd> x, Eigen::Ref<Eigen::VectorXd> y) const {
-  const int m = m_;
-  double* __restrict xs = x.data();
-  double* __restrict ys = y.data();
-  for (int k = 0; k < m; ++k) {
-    const double xk = xs[k], yk = ys[k];
-    if (xk == 0.0 && yk == 0.0) continue;
-    const double* __restrict l = L_.col(k).data();
-    for (int i = k + 1; i < m; ++i) {
-      xs[i] -= l[i] * xk;
-      ys[i] -= l[i] * yk;
-    }
-  }
-  for (int k = 0; k < m; ++k) {
-    xs[k] /= d_[k];
-    ys[k] /= d_[k];
-  }
-  // Back substitution, both sums in one pass.
-  for (int k = m - 1; k >= 0; --k) {
-    const double* __restrict l = L_.col(k).data();
-    double sx = 0.0, sy = 0.0;
-    for (int i = k + 1; i < m; ++i) {
-      sx += l[i] * xs[i];
-      sy += l[i] * ys[i];
-    }
-    xs[k] -= sx;
-    ys[k] -= sy;
-  }
+void GrowingLdlt::ForwardLeading(Eigen::Ref<Eigen::VectorXd> x, int m) const {
+  for (int k = 0; k < m; ++k)
+    if (x[k] != 0.0) x.segment(k + 1, m - k - 1).noalias() -= L_.col(k).segment(k + 1, m - k - 1) * x[k];
+}
+
+void GrowingLdlt::ScaleBackLeading(Eigen::Ref<Eigen::VectorXd> x, int m) const {
+  x.head(m).array() /= d_.head(m).array();
+  BackLeading(x, m);
+}
+
+void GrowingLdlt::BackLeading(Eigen::Ref<Eigen::VectorXd> x, int m) const {
+  for (int k = m - 1; k >= 0; --k)
+    x[k] -= L_.col(k).segment(k + 1, m - k - 1).dot(x.segment(k + 1, m - k - 1));
 }
 
 ElasticTables::ElasticTables(const CrackPlaneModel& m) : factor(m.size()) {
@@ -336,7 +318,7 @@ class BorderedGrowth {
         tip_traction_(law ? law->Traction(0.0) : 0.0), delta_max_(n_, 0.0), broken_(n_, 0),
         tangent_(n_), slope_(Eigen::VectorXd::Zero(n_)), work_(n_), work2_(n_),
         u_(Eigen::VectorXd::Zero(n_)), b_(n_), db_(n_), r_u_(n_), a_(n_), x1_(n_), x2_(n_),
-        trial_u_(n_), trial_r_(n_), trial_a_(n_), b_u_(n_), du_(n_), step_r_(n_), start_u_(n_),
+        trial_u_(n_), trial_r_(n_), trial_a_(n_), b_u_(n_), du_(n_), step_r_(n_), start_u_(n_), zg_(n_), border_l_(n_),
         force_scale_(S_.diagonal().cwiseAbs().maxCoeff()) {
     tangent_.Border(S_.col(0), S_(0, 0), work_);
   }
@@ -411,6 +393,7 @@ class BorderedGrowth {
   // Refreshes the tangent factor where the slopes moved; true when any did.
   bool Refresh(double tolerance) {
     bool changed = false;
+    const int x2_size = x2_size_;
     for (int r = 1; r < t_; ++r) {
       const double target = (law_ && r >= z0_) ? db_[r] : 0.0;
       if (std::abs(target - slope_[r]) > tolerance * S_(r, r)) {
@@ -419,7 +402,37 @@ class BorderedGrowth {
         changed = true;
       }
     }
+    x2_size_ = changed ? -1 : x2_size;
     return changed;
+  }
+
+  // x2 = K^-1 g for the free nodes 0..t-1, and zg = L^-1 g on the way.
+  void SolveX2() {
+    const int t = t_;
+    zg_.head(t) = g_.head(t);
+    tangent_.ForwardLeading(zg_.head(t), t);
+    x2_.head(t) = zg_.head(t);
+    tangent_.ScaleBackLeading(x2_.head(t), t);
+    x2_size_ = t;
+  }
+
+  // x2 after node t-1 joined the factor, from the last crack length's x2
+  // when the factor has not changed since but by the border: with the new
+  // row l and pivot delta of L D L^T and z = L^-1 g,
+  //   z_{t-1} = g_{t-1} - l.z, x2_{t-1} = z_{t-1} / delta,
+  //   x2 (old nodes) -= x2_{t-1} L^-T l
+  // (one back substitution, O(t^2 / 2), instead of a solve, O(t^2)).
+  void UpdateX2() {
+    const int t = t_;
+    if (x2_size_ != t - 1) return SolveX2();
+    const int m = t - 1;
+    border_l_.head(m) = tangent_.L().row(m).head(m).transpose();
+    zg_[m] = g_[m] - border_l_.head(m).dot(zg_.head(m));
+    const double last = zg_[m] / tangent_.pivot(m);
+    tangent_.BackLeading(border_l_.head(m), m);
+    x2_.head(m) -= last * border_l_.head(m);
+    x2_[m] = last;
+    x2_size_ = t;
   }
 
   // Force residual r_u = S u + b - g p, with b the tractions of the last
@@ -474,8 +487,7 @@ class BorderedGrowth {
   bool SolveUnbridged() {
     const int t = t_;
     const Eigen::Ref<const Eigen::VectorXd> s_t = S_.col(t).head(t);
-    x2_.head(t) = g_.head(t);
-    tangent_.Solve(x2_.head(t));
+    SolveX2();
     const double R1 = s_t.dot(x2_.head(t)) - g_[t];
     const double A = R1 * R1 * phi_ + x2_[t - 1] * x2_[t - 1] / psi_;
     p_ = std::sqrt(2.0 * h_ * J_tip_c_ / A);
@@ -543,6 +555,7 @@ class BorderedGrowth {
     if (p_ <= 0.0) {
       x2_.head(t) = g_.head(t);
       elastic_.SolveLeading(x2_.head(t), t);
+      x2_size_ = -1;  // the elastic factor's
       const double R1 = s_t.dot(x2_.head(t)) - g_[t];
       p_ = std::sqrt(2.0 * h_ * J_tip_c_ / (R1 * R1 * phi_ + x2_[t - 1] * x2_[t - 1] / psi_));
       // The openings of that load (issue 17): from u = 0 the residual is
@@ -577,10 +590,9 @@ class BorderedGrowth {
     b_u_.head(t) = b_.head(t);
     double r_G = 0.0, e = 0.0;
     TipResidual(u_, p_, a_, r_G, e);
-    // x2 = K^-1 g and the first step's x1 = K^-1 r_u in one pass.
-    x2_.head(t) = g_.head(t);
+    UpdateX2();
     x1_.head(t) = r_u_.head(t);
-    tangent_.Solve2(x2_.head(t), x1_.head(t));
+    tangent_.Solve(x1_.head(t));
     bool x1_ready = true;
     bool b_at_u = true;  // b_ (and db_) are the tractions at u_
     double current = Norm(r_u_, u_, r_G);
@@ -602,8 +614,7 @@ class BorderedGrowth {
         break;
       }
       if (current > 0.25 * previous && Refresh(1e-9)) {
-        x2_.head(t) = g_.head(t);
-        tangent_.Solve(x2_.head(t));
+        SolveX2();
         x1_ready = false;
       }
       previous = current;
@@ -678,6 +689,10 @@ class BorderedGrowth {
   Eigen::VectorXd b_u_;            // tractions at u_ (the b of r_u_)
   Eigen::VectorXd du_, step_r_;    // Newton direction and S du - g dp
   Eigen::VectorXd start_u_;        // openings a crack length's Newton starts from
+  // x2_ = K^-1 g and zg_ = L^-1 g hold for the leading x2_size_ nodes of the
+  // current tangent factor (-1: not at all); border_l_: UpdateX2's row.
+  Eigen::VectorXd zg_, border_l_;
+  int x2_size_ = -1;
   int carried_t_ = -1;             // tip of the last verified chord-Newton solve
   double p_ = 0.0;
   const double force_scale_;
