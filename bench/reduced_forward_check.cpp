@@ -38,7 +38,9 @@ struct Draw {
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(stderr, "usage: bf_reduced_forward_bench OUT [resolution_mm] [reps] [solver] [only] [tolerance]\n");
+    std::fprintf(
+        stderr,
+        "usage: bf_reduced_forward_bench OUT [resolution_mm] [reps] [solver] [only] [tolerance]\n");
     return 2;
   }
   const double h = (argc > 2 ? std::atof(argv[2]) : 0.5) * 1e-3;
@@ -73,8 +75,11 @@ int main(int argc, char** argv) {
   };
   const std::vector<Geometry> geometries = {
       {"ct", root + "/tests/data/scenes/ct_mdf.toml", 0.085, ct_draws},
-      {"dcb", root + "/data_samples/dcb_composite/scene.toml", 0.0,
-       {{"linear", linear, 0.9e6, 607.0, 359.0}, {"cubic", laws::MakeCubicShape(), 2.0e6, 300.0, 400.0}}}};
+      {"dcb",
+       root + "/data_samples/dcb_composite/scene.toml",
+       0.0,
+       {{"linear", linear, 0.9e6, 607.0, 359.0},
+        {"cubic", laws::MakeCubicShape(), 2.0e6, 300.0, 400.0}}}};
   double total_best = 0.0;
   for (const Geometry& geometry : geometries) {
     const Scene scene = io::ReadSceneFile(geometry.scene);
@@ -87,9 +92,7 @@ int main(int argc, char** argv) {
       draws.clear();
       std::mt19937 rng(7);
       std::uniform_real_distribution<double> unit(0.0, 1.0);
-      auto log_uniform = [&](double lo, double hi) {
-        return lo * std::pow(hi / lo, unit(rng));
-      };
+      auto log_uniform = [&](double lo, double hi) { return lo * std::pow(hi / lo, unit(rng)); };
       static std::vector<std::string> names;
       names.resize(std::atoi(sweep));
       for (std::string& name : names) {
@@ -113,11 +116,11 @@ int main(int argc, char** argv) {
       }
       std::sort(seconds.begin(), seconds.end());
       total_best += seconds.front();
-      std::printf("%s %-16s %4zu points  newton %6.0f  best %.3f ms  median %.3f ms  %s\n",
-                  geometry.name, d.name, result.points.size(),
-                  result.figures.count("newton_iterations") ? result.figures["newton_iterations"] : 0.0,
-                  seconds.front() * 1e3, seconds[seconds.size() / 2] * 1e3,
-                  RunStatusName(result.status));
+      std::printf(
+          "%s %-16s %4zu points  newton %6.0f  best %.3f ms  median %.3f ms  %s\n", geometry.name,
+          d.name, result.points.size(),
+          result.figures.count("newton_iterations") ? result.figures["newton_iterations"] : 0.0,
+          seconds.front() * 1e3, seconds[seconds.size() / 2] * 1e3, RunStatusName(result.status));
       std::fprintf(out, "# %s %s status %s steady %d %.17g\n", geometry.name, d.name,
                    RunStatusName(result.status), result.steady_state_reached ? 1 : 0,
                    result.steady_state_crack_length);
