@@ -147,7 +147,8 @@ int main(int argc, char** argv) {
   std::ofstream csv(prefix + ".csv");
   csv << "case, resolution, element size [mm], wall [s], cpu [s], evaluations, "
          "max relative error, covered/identified, bridging detected, sigma_c [MPa], "
-         "J_B [J/m^2], J_tip_c [J/m^2], warning\n";
+         "J_B [J/m^2], J_tip_c [J/m^2], warning, sigma_c 95% [MPa], J_B 95% [J/m^2], "
+         "J_tip_c 95% [J/m^2]\n";
   std::printf("%-18s %-6s %8s %7s %7s %7s %10s %6s\n", "case", "size", "h_mm", "wall_s", "cpu_s",
               "evals", "error", "cover");
   std::map<std::string, std::string> fixed_rows, auto_rows;  // case -> "cpu error" lines
@@ -186,12 +187,30 @@ int main(int argc, char** argv) {
                     run.resolution_choice ? run.resolution_choice->wall_s : 0.0);
       }
       std::fflush(stdout);
+      if (std::getenv("BF_BENCH_DETAIL")) {
+        // Every estimate and interval to 9 digits (two builds compared).
+        std::printf("    detail h %.6g evals %d bridging %d steady %d\n", run.resolution * 1e3,
+                    s.evaluations, s.bridging_detected ? 1 : 0, s.steady_state_reached ? 1 : 0);
+        for (const auto& [name, e] : {std::pair{"sigma_c", &s.sigma_c}, std::pair{"J_B", &s.J_B},
+                                      std::pair{"J_tip_c", &s.J_tip_c}})
+          std::printf("    detail %-8s %.9g [%.9g, %.9g] stat [%.9g, %.9g] bias %.9g lb %.9g %s\n",
+                      name, e->value, e->ci95_low, e->ci95_high, e->statistical_ci95_low,
+                      e->statistical_ci95_high, e->model_bias, e->lower_bound,
+                      IntervalStatusName(e->interval_status));
+      }
+      // An interval as "low..high" (a bound alone as ">= low").
+      auto interval = [](const ParameterEstimate& e, double scale) {
+        if (!std::isfinite(e.ci95_low) && std::isfinite(e.lower_bound))
+          return fmt::format(">= {:.5g}", e.lower_bound * scale);
+        return fmt::format("{:.5g}..{:.5g}", e.ci95_low * scale, e.ci95_high * scale);
+      };
       csv << fmt::format("{}, {}, {:.4f}, {:.3f}, {:.3f}, {}, {:.5f}, {}, {}, {:.4f}, {:.1f}, "
-                         "{:.1f}, \"{}\"\n",
+                         "{:.1f}, \"{}\", {}, {}, {}\n",
                          c.name, is_auto ? "auto" : "fixed", run.resolution * 1e3, wall_s, cpu_s,
                          s.evaluations, error, Coverage(s, truth), s.bridging_detected ? 1 : 0,
                          s.sigma_c.value * 1e-6, s.J_B.value, s.J_tip_c.value,
-                         run.model_error.warning);
+                         run.model_error.warning, interval(s.sigma_c, 1e-6), interval(s.J_B, 1.0),
+                         interval(s.J_tip_c, 1.0));
       const std::string line = fmt::format("{:.4f} {:.6f} {:.3f}\n", wall_s,
                                            std::isfinite(error) ? std::max(error, 1e-4) : 1.0,
                                            run.resolution * 1e3);

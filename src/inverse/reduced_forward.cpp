@@ -6,7 +6,12 @@ namespace bridgefit::inverse {
 
 std::unique_ptr<SimulationForwardModel> MakeReducedForwardModel(
     const Scene& scene, const models::ReducedOptions& options) {
-  auto model = std::make_shared<const models::ReducedModel>(scene, options.mesh);
+  return MakeReducedForwardModel(std::make_shared<const models::ReducedModel>(scene, options.mesh),
+                                 options);
+}
+
+std::unique_ptr<SimulationForwardModel> MakeReducedForwardModel(
+    std::shared_ptr<const models::ReducedModel> model, const models::ReducedOptions& options) {
   return std::make_unique<SimulationForwardModel>(
       "reduced", [model, options](const laws::BridgingLaw* law, double J_tip_c) {
         return model->Run(law, J_tip_c, options);

@@ -67,6 +67,7 @@ LinearTipState SolveLinearTip(const CrackPlaneModel& model, int tip, double p,
 ReducedModel::ReducedModel(std::shared_ptr<const CrackPlaneModel> model) : model_(std::move(model)) {
   BF_CHECK_INPUT(model_ && model_->size() >= 3, "the crack-plane model is empty",
                  {.field = "model"});
+  tables_ = std::make_shared<const ElasticTables>(*model_);
 }
 
 ReducedModel::ReducedModel(const Scene& scene, const specimen::CrackPlaneOptions& mesh)
@@ -107,7 +108,7 @@ SimulationResult ReducedModel::Run(const laws::BridgingLaw* law, double J_tip_c,
 
   if (options.solver != ReducedOptions::Solver::kDense) {
     int newton_total = 0;
-    GrowBordered(m, law, J_tip_c, options, result, newton_total);
+    GrowBordered(m, *tables_, law, J_tip_c, options, result, newton_total);
     FillEnergyR(result.points, m.thickness);
     if (!result.points.empty()) result.initiation_load = result.points.front().load;
     result.figures["newton_iterations"] = newton_total;
@@ -166,8 +167,18 @@ SimulationResult ReducedModel::Run(const laws::BridgingLaw* law, double J_tip_c,
       u.head(t) = Fg.head(t) * p;
     } else {
       p = p_prev;
-      converged = SolveZoneDense(F, Fg, v, phi, alpha, psi, tip_force, z0, t, h, *law, delta_max,
-                                 J_tip_c, options, u, p, newton_total);
+      ZoneSystem zone;
+      zone.z0 = z0;
+      zone.t = t;
+      zone.phi = phi;
+      zone.alpha = alpha;
+      zone.psi = psi;
+      zone.tip_force = tip_force;
+      zone.FromFlexibility(F, Fg, v);
+      Eigen::VectorXd uz = u.segment(z0, k), b;
+      converged = SolveZoneDense(zone, h, *law, delta_max, J_tip_c, options, uz, p, b,
+                                 newton_total);
+      if (converged) u.head(t).noalias() = Fg.head(t) * p - F.block(0, z0, t, k) * b;
     }
     if (!converged || !(p > 0.0)) {
       result.status = RunStatus::kNotConverged;

@@ -259,7 +259,8 @@ class ModelAtSize {
     }
     request_.resolution = resolution;
     try {
-      models_ = std::make_unique<FitModels>(request_, run.input, run.data, true, run.r_kind);
+      models_ = std::make_unique<FitModels>(request_, run.input, run.data, true, run.r_kind,
+                                            run.reduced_models.get());
       const inverse::ScaledModelFactory factory = [this](double factor, double series) {
         models_->Build(factor, series);
         return &models_->model();
@@ -371,7 +372,8 @@ void FitAtResolution(const FitRequest& request, FitRun& run,
                      const std::array<double, inverse::kParameterCount>* from = nullptr) {
   const inverse::FitData& fit_data = run.load_data ? *run.load_data : run.data;
   const laws::LawShape start_shape = run.shape;
-  FitModels models(request, run.input, run.data, run.load_data.has_value(), run.r_kind);
+  FitModels models(request, run.input, run.data, run.load_data.has_value(), run.r_kind,
+                   run.reduced_models.get());
   models.Build(1.0, 0.0);
   const inverse::ScaledModelFactory factory = [&models](double factor, double series) {
     models.Build(factor, series);
@@ -414,6 +416,7 @@ FitRun RunFit(const FitRequest& given) {
   given.Check();
   FitRequest request = given;  // the element size becomes the chosen one (--resolution auto)
   FitRun run;
+  run.reduced_models = std::make_shared<ReducedModelCache>();
   run.input = ResolveFitInput(request);
   run.r_kind = ResolveRKind(request, run.input);
   run.data = inverse::FitData::FromRCurve(run.input.curve, run.r_kind);

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <fmt/format.h>
+
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/inverse/reduced_forward.hpp"
 #include "bridgefit/models/reduced.hpp"
@@ -95,9 +97,26 @@ double ModelCrackLimit(const SpecimenSpec& specimen, double h) {
 
 }  // namespace
 
+std::shared_ptr<const models::ReducedModel> ReducedModelCache::Get(
+    const Scene& scene, const specimen::CrackPlaneOptions& mesh) {
+  const SpecimenSpec& s = scene.specimen;
+  const MaterialSpec& m = scene.material;
+  const std::string key = fmt::format(
+      "{} {} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g} {} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g} "
+      "{:.17g} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g}",
+      static_cast<int>(s.type), static_cast<int>(s.plane), s.width, s.height, s.thickness,
+      s.length, s.notch, m.orthotropic, m.angle, m.E, m.nu, m.E1, m.E2, m.G12, m.nu12,
+      mesh.resolution, mesh.max_crack_length, mesh.grading, mesh.coarse_factor);
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto& model = models_[key];
+  if (!model) model = std::make_shared<const models::ReducedModel>(scene, mesh);
+  return model;
+}
+
 FitModels::FitModels(const FitRequest& request, const FitInput& input,
-                     const inverse::FitData& data, bool load_fit, inverse::RKind kind)
-    : request_(request), input_(input), kind_(kind) {
+                     const inverse::FitData& data, bool load_fit, inverse::RKind kind,
+                     ReducedModelCache* cache)
+    : request_(request), input_(input), kind_(kind), cache_(cache) {
   // The models must grow past the data: its crack lengths, and for a record
   // the measured ones (an equivalent crack length trails them).
   data_end_ = *std::max_element(data.crack_length.begin(), data.crack_length.end());
@@ -167,7 +186,11 @@ std::unique_ptr<inverse::SimulationForwardModel> FitModels::MakeReduced(const Sc
   reduced.mesh.max_crack_length =
       std::max(std::min(data_end_ + margin, ModelCrackLimit(scene.specimen, resolution)),
                scene.run.max_crack_length.value_or(0.0));
-  auto simulation = inverse::MakeReducedForwardModel(scene, reduced);
+  // Shared only with the request's own moduli: a compliance calibration
+  // tries many modulus factors, each once.
+  auto simulation = cache_ && modulus_factor_ == 1.0
+                        ? inverse::MakeReducedForwardModel(cache_->Get(scene, reduced.mesh), reduced)
+                        : inverse::MakeReducedForwardModel(scene, reduced);
   if (kind_ == inverse::RKind::kAsData)
     simulation->SetReducer(ModelRecordReducer(input_.reduction_options));
   simulation->SetSeriesCompliance(series_compliance_);

@@ -1,9 +1,13 @@
 #pragma once
 // The forward models of a fit request (private to the pipeline).
 
+#include <map>
 #include <memory>
+#include <mutex>
+#include <string>
 
 #include "bridgefit/inverse/forward_model.hpp"
+#include "bridgefit/models/reduced.hpp"
 #include "bridgefit/pipeline/fit.hpp"
 
 namespace bridgefit::pipeline {
@@ -18,12 +22,28 @@ Scene ScaledModuli(const Scene& scene, double factor);
 inverse::SimulationForwardModel::Reducer ModelRecordReducer(
     const experiment::RCurveOptions& data_options);
 
+// Reduced models already built during one fit, by every input of their
+// mesh at full precision: the resolution chooser, the fit and the model
+// error ask for the same element sizes (a CT at 0.5 mm takes 0.07-0.1 s to
+// build on two cores); a model is built once and shared read-only.
+// Thread-safe.
+class ReducedModelCache {
+ public:
+  std::shared_ptr<const models::ReducedModel> Get(const Scene& scene,
+                                                  const specimen::CrackPlaneOptions& mesh);
+
+ private:
+  std::mutex mutex_;
+  std::map<std::string, std::shared_ptr<const models::ReducedModel>> models_;
+};
+
 // The request's forward model (and, for --model auto, the MPM check), built
 // on the scene with its moduli x a factor and a compliance in series.
 class FitModels {
  public:
+  // `cache` (may be null): where reduced models are shared (FitRun::reduced_models).
   FitModels(const FitRequest& request, const FitInput& input, const inverse::FitData& data,
-            bool load_fit, inverse::RKind kind);
+            bool load_fit, inverse::RKind kind, ReducedModelCache* cache = nullptr);
   // Rebuilds the models; earlier references to them become invalid.
   void Build(double modulus_factor, double series_compliance);
   const inverse::ForwardModel& model() const { return *model_; }
@@ -45,6 +65,7 @@ class FitModels {
   const FitRequest& request_;
   const FitInput& input_;
   inverse::RKind kind_;
+  ReducedModelCache* cache_ = nullptr;
   double data_end_ = 0.0;  // [m], the crack length the models must grow past
   std::unique_ptr<inverse::ForwardModel> model_;
   std::unique_ptr<inverse::ForwardModel> accurate_;

@@ -38,7 +38,8 @@ void ChooseAutoResolution(FitRequest& request, const laws::LawShape& shape, FitR
   // A quick pilot fit (no profiles) at the coarsest size.
   FitRequest coarse = request;
   coarse.resolution = options.coarsest;
-  FitModels models(coarse, run.input, run.data, run.load_data.has_value(), run.r_kind);
+  FitModels models(coarse, run.input, run.data, run.load_data.has_value(), run.r_kind,
+                   run.reduced_models.get());
   models.Build(1.0, 0.0);
   inverse::FitOptions quick = request.fit;
   quick.profile_likelihood = false;

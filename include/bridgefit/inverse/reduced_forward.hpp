@@ -14,6 +14,9 @@ namespace bridgefit::inverse {
 // input) and wraps ReducedModel::Run with `options` as a model named "reduced".
 std::unique_ptr<SimulationForwardModel> MakeReducedForwardModel(
     const Scene& scene, const models::ReducedOptions& options);
+// The same around a model already built (options.mesh is not used).
+std::unique_ptr<SimulationForwardModel> MakeReducedForwardModel(
+    std::shared_ptr<const models::ReducedModel> model, const models::ReducedOptions& options);
 
 // The analytic model of a scene: E' = specimen::EffectiveModulus (the one
 // effective modulus the reduced model, synth and the R-curve reductions use;

@@ -32,6 +32,10 @@
 
 namespace bridgefit::models {
 
+namespace reduced_internal {
+struct ElasticTables;  // src/models/reduced_impl.hpp
+}
+
 struct ReducedOptions {
   // kBordered: stiffness form with an LDL^T factor grown across crack lengths,
   // O(t^2) per crack length. kDense: flexibility form, dense LU of the zone
@@ -65,7 +69,10 @@ struct LinearTipState {
 LinearTipState SolveLinearTip(const specimen::CrackPlaneModel& model, int tip, double p,
                               const std::vector<double>& closing);
 
-// The model of one specimen geometry, reusable for many laws (a fit).
+// The model of one specimen geometry, reusable for many laws (a fit). What
+// depends on the geometry alone (the elastic crack plane's LDL^T factor and
+// flexibility terms) is computed once here and shared read-only by Run,
+// which may be called from several threads at once.
 class ReducedModel {
  public:
   explicit ReducedModel(std::shared_ptr<const specimen::CrackPlaneModel> model);
@@ -82,6 +89,7 @@ class ReducedModel {
 
  private:
   std::shared_ptr<const specimen::CrackPlaneModel> model_;
+  std::shared_ptr<const reduced_internal::ElasticTables> tables_;
 };
 
 // Builds the model for `scene` and runs it (scene.fracture is required).

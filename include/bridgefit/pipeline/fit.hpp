@@ -102,6 +102,8 @@ struct FitInput {
   std::string ReductionText() const;  // "energy method, reduced in-process from the record"
 };
 
+class ReducedModelCache;  // src/pipeline/fit_models.hpp
+
 struct FitRun {
   FitInput input;
   inverse::RKind r_kind = inverse::RKind::kEnergy;
@@ -134,6 +136,9 @@ struct FitRun {
   // model) and, when chosen automatically, how.
   double resolution = NAN;
   std::optional<inverse::ResolutionChoice> resolution_choice;
+  // The reduced models built during this fit, shared by the resolution
+  // chooser, the fit and the model error's coarser solves (RunFit sets it).
+  std::shared_ptr<ReducedModelCache> reduced_models;
 
   // The rms R residual of the fit [J/m^2] (of the load fit's R curve for a
   // load-displacement fit).
