@@ -111,7 +111,8 @@ class CampaignCommand final : public Command {
     options.communicator = comm.get();
     const std::string prefix = comm->size() > 1 ? fmt::format("rank {}: ", comm->rank()) : "";
     if (!common.quiet)
-      options.progress = [prefix](const std::string& line) { std::cerr << prefix << line << "\n"; };
+      // One write per line: the ranks' lines are not cut into each other.
+      options.progress = [prefix](const std::string& line) { std::cerr << prefix + line + "\n"; };
     const campaign::CampaignResult result = comm->size() == 1
                                                 ? campaign::RunCampaign(manifest, options)
                                                 : RunOnRanks(manifest, options, *comm);

@@ -5,6 +5,10 @@
 # (launch, manifest, specimens, gather, statistics, outputs) and its campaign
 # phase (the JSON's wall_s: specimens and gather), with the load before and
 # after. Results are also checked equal to the serial run's (parameters).
+# Rows: serial (--jobs 1: one specimen at a time, its profiles on the cores),
+# threads2 (--jobs 2, no MPI), ranksN (mpirun -n N, --jobs 1 per rank; Open
+# MPI binds each rank to a core for N <= 2, and a rank uses the cores it is
+# bound to).
 #
 #   bash bench/campaign_mpi_bench.sh [BUILD_DIR] [OUT_PREFIX] [MAX_RANKS]
 #   -> OUT_PREFIX.csv (default docs/bench/campaign_mpi_bench)
@@ -46,15 +50,20 @@ if label != "serial":
     t = json.load(open(serial))
     key = lambda j: [(s["name"], s.get("parameters_si")) for s in j["specimens"]]
     same = "yes" if key(t) == key(r) else "NO"
+joint = r.get("joint") or {}
+joint_s = f"{joint['wall_s']:.2f}" if "wall_s" in joint else ""
 print(f"{label},{ranks},{r['jobs']},{total:.2f},{r['wall_s']:.2f},{fits:.2f},"
-      f"{max(per_rank.values()):.2f},{total - r['wall_s']:.2f},{r['failed']},{same}")
+      f"{max(per_rank.values()):.2f},{total - r['wall_s']:.2f},{joint_s},{r['failed']},{same}")
 PY
 }
 {
-  echo "run,ranks,threads per rank,end to end [s],campaign phase [s],fits summed [s],busiest rank's fits [s],outside the campaign phase [s],failed,parameters equal to serial"
+  echo "run,ranks,threads per rank,end to end [s],campaign phase [s],fits summed [s],busiest rank's fits [s],outside the campaign phase [s],joint fit [s],failed,parameters equal to serial"
   run serial 0 --jobs 1
+  run threads2 0 --jobs 2
   for n in $(seq 1 "$max_ranks"); do run "ranks$n" "$n" --jobs 1; done
+  # The serial part a campaign with --joint adds (rank 0 alone).
+  run "ranks${max_ranks}_joint" "$max_ranks" --jobs 1 --joint
   t0=$(now); mpirun -n "$max_ranks" "$cli" --version > /dev/null; t1=$(now)
-  echo "launch only (mpirun -n $max_ranks bridgefit --version),$max_ranks,,$(python3 -c "print(f'{$t1-$t0:.2f}')"),,,,,,"
+  echo "launch only (mpirun -n $max_ranks bridgefit --version),$max_ranks,,$(python3 -c "print(f'{$t1-$t0:.2f}')"),,,,,,,"
 } | tee "$prefix.csv"
 echo "load after: $(uptime)"
