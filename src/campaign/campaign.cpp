@@ -339,7 +339,7 @@ CampaignResult RunCampaign(const io::CampaignManifest& manifest, const CampaignO
   // Round-robin in manifest order: who runs a specimen depends only on N.
   std::vector<std::size_t> mine;
   for (std::size_t i = comm.rank(); i < result.specimens.size(); i += comm.size()) mine.push_back(i);
-  const int hw = comm.size() > 1 ? RankCores(comm.local_size())
+  const int hw = comm.mpi() ? RankCores(comm.local_size())
                                  : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   result.jobs = std::clamp(options.jobs > 0 ? options.jobs : hw, 1,
                            std::max(1, static_cast<int>(mine.size())));

@@ -18,6 +18,7 @@ class SerialCommunicator final : public Communicator {
   int size() const override { return 1; }
   int local_size() const override { return 1; }
   std::string Describe() const override { return "serial"; }
+  bool mpi() const override { return false; }
   std::vector<std::string> GatherToRoot(const std::string& bytes) override { return {bytes}; }
   std::string Broadcast(const std::string& bytes) override { return bytes; }
 

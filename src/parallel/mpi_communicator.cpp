@@ -55,6 +55,7 @@ class MpiCommunicator final : public Communicator {
   int rank() const override { return rank_; }
   int size() const override { return size_; }
   int local_size() const override { return local_size_; }
+  bool mpi() const override { return true; }
   std::string Describe() const override {
     return fmt::format("MPI ({} rank{}, {} on this node)", size_, size_ == 1 ? "" : "s",
                        local_size_);

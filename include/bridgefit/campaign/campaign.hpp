@@ -40,9 +40,9 @@ struct CampaignOptions {
   // machine's cores / jobs, at least 1 (a request that sets its own wins).
   int fit_threads = 0;
   // The job's ranks; null: this process alone. With more than one, every
-  // rank calls RunCampaign with the same manifest; `jobs` and the cores are
-  // then per rank (the cores the rank is bound to, or else its node's cores
-  // shared by the node's ranks).
+  // rank calls RunCampaign with the same manifest. In an MPI job (1 rank
+  // too) `jobs` and the cores are per rank: the cores the rank is bound to,
+  // or else its node's cores shared by the node's ranks.
   parallel::Communicator* communicator = nullptr;
   bool IsValid(std::string* why) const;
 };

@@ -25,6 +25,8 @@ class Communicator {
   virtual int local_size() const = 0;
   // "serial" or "MPI (3 ranks, 3 on this node)".
   virtual std::string Describe() const = 0;
+  // An MPI job's (of 1 rank too): the launcher may have bound it to cores.
+  virtual bool mpi() const = 0;
   bool root() const { return rank() == 0; }
 
   // Every rank's bytes, in rank order, on rank 0; empty on the others.
