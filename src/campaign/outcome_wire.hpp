@@ -23,7 +23,8 @@ std::string EncodeOutcomes(const std::vector<SpecimenOutcome>& specimens,
 // Fills the outcomes `bytes` holds into `specimens` (by manifest index,
 // keeping each one's request). Throws Error (kRuntime) naming `from_rank`
 // for a message that does not decode or carries the rank's error.
-void DecodeOutcomes(const std::string& bytes, int from_rank, std::vector<SpecimenOutcome>& specimens);
+void DecodeOutcomes(const std::string& bytes, int from_rank,
+                    std::vector<SpecimenOutcome>& specimens);
 
 // More than one rank: every rank but 0 writes its specimens' fit files in a
 // temporary folder of its own (removed after), and sends them with the

@@ -82,7 +82,8 @@ std::unique_ptr<Communicator> MakeWorldCommunicator() {
                 fmt::format("started by an MPI launcher as {} ranks, but this bridgefit was built "
                             "without MPI: every rank would run the whole job",
                             launched),
-                {.field = "mpirun -n", .value = std::to_string(launched),
+                {.field = "mpirun -n",
+                 .value = std::to_string(launched),
                  .expected = "a build with -DBRIDGEFIT_MPI=ON (libopenmpi-dev), or one process "
                              "(--jobs N for threads)"});
 #endif

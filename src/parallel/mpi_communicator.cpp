@@ -5,8 +5,8 @@
 #include <mpi.h>
 
 #include <climits>
-#include <cstdlib>
 #include <cstdint>
+#include <cstdlib>
 #include <numeric>
 
 #include <fmt/format.h>
@@ -100,10 +100,10 @@ class MpiCommunicator final : public Communicator {
       throw Error(ErrorKind::kRuntime, "a broadcast exceeds one MPI message (2 GiB)",
                   {.field = "MPI_Bcast", .value = fmt::format("{} bytes", length)});
     std::string out = rank_ == 0 ? bytes : std::string(length, '\0');
-    Check(MPI_Bcast(out.data(), static_cast<int>(length), MPI_BYTE, 0, MPI_COMM_WORLD), "MPI_Bcast");
+    Check(MPI_Bcast(out.data(), static_cast<int>(length), MPI_BYTE, 0, MPI_COMM_WORLD),
+          "MPI_Bcast");
     return out;
   }
-
 
  protected:
   void AbortJob(int exit_code) override { MPI_Abort(MPI_COMM_WORLD, exit_code); }

@@ -38,7 +38,8 @@ ShellRun Shell(const std::string& command, const fs::path& err_path) {
   ShellRun run;
   FILE* pipe = ::popen((command + " 2>'" + err_path.string() + "'").c_str(), "r");
   char buffer[4096];
-  for (std::size_t n; (n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0;) run.out.append(buffer, n);
+  for (std::size_t n; (n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0;)
+    run.out.append(buffer, n);
   const int status = ::pclose(pipe);
   run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   std::ifstream err(err_path);
@@ -79,9 +80,9 @@ struct Campaign {
   }
   ~Campaign() { fs::remove_all(dir); }
   // `bridgefit campaign` with `launcher` in front (empty: serial) into dir/out.
-  ShellRun RunCli(const std::string& launcher, const std::string& out, const std::string& flags) const {
-    const std::string cli =
-        launcher.empty() ? std::string("'") + BRIDGEFIT_CLI + "' " : launcher;
+  ShellRun RunCli(const std::string& launcher, const std::string& out,
+                  const std::string& flags) const {
+    const std::string cli = launcher.empty() ? std::string("'") + BRIDGEFIT_CLI + "' " : launcher;
     return Shell(cli + "campaign '" + manifest.string() + "' --out '" + (dir / out).string() +
                      "' --json " + flags,
                  dir / (out + ".err"));
@@ -140,7 +141,8 @@ TEST(CampaignMpi, OneTwoAndThreeRanksGiveTheSerialResultBitForBitAndTheCorruptRe
     nlohmann::json want = truth;
     if (ranks != 2) want.erase("joint"), got.erase("joint");
     EXPECT_EQ(Comparable(got), Comparable(want)) << mpi.out;
-    EXPECT_NE(got["specimens"][1]["error"].get<std::string>().find("broken.csv"), std::string::npos);
+    EXPECT_NE(got["specimens"][1]["error"].get<std::string>().find("broken.csv"),
+              std::string::npos);
     // The failure is reported on the rank that ran it, the output by rank 0.
     if (ranks > 1) {
       EXPECT_NE(mpi.err.find("rank 1: [2/3] broken: started"), std::string::npos) << mpi.err;
@@ -148,14 +150,16 @@ TEST(CampaignMpi, OneTwoAndThreeRanksGiveTheSerialResultBitForBitAndTheCorruptRe
     EXPECT_NE(mpi.err.find("warning: specimen 'broken' failed"), std::string::npos) << mpi.err;
 
     const fs::path dir = c.dir / out;
-    EXPECT_EQ(WithoutWallColumn(dir / "summary.csv"), WithoutWallColumn(c.dir / "serial" / "summary.csv"));
+    EXPECT_EQ(WithoutWallColumn(dir / "summary.csv"),
+              WithoutWallColumn(c.dir / "serial" / "summary.csv"));
     std::ifstream a(dir / "statistics.csv"), b(c.dir / "serial" / "statistics.csv");
     EXPECT_EQ(std::string(std::istreambuf_iterator<char>(a), {}),
               std::string(std::istreambuf_iterator<char>(b), {}));
     EXPECT_FALSE(fs::exists(dir / "specimens" / "broken.h5"));
     const io::H5Reader h5(dir / "campaign.h5");
     EXPECT_EQ(h5.ReadNumberAttribute("/campaign", "ranks"), ranks);
-    EXPECT_EQ(h5.ReadStrings("/campaign/specimen_status"), truth_h5.ReadStrings("/campaign/specimen_status"));
+    EXPECT_EQ(h5.ReadStrings("/campaign/specimen_status"),
+              truth_h5.ReadStrings("/campaign/specimen_status"));
     for (const char* p : {"sigma_c", "J_B", "delta_c", "J_tip_c"}) {
       const std::string g = std::string("/campaign/statistics/") + p;
       for (const char* d : {"/value", "/lower_bound", "/ci95_low", "/ci95_high"})
