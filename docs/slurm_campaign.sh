@@ -15,5 +15,7 @@ OUT=${OUT:-campaign_out}
 export OMP_NUM_THREADS=${SLURM_CPUS_PER_TASK}
 # A rank uses the cores it is bound to (here cpus-per-task); --jobs 1: one
 # specimen at a time per rank, its fit's profiles on those cores.
+# (--mpi=pmix where the cluster's srun default joins no MPI job: bridgefit
+# refuses tasks that MPI does not join rather than run the job N times)
 srun --cpu-bind=cores bridgefit campaign "$MANIFEST" --out "$OUT" --jobs 1 --joint
 # Open MPI without Slurm's PMI: mpirun -n $SLURM_NTASKS bridgefit campaign ...

@@ -72,10 +72,32 @@ int LaunchedRanks() {
   return 0;
 }
 
+namespace {
+
+// srun started several tasks that MPI does not join (no PMI/PMIx plugin, or
+// a build without MPI): each would run the whole job and write the same files.
+void CheckSlurmTasks(int mpi_ranks) {
+  const int tasks = EnvironmentCount("SLURM_STEP_NUM_TASKS");
+  if (tasks > 1 && mpi_ranks == 1)
+    throw Error(ErrorKind::kUsage,
+                fmt::format("srun started {} tasks, but they are not one MPI job: every task "
+                            "would run the whole job",
+                            tasks),
+                {.field = "srun -n", .value = std::to_string(tasks),
+                 .expected = MpiBuilt() ? "srun --mpi=pmix (or pmi2), or mpirun"
+                                        : "a build with -DBRIDGEFIT_MPI=ON"});
+}
+
+}  // namespace
+
 std::unique_ptr<Communicator> MakeWorldCommunicator() {
   const int launched = LaunchedRanks();
 #ifdef BRIDGEFIT_HAVE_MPI
-  if (launched > 0) return MakeMpiWorldCommunicator();
+  if (launched > 0) {
+    std::unique_ptr<Communicator> world = MakeMpiWorldCommunicator();
+    CheckSlurmTasks(world->size());
+    return world;
+  }
 #else
   if (launched > 1)
     throw Error(ErrorKind::kUsage,
@@ -87,6 +109,7 @@ std::unique_ptr<Communicator> MakeWorldCommunicator() {
                  .expected = "a build with -DBRIDGEFIT_MPI=ON (libopenmpi-dev), or one process "
                              "(--jobs N for threads)"});
 #endif
+  CheckSlurmTasks(1);
   return MakeSerialCommunicator();
 }
 
