@@ -1,13 +1,18 @@
 // `bridgefit campaign`: many specimens of one material (issue 19).
 //   bridgefit campaign data_samples/dcb_campaign/campaign.toml --out campaign_out [--jobs 2]
+//   mpirun -n 4 bridgefit campaign campaign.toml --out campaign_out   (docs/MPI.md)
 // Flags -> campaign::RunCampaign -> printing; the manifest format is in
 // docs/FORMATS.md, the statistics and outlier rule in docs/CAMPAIGN.md.
 
 #include <iostream>
+#include <optional>
+
+#include <fmt/format.h>
 
 #include "bridgefit/campaign/campaign.hpp"
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/io/campaign_manifest.hpp"
+#include "bridgefit/parallel/communicator.hpp"
 #include "command.hpp"
 
 namespace bridgefit::cli {
@@ -17,7 +22,7 @@ nlohmann::json ResultJson(const campaign::CampaignResult& r, const std::string& 
   nlohmann::json specimens = nlohmann::json::array();
   for (const campaign::SpecimenOutcome& s : r.specimens) {
     nlohmann::json j = {{"name", s.name}, {"record", s.request.input_path},
-                        {"ran", s.ran()}, {"ok", s.ok()}, {"wall_s", s.wall_s},
+                        {"ran", s.ran()}, {"ok", s.ok()}, {"wall_s", s.wall_s}, {"rank", s.rank},
                         {"error", s.error}};
     if (s.ran()) {
       const inverse::FitSummary& f = s.run->summary;
@@ -65,7 +70,7 @@ nlohmann::json ResultJson(const campaign::CampaignResult& r, const std::string& 
     joint = {{"error", r.joint_error}};
   }
   return {{"command", "campaign"}, {"manifest", r.manifest.path.string()}, {"joint", joint},
-          {"name", r.manifest.name}, {"out", out_dir}, {"jobs", r.jobs},
+          {"name", r.manifest.name}, {"out", out_dir}, {"jobs", r.jobs}, {"ranks", r.ranks},
           {"wall_s", r.wall_s}, {"failed", r.Failed()}, {"specimens", specimens},
           {"statistics", statistics}};
 }
@@ -93,12 +98,25 @@ class CampaignCommand final : public Command {
   }
 
   int Run(const CommonOptions& common) override {
-    const io::CampaignManifest manifest = io::ReadCampaignManifest(manifest_);
+    const std::unique_ptr<parallel::Communicator> comm = parallel::MakeWorldCommunicator();
+    io::CampaignManifest manifest;
+    if (comm->size() == 1) {
+      manifest = io::ReadCampaignManifest(manifest_);
+    } else if (const std::optional<int> code = ReadOnEveryRank(*comm, manifest)) {
+      return *code;  // a manifest fault: rank 0 reports it, the others end quietly
+    }
     campaign::CampaignOptions options;
     options.jobs = jobs_;
     options.joint = joint_;
-    if (!common.quiet) options.progress = [](const std::string& line) { std::cerr << line << "\n"; };
-    const campaign::CampaignResult result = campaign::RunCampaign(manifest, options);
+    options.communicator = comm.get();
+    const std::string prefix = comm->size() > 1 ? fmt::format("rank {}: ", comm->rank()) : "";
+    if (!common.quiet)
+      // One write per line: the ranks' lines are not cut into each other.
+      options.progress = [prefix](const std::string& line) { std::cerr << prefix + line + "\n"; };
+    const campaign::CampaignResult result = comm->size() == 1
+                                                ? campaign::RunCampaign(manifest, options)
+                                                : RunOnRanks(manifest, options, *comm);
+    if (!result.complete) return 0;  // rank 0 writes and reports
     campaign::WriteCampaignOutputs(result, out_);
     if (common.json) {
       PrintJson(ResultJson(result, out_));
@@ -115,6 +133,41 @@ class CampaignCommand final : public Command {
   }
 
  private:
+  // Each rank reads the manifest (a shared file system); a fault on any rank
+  // stops all before any work. Rank 0 throws it (its own, or another rank's
+  // named); the others return the exit code quietly.
+  std::optional<int> ReadOnEveryRank(parallel::Communicator& comm,
+                                     io::CampaignManifest& manifest) const {
+    std::optional<Error> own;
+    try {
+      manifest = io::ReadCampaignManifest(manifest_);
+      campaign::BuildRequests(manifest);
+    } catch (const Error& e) {
+      own = e;
+    }
+    const std::string first = comm.FirstError(own ? own->what() : "");
+    if (first.empty()) return std::nullopt;
+    if (!comm.root()) return own && own->kind() == ErrorKind::kUsage ? 2 : 1;
+    if (own) throw *own;
+    throw Error(ErrorKind::kInput, first, {.file = manifest_, .field = "manifest on another rank"});
+  }
+
+  // An error on one rank mid-campaign (an MPI failure, results that do not
+  // decode) cannot reach the others, which may wait in a transfer: it is
+  // printed and the whole job ended (mpirun exits 1), before any output.
+  static campaign::CampaignResult RunOnRanks(const io::CampaignManifest& manifest,
+                                             const campaign::CampaignOptions& options,
+                                             parallel::Communicator& comm) {
+    try {
+      return campaign::RunCampaign(manifest, options);
+    } catch (const Error& e) {
+      if (e.kind() == ErrorKind::kInterrupted) throw;
+      std::cerr << "bridgefit campaign: error on MPI rank " << comm.rank() << " of " << comm.size()
+                << ": " << e.what() << "\n  the job is ended; no output written.\n";
+      comm.Abort(1);
+    }
+  }
+
   std::string manifest_, out_;
   int jobs_ = 0;
   bool joint_ = false;

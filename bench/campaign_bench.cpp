@@ -6,6 +6,7 @@
 // workflow at 0.25 mm elements (seeds 1-8, 0.5% load noise, 0.3 mm crack
 // noise), fitted with the product's defaults (`--resolution auto`).
 //   bf_campaign_bench OUT_PREFIX      -> OUT_PREFIX.csv
+//   bf_campaign_bench --manifest DIR  -> DIR/campaign.toml and its records (MPI bench)
 #include <unistd.h>
 
 #include <algorithm>
@@ -57,11 +58,8 @@ max_crack_length = "{3} mm"
                      width_mm, 1.2 * width_mm, 0.3 * width_mm, 0.95 * width_mm - 2.0);
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  const std::string prefix = argc > 1 ? argv[1] : "campaign_bench";
-  const fs::path dir = fs::temp_directory_path() / fmt::format("bf_campaign_bench_{}", ::getpid());
+// The 8 records, their scenes and DIR/campaign.toml; returns the synth time.
+double WriteCampaign(const fs::path& dir) {
   fs::create_directories(dir);
   std::string manifest = "[campaign]\nname = \"8 synthetic CT specimens\"\nlaw = \"linear\"\n";
   double synth_s = 0.0;
@@ -82,6 +80,22 @@ int main(int argc, char** argv) {
                             name, name, scene_path.filename().string());
   }
   std::ofstream(dir / "campaign.toml") << manifest;
+  return synth_s;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // --manifest DIR: only the campaign (for `mpirun ... bridgefit campaign`,
+  // bench/campaign_mpi_bench.sh).
+  if (argc > 2 && std::string(argv[1]) == "--manifest") {
+    std::printf("8 records made in %.1f s (synth, summed): %s/campaign.toml\n",
+                WriteCampaign(argv[2]), argv[2]);
+    return 0;
+  }
+  const std::string prefix = argc > 1 ? argv[1] : "campaign_bench";
+  const fs::path dir = fs::temp_directory_path() / fmt::format("bf_campaign_bench_{}", ::getpid());
+  const double synth_s = WriteCampaign(dir);
   const io::CampaignManifest m = io::ReadCampaignManifest(dir / "campaign.toml");
   std::printf("8 records made in %.1f s (synth, summed)\n", synth_s);
 

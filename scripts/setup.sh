@@ -9,6 +9,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libcli11-dev libtomlplusplus-dev libmatio-dev libspdlog-dev libfmt-dev nlohmann-json3-dev
   gnuplot-nox hdf5-tools python3-h5py chromium
+  libopenmpi-dev openmpi-bin
 )
 # Optional extras (e.g. chromium for the report test): BRIDGEFIT_EXTRA_PACKAGES="chromium"
 if [[ -n "${BRIDGEFIT_EXTRA_PACKAGES:-}" ]]; then

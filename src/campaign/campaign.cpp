@@ -1,10 +1,13 @@
 // Test campaigns: requests from a manifest, specimens in parallel, statistics.
 #include "bridgefit/campaign/campaign.hpp"
 
+#include <sched.h>
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <mutex>
 #include <thread>
 
@@ -14,6 +17,7 @@
 #include "bridgefit/experiment/rcurve.hpp"
 #include "bridgefit/inverse/compliance_calibration.hpp"
 #include "bridgefit/laws/law.hpp"
+#include "outcome_wire.hpp"
 
 namespace bridgefit::campaign {
 namespace {
@@ -218,8 +222,20 @@ void RunJoint(CampaignResult& result, const CampaignOptions& options) {
   std::vector<pipeline::FitRequest> requests;
   std::vector<const pipeline::FitRun*> runs;
   std::vector<std::string> names;
-  for (const SpecimenOutcome& s : result.specimens)
-    if (s.ok()) requests.push_back(s.request), runs.push_back(&*s.run), names.push_back(s.name);
+  for (SpecimenOutcome& s : result.specimens) {
+    if (!s.ok()) continue;
+    // Run on another rank: its input was not sent; reading it again gives
+    // the same input (the record and its reduction are deterministic).
+    if (!s.fit_file.empty()) {
+      try {
+        s.run->input = pipeline::ResolveFitInput(s.request);
+      } catch (const Error& e) {
+        result.joint_error = fmt::format("specimen '{}': {}", s.name, e.what());
+        return;
+      }
+    }
+    requests.push_back(s.request), runs.push_back(&*s.run), names.push_back(s.name);
+  }
   if (options.progress)
     options.progress(fmt::format("joint fit of {} converged specimens ...", runs.size()));
   try {
@@ -229,32 +245,10 @@ void RunJoint(CampaignResult& result, const CampaignOptions& options) {
   }
 }
 
-}  // namespace
-
-CampaignResult RunCampaign(const io::CampaignManifest& manifest, const CampaignOptions& options) {
-  std::string why;
-  if (!options.IsValid(&why)) throw Error(ErrorKind::kUsage, why, {.field = "--jobs"});
-  std::vector<pipeline::FitRequest> requests = BuildRequests(manifest);  // before any work
-  CampaignResult result;
-  result.manifest = manifest;
-  for (std::size_t i = 0; i < requests.size(); ++i) {
-    SpecimenOutcome s;
-    s.name = manifest.specimens[i].name;
-    s.request = std::move(requests[i]);
-    result.specimens.push_back(std::move(s));
-  }
-  const int hw = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  result.jobs = std::clamp(options.jobs > 0 ? options.jobs : hw, 1,
-                           static_cast<int>(result.specimens.size()));
-  // The cores are shared: each fit's profiles get hw / jobs threads (the
-  // default 2 per fit over-subscribed 2 cores with 2 specimens at once:
-  // speed-up 0.98, bench/campaign_bench.cpp); a thread count the request
-  // sets wins. Threads do not change a fit's result (inverse/fit.hpp).
-  for (SpecimenOutcome& s : result.specimens)
-    if (s.request.fit.threads == 0)
-      s.request.fit.threads =
-          options.fit_threads > 0 ? options.fit_threads : std::max(1, hw / result.jobs);
-  const auto t0 = std::chrono::steady_clock::now();
+// The specimens `mine` (indices into result.specimens) on result.jobs
+// threads; an interrupt stops taking specimens and is re-thrown.
+void RunSpecimens(CampaignResult& result, const std::vector<std::size_t>& mine,
+                  const CampaignOptions& options) {
   std::atomic<std::size_t> next{0};
   std::atomic<int> done{0};
   std::mutex progress_mutex;
@@ -264,19 +258,21 @@ CampaignResult RunCampaign(const io::CampaignManifest& manifest, const CampaignO
     std::lock_guard<std::mutex> lock(progress_mutex);
     options.progress(line);
   };
+  const std::size_t total = result.specimens.size();
   auto worker = [&]() {
-    for (std::size_t i; (i = next++) < result.specimens.size();) {
+    for (std::size_t k; (k = next++) < mine.size();) {
+      const std::size_t i = mine[k];
       SpecimenOutcome& s = result.specimens[i];
-      report(fmt::format("[{}/{}] {}: started", i + 1, result.specimens.size(), s.name));
+      report(fmt::format("[{}/{}] {}: started", i + 1, total, s.name));
       try {
         RunOne(s);
       } catch (...) {  // an interrupt: stop taking specimens
         std::lock_guard<std::mutex> lock(progress_mutex);
         if (!interrupted) interrupted = std::current_exception();
-        next = result.specimens.size();
+        next = mine.size();
         return;
       }
-      report(fmt::format("[{} done of {}] {}", ++done, result.specimens.size(), OutcomeLine(s)));
+      report(fmt::format("[{} done of {}] {}", ++done, mine.size(), OutcomeLine(s)));
     }
   };
   std::vector<std::thread> threads;
@@ -284,8 +280,25 @@ CampaignResult RunCampaign(const io::CampaignManifest& manifest, const CampaignO
   worker();
   for (std::thread& t : threads) t.join();
   if (interrupted) std::rethrow_exception(interrupted);
-  result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
 
+// The cores a rank of an MPI job may use: those it is bound to (srun
+// --cpus-per-task, mpirun --bind-to core), or else its node's cores shared by
+// the node's ranks.
+int RankCores(int ranks_on_node) {
+  const int node = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  int allowed = node;
+#ifdef __linux__
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(0, sizeof set, &set) == 0) allowed = CPU_COUNT(&set);
+#endif
+  if (allowed > 0 && allowed < node) return allowed;
+  return std::max(1, node / std::max(1, ranks_on_node));
+}
+
+// Statistics per parameter over the specimens that ran and converged.
+void ComputeStatistics(CampaignResult& result) {
   struct Parameter {
     const char* name;
     const char* unit;
@@ -304,6 +317,51 @@ CampaignResult RunCampaign(const io::CampaignManifest& manifest, const CampaignO
         estimates.push_back({s.name, s.run->summary.*p.member});
     result.statistics.push_back(Summarise(p.name, p.unit, p.scale, estimates));
   }
+}
+
+}  // namespace
+
+CampaignResult RunCampaign(const io::CampaignManifest& manifest, const CampaignOptions& options) {
+  std::string why;
+  if (!options.IsValid(&why)) throw Error(ErrorKind::kUsage, why, {.field = "--jobs"});
+  const std::unique_ptr<parallel::Communicator> serial = parallel::MakeSerialCommunicator();
+  parallel::Communicator& comm = options.communicator ? *options.communicator : *serial;
+  std::vector<pipeline::FitRequest> requests = BuildRequests(manifest);  // before any work
+  CampaignResult result;
+  result.manifest = manifest;
+  result.ranks = comm.size();
+  for (std::size_t i = 0; i < requests.size(); ++i) {
+    SpecimenOutcome s;
+    s.name = manifest.specimens[i].name;
+    s.request = std::move(requests[i]);
+    result.specimens.push_back(std::move(s));
+  }
+  // Round-robin in manifest order: who runs a specimen depends only on N.
+  std::vector<std::size_t> mine;
+  for (std::size_t i = comm.rank(); i < result.specimens.size(); i += comm.size()) mine.push_back(i);
+  const int hw = comm.mpi() ? RankCores(comm.local_size())
+                                 : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  result.jobs = std::clamp(options.jobs > 0 ? options.jobs : hw, 1,
+                           std::max(1, static_cast<int>(mine.size())));
+  // The cores are shared: each fit's profiles get hw / jobs threads (the
+  // default 2 per fit over-subscribed 2 cores with 2 specimens at once:
+  // speed-up 0.98, bench/campaign_bench.cpp); a thread count the request
+  // sets wins. Threads do not change a fit's result (inverse/fit.hpp).
+  for (SpecimenOutcome& s : result.specimens) {
+    s.rank = static_cast<int>((&s - result.specimens.data()) % comm.size());
+    if (s.request.fit.threads == 0)
+      s.request.fit.threads =
+          options.fit_threads > 0 ? options.fit_threads : std::max(1, hw / result.jobs);
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  RunSpecimens(result, mine, options);
+  if (comm.size() > 1) {
+    wire::GatherOutcomes(result, mine, comm);
+    result.complete = comm.root();
+  }
+  result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (!result.complete) return result;
+  ComputeStatistics(result);
   if (options.joint) RunJoint(result, options);
   return result;
 }

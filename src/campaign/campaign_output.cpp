@@ -132,8 +132,10 @@ std::string JointCsv(const pipeline::JointFitRun& joint) {
 
 std::string CampaignResult::BriefReport() const {
   std::ostringstream out;
-  out << fmt::format("campaign '{}': {} specimens, {} ran on {} thread(s) in {:.1f} s, {} failed\n",
-                     manifest.name, specimens.size(), specimens.size() - Failed(), jobs, wall_s,
+  const std::string where = ranks > 1 ? fmt::format("{} MPI ranks x {} thread(s)", ranks, jobs)
+                                      : fmt::format("{} thread(s)", jobs);
+  out << fmt::format("campaign '{}': {} specimens, {} ran on {} in {:.1f} s, {} failed\n",
+                     manifest.name, specimens.size(), specimens.size() - Failed(), where, wall_s,
                      Failed());
   out << fmt::format("  {:<16} {:<14}", "specimen", "status");
   for (const ParameterStatistics& p : statistics)
@@ -187,6 +189,7 @@ void WriteCampaignH5(const CampaignResult& result, const std::filesystem::path& 
   file.WriteAttribute(c, "specimens", static_cast<double>(result.specimens.size()));
   file.WriteAttribute(c, "failed", static_cast<double>(result.Failed()));
   file.WriteAttribute(c, "jobs", static_cast<double>(result.jobs));
+  file.WriteAttribute(c, "ranks", static_cast<double>(result.ranks));
   file.WriteAttribute(c, "wall_s", result.wall_s);
   file.WriteStrings(c + "/specimen_names", names);
   file.WriteStrings(c + "/specimen_status", status);
@@ -300,13 +303,24 @@ report::CampaignView CampaignReportView(const CampaignResult& result) {
 }  // namespace
 
 void WriteCampaignOutputs(const CampaignResult& result, const std::filesystem::path& dir) {
+  if (!result.complete)
+    throw Error(ErrorKind::kInternal,
+                "a campaign result of a rank other than 0 holds only its own specimens: only rank "
+                "0 writes the outputs",
+                {.file = dir.string()});
   std::error_code ec;
   std::filesystem::create_directories(dir / "specimens", ec);
   if (ec)
     throw Error(ErrorKind::kRuntime, "cannot create the campaign's output folder",
                 {.file = (dir / "specimens").string(), .value = ec.message()});
-  for (const SpecimenOutcome& s : result.specimens)
-    if (s.ran()) pipeline::WriteFitFile((dir / "specimens" / (s.name + ".h5")).string(), s.request, *s.run);
+  for (const SpecimenOutcome& s : result.specimens) {
+    if (!s.ran()) continue;
+    const std::filesystem::path path = dir / "specimens" / (s.name + ".h5");
+    if (s.fit_file.empty())
+      pipeline::WriteFitFile(path.string(), s.request, *s.run);
+    else  // written by the rank that ran it (the same writer), sent as bytes
+      WriteTextFileAtomic(path, s.fit_file);
+  }
   WriteTextFileAtomic(dir / "statistics.csv", StatisticsCsv(result));
   if (result.joint) WriteTextFileAtomic(dir / "joint.csv", JointCsv(*result.joint));
   WriteTextFileAtomic(dir / "summary.csv", SummaryCsv(result));

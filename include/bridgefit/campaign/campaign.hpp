@@ -7,6 +7,12 @@
 //   any work) -> RunCampaign (one RunFit per specimen on `jobs` threads; a
 //   specimen that fails is data: its reason is kept, the others go on)
 //   -> Summarise per parameter -> WriteCampaignOutputs
+//
+// Over MPI ranks (issue 20, docs/MPI.md): specimen i runs on rank i mod N
+// (manifest order, so who runs what does not depend on timing); rank 0
+// gathers every outcome with its fit file's bytes and alone computes the
+// statistics, the joint fit and writes the outputs. A fit does not depend on
+// the rank or thread that runs it, so the results are those of one process.
 
 #include <filesystem>
 #include <functional>
@@ -16,6 +22,7 @@
 
 #include "bridgefit/inverse/fit.hpp"
 #include "bridgefit/io/campaign_manifest.hpp"
+#include "bridgefit/parallel/communicator.hpp"
 #include "bridgefit/pipeline/fit.hpp"
 #include "bridgefit/pipeline/joint_fit.hpp"
 
@@ -32,6 +39,11 @@ struct CampaignOptions {
   // Profile threads of each fit (inverse::FitOptions::threads); 0: the
   // machine's cores / jobs, at least 1 (a request that sets its own wins).
   int fit_threads = 0;
+  // The job's ranks; null: this process alone. With more than one, every
+  // rank calls RunCampaign with the same manifest. In an MPI job (1 rank
+  // too) `jobs` and the cores are per rank: the cores the rank is bound to,
+  // or else its node's cores shared by the node's ranks.
+  parallel::Communicator* communicator = nullptr;
   bool IsValid(std::string* why) const;
 };
 
@@ -41,6 +53,13 @@ struct SpecimenOutcome {
   std::optional<pipeline::FitRun> run;  // empty when the specimen could not run
   std::string error;                    // why it could not run (the Error's text)
   double wall_s = 0.0;
+  int rank = 0;  // the MPI rank that ran it
+  // Run on another rank: the fit file it wrote (WriteCampaignOutputs writes
+  // these bytes as they are), and `run` holds what the campaign uses of the
+  // fit: summary, data, law shape, R kind, element size, model note; its
+  // input is read again on rank 0 for --joint (wire format:
+  // src/campaign/outcome_wire.hpp).
+  std::string fit_file;
   bool ran() const { return run.has_value(); }
   // Ran and the fit converged.
   bool ok() const { return run && run->summary.converged; }
@@ -80,7 +99,11 @@ struct CampaignResult {
   io::CampaignManifest manifest;
   std::vector<SpecimenOutcome> specimens;  // manifest order
   std::vector<ParameterStatistics> statistics;  // sigma_c, J_B, delta_c, J_tip_c
-  int jobs = 1;
+  int jobs = 1;   // threads per rank
+  int ranks = 1;  // MPI ranks
+  // False on a rank other than 0 of an MPI job: only its own specimens, no
+  // statistics; such a result is not written (WriteCampaignOutputs refuses).
+  bool complete = true;
   double wall_s = 0.0;
   // --joint: the joint fit, or why it could not run (a specimen that cannot
   // join, fewer than two converged).

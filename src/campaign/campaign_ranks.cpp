@@ -1,0 +1,81 @@
+// A campaign over MPI ranks (issue 20): every rank's outcomes to rank 0.
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include <fmt/format.h>
+
+#include "bridgefit/core/error.hpp"
+#include "bridgefit/pipeline/fit_file.hpp"
+#include "outcome_wire.hpp"
+
+namespace bridgefit::campaign::wire {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A rank's own temporary folder, removed with everything in it.
+struct RankFolder {
+  fs::path path;
+  explicit RankFolder(int rank)
+      : path(fs::temp_directory_path() /
+             fmt::format("bf_campaign_rank{}_{}", rank, static_cast<long>(::getpid()))) {
+    fs::remove_all(path);
+    std::error_code ec;
+    fs::create_directories(path, ec);
+    if (ec)
+      throw Error(ErrorKind::kRuntime, "cannot create this rank's temporary folder",
+                  {.file = path.string(), .value = ec.message()});
+  }
+  ~RankFolder() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+  RankFolder(const RankFolder&) = delete;
+  RankFolder& operator=(const RankFolder&) = delete;
+};
+
+std::string FileBytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (!in.good() && !in.eof())
+    throw Error(ErrorKind::kRuntime, "cannot read back a fit file this rank wrote",
+                {.file = path.string()});
+  return bytes;
+}
+
+// This rank's fit files, written by the fit file's owner as rank 0 would.
+void AttachFitFiles(CampaignResult& result, const std::vector<std::size_t>& mine, int rank) {
+  const RankFolder folder(rank);
+  for (std::size_t i : mine) {
+    SpecimenOutcome& s = result.specimens[i];
+    if (!s.ran()) continue;
+    const fs::path path = folder.path / fmt::format("specimen_{}.h5", i);
+    pipeline::WriteFitFile(path.string(), s.request, *s.run);
+    s.fit_file = FileBytes(path);
+  }
+}
+
+}  // namespace
+
+void GatherOutcomes(CampaignResult& result, const std::vector<std::size_t>& mine,
+                    parallel::Communicator& comm) {
+  std::string message;
+  if (!comm.root()) {
+    // A failure here is the campaign's, sent to rank 0 rather than thrown
+    // (rank 0 waits for this message).
+    try {
+      AttachFitFiles(result, mine, comm.rank());
+      message = EncodeOutcomes(result.specimens, mine);
+    } catch (const Error& e) {
+      message = EncodeOutcomes(result.specimens, {}, e.what());
+    }
+  }
+  const std::vector<std::string> messages = comm.GatherToRoot(message);
+  for (std::size_t k = 1; k < messages.size(); ++k)
+    DecodeOutcomes(messages[k], static_cast<int>(k), result.specimens);
+}
+
+}  // namespace bridgefit::campaign::wire
