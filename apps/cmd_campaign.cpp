@@ -99,23 +99,17 @@ class CampaignCommand final : public Command {
 
   int Run(const CommonOptions& common) override {
     const std::unique_ptr<parallel::Communicator> comm = parallel::MakeWorldCommunicator();
-    io::CampaignManifest manifest;
-    if (comm->size() == 1) {
-      manifest = io::ReadCampaignManifest(manifest_);
-    } else if (const std::optional<int> code = ReadOnEveryRank(*comm, manifest)) {
-      return *code;  // a manifest fault: rank 0 reports it, the others end quietly
-    }
     campaign::CampaignOptions options;
     options.jobs = jobs_;
     options.joint = joint_;
-    options.communicator = comm.get();
     const std::string prefix = comm->size() > 1 ? fmt::format("rank {}: ", comm->rank()) : "";
     if (!common.quiet)
       // One write per line: the ranks' lines are not cut into each other.
       options.progress = [prefix](const std::string& line) { std::cerr << prefix + line + "\n"; };
-    const campaign::CampaignResult result = comm->size() == 1
-                                                ? campaign::RunCampaign(manifest, options)
-                                                : RunOnRanks(manifest, options, *comm);
+    const campaign::RankedCampaign ranked =
+        campaign::RunCampaignOnRanks(manifest_, options, *comm);
+    if (ranked.quiet_exit) return *ranked.quiet_exit;
+    const campaign::CampaignResult& result = *ranked.result;
     if (!result.complete) return 0;  // rank 0 writes and reports
     campaign::WriteCampaignOutputs(result, out_);
     if (common.json) {
@@ -133,41 +127,6 @@ class CampaignCommand final : public Command {
   }
 
  private:
-  // Each rank reads the manifest (a shared file system); a fault on any rank
-  // stops all before any work. Rank 0 throws it (its own, or another rank's
-  // named); the others return the exit code quietly.
-  std::optional<int> ReadOnEveryRank(parallel::Communicator& comm,
-                                     io::CampaignManifest& manifest) const {
-    std::optional<Error> own;
-    try {
-      manifest = io::ReadCampaignManifest(manifest_);
-      campaign::BuildRequests(manifest);
-    } catch (const Error& e) {
-      own = e;
-    }
-    const std::string first = comm.FirstError(own ? own->what() : "");
-    if (first.empty()) return std::nullopt;
-    if (!comm.root()) return own && own->kind() == ErrorKind::kUsage ? 2 : 1;
-    if (own) throw *own;
-    throw Error(ErrorKind::kInput, first, {.file = manifest_, .field = "manifest on another rank"});
-  }
-
-  // An error on one rank mid-campaign (an MPI failure, results that do not
-  // decode) cannot reach the others, which may wait in a transfer: it is
-  // printed and the whole job ended (mpirun exits 1), before any output.
-  static campaign::CampaignResult RunOnRanks(const io::CampaignManifest& manifest,
-                                             const campaign::CampaignOptions& options,
-                                             parallel::Communicator& comm) {
-    try {
-      return campaign::RunCampaign(manifest, options);
-    } catch (const Error& e) {
-      if (e.kind() == ErrorKind::kInterrupted) throw;
-      std::cerr << "bridgefit campaign: error on MPI rank " << comm.rank() << " of " << comm.size()
-                << ": " << e.what() << "\n  the job is ended; no output written.\n";
-      comm.Abort(1);
-    }
-  }
-
   std::string manifest_, out_;
   int jobs_ = 0;
   bool joint_ = false;

@@ -3,11 +3,14 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <iterator>
+#include <optional>
 
 #include <fmt/format.h>
 
 #include "bridgefit/core/error.hpp"
+#include "bridgefit/io/campaign_manifest.hpp"
 #include "bridgefit/pipeline/fit_file.hpp"
 #include "outcome_wire.hpp"
 
@@ -79,3 +82,52 @@ void GatherOutcomes(CampaignResult& result, const std::vector<std::size_t>& mine
 }
 
 }  // namespace bridgefit::campaign::wire
+
+namespace bridgefit::campaign {
+namespace {
+
+// Each rank reads the manifest; a fault on any rank stops all (above).
+std::optional<int> ReadOnEveryRank(const std::string& path, parallel::Communicator& comm,
+                                   io::CampaignManifest& manifest) {
+  std::optional<Error> own;
+  try {
+    manifest = io::ReadCampaignManifest(path);
+    BuildRequests(manifest);
+  } catch (const Error& e) {
+    own = e;
+  }
+  const std::string first = comm.FirstError(own ? own->what() : "");
+  if (first.empty()) return std::nullopt;
+  if (!comm.root()) return own && own->kind() == ErrorKind::kUsage ? 2 : 1;
+  if (own) throw *own;
+  throw Error(ErrorKind::kInput, first, {.file = path, .field = "manifest on another rank"});
+}
+
+}  // namespace
+
+RankedCampaign RunCampaignOnRanks(const std::string& manifest_path, CampaignOptions options,
+                                  parallel::Communicator& comm) {
+  options.communicator = &comm;
+  RankedCampaign out;
+  io::CampaignManifest manifest;
+  if (comm.size() == 1) {
+    manifest = io::ReadCampaignManifest(manifest_path);
+    out.result = RunCampaign(manifest, options);
+    return out;
+  }
+  if (const std::optional<int> code = ReadOnEveryRank(manifest_path, comm, manifest)) {
+    out.quiet_exit = code;  // a manifest fault: rank 0 reports it, the others end quietly
+    return out;
+  }
+  try {
+    out.result = RunCampaign(manifest, options);
+  } catch (const Error& e) {
+    if (e.kind() == ErrorKind::kInterrupted) throw;
+    std::cerr << "bridgefit campaign: error on MPI rank " << comm.rank() << " of " << comm.size()
+              << ": " << e.what() << "\n  the job is ended; no output written.\n";
+    comm.Abort(1);
+  }
+  return out;
+}
+
+}  // namespace bridgefit::campaign

@@ -121,6 +121,21 @@ std::vector<pipeline::FitRequest> BuildRequests(const io::CampaignManifest& mani
 // Builds the requests (throws before any work), then runs them.
 CampaignResult RunCampaign(const io::CampaignManifest& manifest, const CampaignOptions& options);
 
+// The campaign of a manifest file on every rank of `comm` (`bridgefit
+// campaign`, with or without mpirun; options.communicator is set to it).
+// Each rank reads the manifest (a shared file system); a fault on any rank
+// stops all before any work: rank 0 throws it (its own, or another rank's
+// named), the others return `quiet_exit` (the exit code) and no result. An
+// error on one rank mid-campaign cannot reach the others, which may wait in
+// a transfer: it is printed on stderr and the whole job ended
+// (Communicator::Abort(1)) before any output.
+struct RankedCampaign {
+  std::optional<CampaignResult> result;
+  std::optional<int> quiet_exit;
+};
+RankedCampaign RunCampaignOnRanks(const std::string& manifest_path, CampaignOptions options,
+                                  parallel::Communicator& comm);
+
 // DIR/summary.csv (one row per specimen), DIR/statistics.csv (one row per
 // parameter), with --joint DIR/joint.csv (one row per parameter and the
 // consistency test's figures) and DIR/specimens/<name>.h5 (each a fit file, as `bridgefit fit
