@@ -77,6 +77,20 @@ specimen::CrackPlaneModel ReadCrackPlaneModel(const std::filesystem::path& path)
   return m;
 }
 
+std::string CrackPlaneInputs(const Scene& scene, const specimen::CrackPlaneOptions& mesh,
+                             int digits) {
+  const SpecimenSpec& s = scene.specimen;
+  const MaterialSpec& m = scene.material;
+  const auto g = [digits](double v) { return fmt::format("{:.{}g}", v, digits); };
+  return fmt::format(
+      "{} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {}", static_cast<int>(s.type),
+      static_cast<int>(s.plane), g(s.width), g(s.height), g(s.thickness), g(s.length), g(s.notch),
+      m.orthotropic, g(m.angle), g(m.E), g(m.nu), g(m.E1), g(m.E2), g(m.G12), g(m.nu12),
+      g(mesh.resolution > 0 ? mesh.resolution : specimen::DefaultResolution(s)),
+      g(mesh.max_crack_length > 0 ? mesh.max_crack_length : specimen::DefaultMaxCrackLength(scene)),
+      g(mesh.grading), g(mesh.coarse_factor));
+}
+
 std::shared_ptr<const specimen::CrackPlaneModel> LoadOrBuildCrackPlaneModel(
     const Scene& scene, const specimen::CrackPlaneOptions& mesh,
     const std::filesystem::path& cache_dir, CacheOutcome* outcome) {
@@ -86,16 +100,7 @@ std::shared_ptr<const specimen::CrackPlaneModel> LoadOrBuildCrackPlaneModel(
         specimen::BuildCrackPlaneModel(scene, mesh));
   // The key needs the mesh; building the key alone is cheap only after the
   // model, so the file name hashes the inputs that define the key.
-  const SpecimenSpec& s = scene.specimen;
-  const MaterialSpec& m = scene.material;
-  const std::string inputs = fmt::format(
-      "{} {} {:.9g} {:.9g} {:.9g} {:.9g} {:.9g} {} {} {:.9g} {:.9g} {:.9g} {:.9g} {:.9g} {:.9g} "
-      "{:.9g} {:.9g} {:.9g} {:.9g}",
-      static_cast<int>(s.type), static_cast<int>(s.plane), s.width, s.height, s.thickness,
-      s.length, s.notch, m.orthotropic, m.angle, m.E, m.nu, m.E1, m.E2, m.G12, m.nu12,
-      mesh.resolution > 0 ? mesh.resolution : specimen::DefaultResolution(s),
-      mesh.max_crack_length > 0 ? mesh.max_crack_length : specimen::DefaultMaxCrackLength(scene),
-      mesh.grading, mesh.coarse_factor);
+  const std::string inputs = CrackPlaneInputs(scene, mesh, 9);
   const std::filesystem::path file =
       cache_dir / fmt::format("crack_plane_{:016x}.h5", std::hash<std::string>{}(inputs));
   if (outcome) outcome->file = file;

@@ -7,6 +7,7 @@
 
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/inverse/reduced_forward.hpp"
+#include "bridgefit/models/crack_plane_cache.hpp"
 #include "bridgefit/models/reduced.hpp"
 #include "bridgefit/mpm/growth.hpp"
 #include "bridgefit/specimen/calibrations.hpp"
@@ -99,14 +100,7 @@ double ModelCrackLimit(const SpecimenSpec& specimen, double h) {
 
 std::shared_ptr<const models::ReducedModel> ReducedModelCache::Get(
     const Scene& scene, const specimen::CrackPlaneOptions& mesh) {
-  const SpecimenSpec& s = scene.specimen;
-  const MaterialSpec& m = scene.material;
-  const std::string key = fmt::format(
-      "{} {} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g} {} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g} "
-      "{:.17g} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g}",
-      static_cast<int>(s.type), static_cast<int>(s.plane), s.width, s.height, s.thickness,
-      s.length, s.notch, m.orthotropic, m.angle, m.E, m.nu, m.E1, m.E2, m.G12, m.nu12,
-      mesh.resolution, mesh.max_crack_length, mesh.grading, mesh.coarse_factor);
+  const std::string key = models::CrackPlaneInputs(scene, mesh, 17);
   std::lock_guard<std::mutex> lock(mutex_);
   auto& model = models_[key];
   if (!model) model = std::make_shared<const models::ReducedModel>(scene, mesh);

@@ -26,6 +26,12 @@ struct CacheOutcome {
 // Reads the model of `scene` from `cache_dir` when a file with the same key
 // is there, else builds it and stores it (atomically). An empty `cache_dir`
 // only builds.
+// The inputs that define a crack-plane model (specimen, material, mesh with
+// its defaults resolved) as text at `digits` significant digits: the cache
+// file's key (9) and the in-memory model cache's (17).
+std::string CrackPlaneInputs(const Scene& scene, const specimen::CrackPlaneOptions& mesh,
+                             int digits);
+
 std::shared_ptr<const specimen::CrackPlaneModel> LoadOrBuildCrackPlaneModel(
     const Scene& scene, const specimen::CrackPlaneOptions& mesh,
     const std::filesystem::path& cache_dir, CacheOutcome* outcome = nullptr);
