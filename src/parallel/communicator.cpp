@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "bridgefit/core/error.hpp"
+#include "bridgefit/parallel/bytes.hpp"
 #include "mpi_communicator.hpp"
 
 namespace bridgefit::parallel {
@@ -49,6 +50,23 @@ std::string Communicator::FirstError(const std::string& error) {
   for (std::size_t k = 0; k < errors.size() && first.empty(); ++k)
     if (!errors[k].empty()) first = k == 0 ? errors[k] : fmt::format("rank {}: {}", k, errors[k]);
   return Broadcast(first);
+}
+
+std::vector<std::string> Communicator::AllGather(const std::string& bytes) {
+  if (size() == 1) return {bytes};
+  ByteWriter all;
+  if (root()) {
+    const std::vector<std::string> parts = GatherToRoot(bytes);
+    all.Items(parts, [](ByteWriter& io, const std::string& part) { io.Field(part); });
+  } else {
+    GatherToRoot(bytes);
+  }
+  const std::string message = Broadcast(all.Take());
+  std::vector<std::string> parts;
+  ByteReader in(message, "gathered messages", 0);
+  in.Items(parts, [](ByteReader& io, std::string& part) { io.Field(part); });
+  if (!in.done() || static_cast<int>(parts.size()) != size()) in.Corrupt();
+  return parts;
 }
 
 std::unique_ptr<Communicator> MakeSerialCommunicator() {

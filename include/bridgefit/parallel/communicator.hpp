@@ -10,6 +10,7 @@
 // and MPI's reason; a rank that dies ends the whole job (mpirun's default),
 // so no rank waits forever.
 
+#include <cstddef>
 #include <memory>
 #include <string>
 #include <vector>
@@ -33,6 +34,13 @@ class Communicator {
   virtual std::vector<std::string> GatherToRoot(const std::string& bytes) = 0;
   // Rank 0's bytes on every rank.
   virtual std::string Broadcast(const std::string& bytes) = 0;
+  // Every rank's bytes, in rank order, on every rank (a gather to rank 0,
+  // then its broadcast). For work dealt over the ranks that each rank
+  // continues from (a joint fit's profiles, docs/MPI.md).
+  std::vector<std::string> AllGather(const std::string& bytes);
+  // The rank that does item `item` of work dealt round-robin: item mod N,
+  // so the assignment depends only on N.
+  int OwnerOf(std::size_t item) const { return static_cast<int>(item % size()); }
   // Ends every rank of the job with `exit_code` (after an error on one rank
   // that the others cannot know about).
   [[noreturn]] void Abort(int exit_code);
