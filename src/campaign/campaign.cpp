@@ -217,30 +217,39 @@ int CampaignResult::Failed() const {
 namespace {
 
 // --joint: every converged specimen into one fit; an error is kept as the
-// campaign's joint_error (the separate fits stand).
-void RunJoint(CampaignResult& result, const CampaignOptions& options) {
+// campaign's joint_error (the separate fits stand). Over several ranks every
+// rank makes it (its parts dealt over them, pipeline::RunJointFit) and
+// rank 0's result is the campaign's.
+void RunJoint(CampaignResult& result, const CampaignOptions& options, parallel::Communicator& comm) {
   std::vector<pipeline::FitRequest> requests;
   std::vector<const pipeline::FitRun*> runs;
   std::vector<std::string> names;
+  std::string error;
   for (SpecimenOutcome& s : result.specimens) {
     if (!s.ok()) continue;
     // Run on another rank: its input was not sent; reading it again gives
     // the same input (the record and its reduction are deterministic).
-    if (!s.fit_file.empty()) {
+    if (s.rank != comm.rank() && error.empty()) {
       try {
         s.run->input = pipeline::ResolveFitInput(s.request);
       } catch (const Error& e) {
-        result.joint_error = fmt::format("specimen '{}': {}", s.name, e.what());
-        return;
+        error = fmt::format("specimen '{}': {}", s.name, e.what());
       }
     }
     requests.push_back(s.request), runs.push_back(&*s.run), names.push_back(s.name);
   }
-  if (options.progress)
-    options.progress(fmt::format("joint fit of {} converged specimens ...", runs.size()));
+  // All ranks go on to the joint fit, or none.
+  if (const std::string first = comm.FirstError(error); !first.empty()) {
+    result.joint_error = first;
+    return;
+  }
+  if (options.progress && comm.root())
+    options.progress(fmt::format("joint fit of {} converged specimens{} ...", runs.size(),
+                                 comm.size() > 1 ? fmt::format(" on {} ranks", comm.size()) : ""));
   try {
-    result.joint = pipeline::RunJointFit(requests, runs, names);
+    result.joint = pipeline::RunJointFit(requests, runs, names, &comm);
   } catch (const Error& e) {
+    if (e.kind() == ErrorKind::kInterrupted) throw;
     result.joint_error = e.what();
   }
 }
@@ -360,9 +369,12 @@ CampaignResult RunCampaign(const io::CampaignManifest& manifest, const CampaignO
     result.complete = comm.root();
   }
   result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (!result.complete) return result;
-  ComputeStatistics(result);
-  if (options.joint) RunJoint(result, options);
+  if (result.complete) ComputeStatistics(result);
+  if (options.joint) {
+    // Every rank joins the joint fit with every specimen's outcome.
+    if (comm.size() > 1) wire::ShareOutcomes(result, mine, comm);
+    RunJoint(result, options, comm);
+  }
   return result;
 }
 

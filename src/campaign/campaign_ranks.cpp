@@ -1,6 +1,7 @@
 // A campaign over MPI ranks (issue 20): every rank's outcomes to rank 0.
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -79,6 +80,26 @@ void GatherOutcomes(CampaignResult& result, const std::vector<std::size_t>& mine
   const std::vector<std::string> messages = comm.GatherToRoot(message);
   for (std::size_t k = 1; k < messages.size(); ++k)
     DecodeOutcomes(messages[k], static_cast<int>(k), result.specimens);
+}
+
+void ShareOutcomes(CampaignResult& result, const std::vector<std::size_t>& mine,
+                   parallel::Communicator& comm) {
+  std::vector<std::size_t> all(result.specimens.size());
+  for (std::size_t i = 0; i < all.size(); ++i) all[i] = i;
+  const std::string message =
+      comm.Broadcast(comm.root() ? EncodeOutcomes(result.specimens, all, "", false) : "");
+  if (comm.root()) return;
+  std::vector<SpecimenOutcome> received(result.specimens.size());
+  for (std::size_t i = 0; i < received.size(); ++i) received[i].name = result.specimens[i].name;
+  DecodeOutcomes(message, 0, received);
+  for (std::size_t i = 0; i < received.size(); ++i) {
+    if (std::find(mine.begin(), mine.end(), i) != mine.end()) continue;
+    SpecimenOutcome& s = result.specimens[i];
+    s.run = std::move(received[i].run);
+    s.error = std::move(received[i].error);
+    s.wall_s = received[i].wall_s;
+    s.rank = received[i].rank;
+  }
 }
 
 }  // namespace bridgefit::campaign::wire

@@ -38,7 +38,8 @@ void Visit(Io& io, R& run) requires std::is_same_v<std::remove_const_t<R>, pipel
 }  // namespace
 
 std::string EncodeOutcomes(const std::vector<SpecimenOutcome>& specimens,
-                           const std::vector<std::size_t>& indices, const std::string& rank_error) {
+                           const std::vector<std::size_t>& indices, const std::string& rank_error,
+                           bool with_fit_files) {
   Writer out;
   out.Field(kMagic);
   out.Field(rank_error);
@@ -54,7 +55,7 @@ std::string EncodeOutcomes(const std::vector<SpecimenOutcome>& specimens,
     out.Field(load);
     if (load) Visit(out, *s.run->load_data);
     Visit(out, *s.run);
-    out.Field(s.fit_file);
+    out.Field(with_fit_files ? s.fit_file : std::string());
   }
   return out.Take();
 }

@@ -16,9 +16,10 @@ namespace bridgefit::campaign::wire {
 // The outcomes `indices` of `specimens` (each ran on this rank; its fit
 // file's bytes already in `fit_file` when it ran), or, with `rank_error`
 // not empty, why this rank cannot send them.
+// `with_fit_files` false: the fit files are left out (sent empty).
 std::string EncodeOutcomes(const std::vector<SpecimenOutcome>& specimens,
                            const std::vector<std::size_t>& indices,
-                           const std::string& rank_error = "");
+                           const std::string& rank_error = "", bool with_fit_files = true);
 
 // Fills the outcomes `bytes` holds into `specimens` (by manifest index,
 // keeping each one's request). Throws Error (kRuntime) naming `from_rank`
@@ -31,5 +32,11 @@ void DecodeOutcomes(const std::string& bytes, int from_rank,
 // outcomes to rank 0, which fills result.specimens. Collective.
 void GatherOutcomes(CampaignResult& result, const std::vector<std::size_t>& mine,
                     parallel::Communicator& comm);
+
+// After GatherOutcomes, for --joint on every rank: rank 0 broadcasts every
+// specimen's outcome (fit files left out) and each other rank takes those
+// it did not run (`mine`: those it did). Collective.
+void ShareOutcomes(CampaignResult& result, const std::vector<std::size_t>& mine,
+                   parallel::Communicator& comm);
 
 }  // namespace bridgefit::campaign::wire

@@ -11,6 +11,7 @@
 
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/core/progress.hpp"
+#include "bridgefit/parallel/communicator.hpp"
 #include "fit_impl.hpp"
 
 namespace bridgefit::inverse {
@@ -66,7 +67,8 @@ void ApplyProfile(const ProfileRun& run, bool lower_side, const FitOptions& opti
 
 
 // Stage 1: multi-start local searches from a Latin-hypercube design (one
-// start for the global optimizers); every start into s.starts.
+// start for the global optimizers); every start into s.starts, the lowest
+// (the first of equals) returned.
 LocalResult MultiStartSearch(const FitContext& c, FitSummary& s) {
   const FitOptions& options = c.options;
   const Objective& objective = c.objective;
@@ -84,10 +86,24 @@ LocalResult MultiStartSearch(const FitContext& c, FitSummary& s) {
       design[0][i] = ToBox(free[i], options.initial[free[i]], options);
     }
   }
+  // The starts are independent: over ranks (options.ranks), start k on
+  // rank k mod N, then every rank gets every start.
+  parallel::Communicator* ranks = options.ranks && options.ranks->size() > 1 ? options.ranks : nullptr;
+  std::vector<StartRun> runs(starts);
+  for (int k = 0; k < starts; ++k) {
+    if (ranks && ranks->OwnerOf(k) != ranks->rank()) continue;
+    const int budget = global ? options.max_evaluations * options.starts : options.max_evaluations;
+    const int evaluations = objective.evaluations(), failures = objective.failures();
+    runs[k].result = MinimizeLocal(objective, options.optimizer, design[k], budget);
+    runs[k].evaluations = objective.evaluations() - evaluations;
+    runs[k].failures = objective.failures() - failures;
+    if (runs[k].failures > 0) runs[k].last_failure = objective.last_failure();
+    progress.Update(static_cast<size_t>(k + 1));
+  }
+  if (ranks) ShareStartRuns(*ranks, runs, objective);
   LocalResult best;
   for (int k = 0; k < starts; ++k) {
-    const int budget = global ? options.max_evaluations * options.starts : options.max_evaluations;
-    LocalResult r = MinimizeLocal(objective, options.optimizer, design[k], budget);
+    const LocalResult& r = runs[k].result;
     StartResult start;
     for (int i = 0; i < n_free; ++i) {
       start.start[free[i]] = FromBox(free[i], design[k][i], options);
@@ -98,7 +114,6 @@ LocalResult MultiStartSearch(const FitContext& c, FitSummary& s) {
     start.stop_reason = r.stop_reason;
     s.starts.push_back(start);
     if (r.chi2 < best.chi2) best = r;
-    progress.Update(static_cast<size_t>(k + 1));
   }
   progress.Finish();
   return best;

@@ -103,6 +103,8 @@ class Objective {
   }
 
   const std::string& last_failure() const { return last_failure_; }
+  // The last failure of evaluations made on another rank.
+  void SetLastFailure(const std::string& message) const { last_failure_ = message; }
   const FitData& data() const { return data_; }
   const FitOptions& options() const { return options_; }
 
@@ -207,7 +209,27 @@ struct ProfileRun {
   ProfileEdge low, high;
   int evaluations = 0, failures = 0;
 };
-// Profiles of the free parameters `ks` (side by side), at the optimum `best`
+// One local search of the multi-start stage and what it cost the objective.
+struct StartRun {
+  LocalResult result;
+  int evaluations = 0, failures = 0;
+  std::string last_failure;  // the objective's after this search, when it failed at all
+};
+// A fit's work over the ranks of a job (fit_ranks.cpp, FitOptions::ranks).
+// Throws Error (kRuntime) when a rank's optimum, full vector or threshold
+// differs from rank 0's in any bit (the dealt profiles would not fit together).
+void CheckSameOptimum(parallel::Communicator& ranks, const LocalResult& best,
+                      const std::vector<double>& full, double threshold);
+// Each rank's own runs (those of index q with OwnerOf(q) == its rank) to
+// every rank, into `runs` (same length on every rank).
+void ShareProfileRuns(parallel::Communicator& ranks, std::vector<ProfileRun>& runs);
+// The same for the multi-start searches; the others' evaluations, failures
+// and last failure are added to `objective` in start order, as if it had
+// made them.
+void ShareStartRuns(parallel::Communicator& ranks, std::vector<StartRun>& runs,
+                    const Objective& objective);
+// Profiles of the free parameters `ks` (side by side; over options.ranks
+// when set, each rank running its share), at the optimum `best`
 // (box coordinates; `full` its physical vector), with the interval threshold
 // Delta chi^2 = `threshold`; `lower_side` false: only the upper ends.
 // `covariance`: the Jacobian covariance of the free parameters (physical;

@@ -14,6 +14,7 @@
 
 #include <fmt/format.h>
 
+#include "bridgefit/parallel/communicator.hpp"
 #include "fit_impl.hpp"
 
 namespace bridgefit::inverse::fit_internal {
@@ -365,13 +366,20 @@ std::vector<ProfileRun> RunProfiles(const ForwardModel& model, const laws::LawSh
                                     bool lower_side, const Eigen::MatrixXd* covariance) {
   std::vector<ProfileRun> runs;
   for (int k : ks) runs.push_back({.k = k});
+  // Over ranks (options.ranks): profile q on rank q mod N, then every rank
+  // gets every profile; the ranks must start from one optimum.
+  parallel::Communicator* ranks = options.ranks && options.ranks->size() > 1 ? options.ranks : nullptr;
+  if (ranks) CheckSameOptimum(*ranks, best, full, threshold);
+  std::vector<std::size_t> mine;
+  for (std::size_t q = 0; q < runs.size(); ++q)
+    if (!ranks || ranks->OwnerOf(q) == ranks->rank()) mine.push_back(q);
   const int profile_threads = options.threads > 0 ? options.threads : 2;
   // The profiles are independent: they run side by side, each with its own
   // objective (and counters).
 #pragma omp parallel for num_threads(profile_threads) schedule(dynamic) \
-    if (runs.size() > 1 && profile_threads > 1)
-  for (std::size_t q = 0; q < runs.size(); ++q) {
-    ProfileRun& run = runs[q];
+    if (mine.size() > 1 && profile_threads > 1)
+  for (std::size_t m = 0; m < mine.size(); ++m) {
+    ProfileRun& run = runs[mine[m]];
     Profile& profile = run.profile;
     ProfileSearch search(model, shape, data, options, run.k, best, full, threshold, covariance,
                          profile);
@@ -398,6 +406,7 @@ std::vector<ProfileRun> RunProfiles(const ForwardModel& model, const laws::LawSh
     run.evaluations = search.objective().evaluations();
     run.failures = search.objective().failures();
   }
+  if (ranks) ShareProfileRuns(*ranks, runs);
   return runs;
 }
 

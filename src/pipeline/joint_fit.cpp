@@ -5,11 +5,14 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <deque>
 #include <memory>
 
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/core/progress.hpp"
+#include "bridgefit/parallel/bytes.hpp"
+#include "bridgefit/parallel/communicator.hpp"
 #include "fit_models.hpp"
 
 namespace bridgefit::pipeline {
@@ -65,6 +68,63 @@ double OptimumChi2(const inverse::FitSummary& s) {
 }
 
 
+// What the joint fit keeps of a specimen's fit alone: its chi^2 at its
+// bridged optimum, its data points and that optimum (its starts' lowest end).
+struct AloneFit {
+  double chi2 = INFINITY;
+  int data_points = 0;
+  std::array<double, inverse::kParameterCount> optimum = {NAN, NAN, NAN};
+  AloneFit() = default;
+  explicit AloneFit(const inverse::FitSummary& s) : chi2(OptimumChi2(s)), data_points(s.data_points) {
+    if (const inverse::StartResult* best = BestStart(s)) optimum = best->end;
+  }
+};
+
+// fit(j) for j < count: with several ranks, item j on rank j mod N and every
+// rank receiving them all (doubles bit for bit); an Error on any rank is
+// re-thrown on every rank (the first in item order), so all go on or none.
+template <class Fit>
+std::vector<AloneFit> Dealt(parallel::Communicator* ranks, std::size_t count, Fit&& fit) {
+  std::vector<AloneFit> out(count);
+  if (!ranks || ranks->size() == 1) {
+    for (std::size_t j = 0; j < count; ++j) out[j] = fit(j);
+    return out;
+  }
+  parallel::ByteWriter own;
+  std::string error;
+  for (std::size_t j = 0; j < count && error.empty(); ++j) {
+    if (ranks->OwnerOf(j) != ranks->rank()) continue;
+    try {
+      out[j] = fit(j);
+    } catch (const Error& e) {
+      if (e.kind() == ErrorKind::kInterrupted) throw;
+      error = e.what();
+    }
+    own.Field(static_cast<std::uint64_t>(j));
+    own.Field(out[j].chi2), own.Field(out[j].data_points), own.Field(out[j].optimum);
+  }
+  parallel::ByteWriter message;
+  message.Field(error), message.Field(own.Take());
+  const std::vector<std::string> all = ranks->AllGather(message.Take());
+  for (int from = 0; from < static_cast<int>(all.size()); ++from) {
+    parallel::ByteReader in(all[from], "joint-fit results", from);
+    std::string their_error, fits;
+    in.Field(their_error), in.Field(fits);
+    if (!in.done()) in.Corrupt();
+    if (!their_error.empty())
+      throw Error(ErrorKind::kRuntime, fmt::format("rank {}: {}", from, their_error),
+                  {.field = "joint fit over MPI ranks"});
+    parallel::ByteReader items(fits, "joint-fit results", from);
+    while (!items.done()) {
+      std::uint64_t j = 0;
+      items.Field(j);
+      if (j >= count || ranks->OwnerOf(j) != from) items.Corrupt();
+      items.Field(out[j].chi2), items.Field(out[j].data_points), items.Field(out[j].optimum);
+    }
+  }
+  return out;
+}
+
 // The specimens' models and data, fitted alone once; joint fits of any
 // subset of them (the whole campaign, then without flagged specimens).
 class JointFitter {
@@ -75,14 +135,17 @@ class JointFitter {
     std::vector<double> statistic, p_value;  // per member
   };
 
+  // `ranks` (may be null): the job's ranks, each making this same joint fit.
   JointFitter(std::vector<const inverse::ForwardModel*> models, std::vector<inverse::FitData> data,
-              laws::LawShape shape, inverse::FitOptions options)
+              laws::LawShape shape, inverse::FitOptions options, parallel::Communicator* ranks)
       : models_(std::move(models)), data_(std::move(data)), shape_(std::move(shape)),
-        options_(std::move(options)) {
+        options_(std::move(options)), ranks_(ranks) {
     options_.outlier_threshold = 0.0;  // like with like: the same points alone and together
+    options_.ranks = ranks;            // the joint fits' profiles dealt over the ranks
     alone_ = options_;
     alone_.profile_likelihood = false;
     alone_.progress = false;
+    alone_.ranks = nullptr;  // a fit alone runs on one rank (Dealt)
     for (int i = 0; i < inverse::kParameterCount; ++i) free_ += !options_.fixed[i];
     std::vector<inverse::FitData> parts = data_;
     std::vector<double> offsets;
@@ -90,12 +153,13 @@ class JointFitter {
     // Uncertainties dropped for all when one specimen lacks them.
     for (inverse::FitData& d : data_)
       if (!weighted_) d.R_uncertainty.clear();
-    for (std::size_t k = 0; k < models_.size(); ++k) {
-      const inverse::FitSummary s = inverse::FitBridgingLaw(*models_[k], shape_, data_[k], alone_);
-      chi2_.push_back(OptimumChi2(s));
-      dof_.push_back(std::max(1, s.data_points - free_));
-      const inverse::StartResult* best = BestStart(s);
-      optima_.push_back(best ? best->end : std::array<double, inverse::kParameterCount>{NAN, NAN, NAN});
+    const std::vector<AloneFit> alone = Dealt(ranks_, models_.size(), [&](std::size_t k) {
+      return AloneFit(inverse::FitBridgingLaw(*models_[k], shape_, data_[k], alone_));
+    });
+    for (const AloneFit& a : alone) {
+      chi2_.push_back(a.chi2);
+      dof_.push_back(std::max(1, a.data_points - free_));
+      optima_.push_back(a.optimum);
     }
   }
 
@@ -126,14 +190,17 @@ class JointFitter {
     const inverse::StartResult* best = BestStart(r.summary);
     // Each member alone also from the joint optimum: a separate fit that
     // stopped above it would shrink the likelihood ratio (no power).
-    if (best)
-      for (std::size_t k : members) {
-        inverse::FitOptions from_joint = alone_;
-        for (int i = 0; i < inverse::kParameterCount; ++i)
-          if (!options_.fixed[i] && std::isfinite(best->end[i])) from_joint.initial[i] = best->end[i];
-        chi2_[k] = std::min(chi2_[k], OptimumChi2(inverse::FitBridgingLaw(*models_[k], shape_,
-                                                                           data_[k], from_joint)));
-      }
+    if (best) {
+      inverse::FitOptions from_joint = alone_;
+      for (int i = 0; i < inverse::kParameterCount; ++i)
+        if (!options_.fixed[i] && std::isfinite(best->end[i])) from_joint.initial[i] = best->end[i];
+      const std::vector<AloneFit> again = Dealt(ranks_, members.size(), [&](std::size_t j) {
+        const std::size_t k = members[j];
+        return AloneFit(inverse::FitBridgingLaw(*models_[k], shape_, data_[k], from_joint));
+      });
+      for (std::size_t j = 0; j < members.size(); ++j)
+        chi2_[members[j]] = std::min(chi2_[members[j]], again[j].chi2);
+    }
     std::vector<double> chi2;
     std::vector<int> dof;
     for (std::size_t k : members) chi2.push_back(chi2_[k]), dof.push_back(dof_[k]);
@@ -175,6 +242,7 @@ class JointFitter {
   std::vector<inverse::FitData> data_;
   laws::LawShape shape_;
   inverse::FitOptions options_, alone_;
+  parallel::Communicator* ranks_ = nullptr;
   int free_ = 0;
   bool weighted_ = false;
   std::vector<double> chi2_;  // each specimen alone, at its lowest optimum found
@@ -193,7 +261,7 @@ std::string Names(const std::vector<std::string>& names) {
 
 JointFitRun RunJointFit(const std::vector<FitRequest>& requests,
                         const std::vector<const FitRun*>& runs,
-                        const std::vector<std::string>& names) {
+                        const std::vector<std::string>& names, parallel::Communicator* ranks) {
   const Stopwatch clock;
   BF_CHECK_INPUT(requests.size() == runs.size() && runs.size() == names.size(),
                  "one request, run and name per specimen", {.field = "joint fit"});
@@ -221,7 +289,7 @@ JointFitRun RunJointFit(const std::vector<FitRequest>& requests,
     model_of.push_back(&models.back()->model());
     parts.push_back(runs[k]->data);
   }
-  JointFitter fitter(model_of, parts, out.shape, requests.front().fit);
+  JointFitter fitter(model_of, parts, out.shape, requests.front().fit, ranks);
   std::vector<std::size_t> members(runs.size());
   for (std::size_t k = 0; k < members.size(); ++k) members[k] = k;
   const JointFitter::Result all = fitter.Fit(members);

@@ -2,8 +2,9 @@
 // Oracles: the serial run (`--jobs 1`, no MPI) is the truth, and the same
 // manifest on 1, 2 and 3 ranks must give its numbers bit for bit (a fit does
 // not depend on the rank or thread that runs it): every specimen's estimates
-// and intervals, the statistics, the verdicts, the campaign.h5 datasets and
-// each specimen's fit file. A specimen whose record is corrupt fails alone on
+// and intervals, the statistics, the verdicts, the campaign.h5 datasets,
+// each specimen's fit file, and the joint fit (--joint), whose work is dealt
+// over the ranks: its estimates, profile intervals and test. A specimen whose record is corrupt fails alone on
 // whichever rank ran it; a rank killed mid-campaign ends the job non-zero
 // with no output; a manifest fault is reported once, by rank 0.
 #include <gtest/gtest.h>
@@ -119,7 +120,7 @@ std::string WithoutWallColumn(const fs::path& csv) {
   return out;
 }
 
-TEST(CampaignMpi, OneTwoAndThreeRanksGiveTheSerialResultBitForBitAndTheCorruptRecordFailsAlone) {
+TEST(CampaignMpi, OneTwoAndThreeRanksGiveTheSerialResultAndJointFitBitForBitAndTheCorruptRecordFailsAlone) {
   const Campaign c;
   const ShellRun serial = c.RunCli("", "serial", "--jobs 1 --joint");
   ASSERT_EQ(serial.exit_code, 1) << serial.err;  // one specimen failed
@@ -130,17 +131,30 @@ TEST(CampaignMpi, OneTwoAndThreeRanksGiveTheSerialResultBitForBitAndTheCorruptRe
   ASSERT_FALSE(truth["specimens"][1]["ran"].get<bool>());
   ASSERT_FALSE(truth["joint"].contains("error")) << truth["joint"];
   const io::H5Reader truth_h5(c.dir / "serial" / "campaign.h5");
-  for (int ranks : {1, 2, 3}) {
-    SCOPED_TRACE(std::to_string(ranks) + " rank(s)");
-    const std::string out = "ranks" + std::to_string(ranks);
-    // --joint on 3 ranks: B ran on rank 2, so rank 0 reads its input again for it.
-    const ShellRun mpi = c.RunCli(Mpirun(ranks), out, ranks == 3 ? "--joint" : "--jobs 1");
+  // --joint on 1, 2 and 3 ranks: the joint fit's starts, fits alone and
+  // profiles dealt over the ranks (on 2 ranks, 3 profiles: 2 on rank 0, 1 on
+  // rank 1). On 3, B ran on rank 2, so ranks 0 and 1 read its input again.
+  // Once without --joint (the specimens alone, nothing shared back).
+  for (const auto& [ranks, joint] : {std::pair{1, true}, {2, true}, {3, true}, {2, false}}) {
+    SCOPED_TRACE(std::to_string(ranks) + " rank(s)" + (joint ? ", --joint" : ""));
+    const std::string out = "ranks" + std::to_string(ranks) + (joint ? "_joint" : "");
+    const ShellRun mpi = c.RunCli(Mpirun(ranks), out, joint ? "--joint" : "--jobs 1");
     EXPECT_EQ(mpi.exit_code, 1) << mpi.err;
     nlohmann::json got = nlohmann::json::parse(mpi.out);
     EXPECT_EQ(got["ranks"].get<int>(), ranks);
     nlohmann::json want = truth;
-    if (ranks != 3) want.erase("joint"), got.erase("joint");
+    if (!joint) want.erase("joint"), got.erase("joint");
     EXPECT_EQ(Comparable(got), Comparable(want)) << mpi.out;
+    if (joint) {
+      EXPECT_NE(mpi.err.find(ranks > 1 ? "joint fit of 2 converged specimens on " +
+                                             std::to_string(ranks) + " ranks"
+                                       : "joint fit of 2 converged specimens ..."),
+                std::string::npos)
+          << mpi.err;
+      std::ifstream a(c.dir / out / "joint.csv"), b(c.dir / "serial" / "joint.csv");
+      EXPECT_EQ(std::string(std::istreambuf_iterator<char>(a), {}),
+                std::string(std::istreambuf_iterator<char>(b), {}));
+    }
     EXPECT_NE(got["specimens"][1]["error"].get<std::string>().find("broken.csv"),
               std::string::npos);
     // The failure is reported on the rank that ran it, the output by rank 0.
@@ -158,6 +172,11 @@ TEST(CampaignMpi, OneTwoAndThreeRanksGiveTheSerialResultBitForBitAndTheCorruptRe
     EXPECT_FALSE(fs::exists(dir / "specimens" / "broken.h5"));
     const io::H5Reader h5(dir / "campaign.h5");
     EXPECT_EQ(h5.ReadNumberAttribute("/campaign", "ranks"), ranks);
+    if (joint)
+      for (const char* attribute : {"likelihood_ratio", "p_value"})
+        EXPECT_TRUE(SameBits({h5.ReadNumberAttribute("/campaign/joint", attribute)},
+                             {truth_h5.ReadNumberAttribute("/campaign/joint", attribute)}))
+            << attribute;
     EXPECT_EQ(h5.ReadStrings("/campaign/specimen_status"),
               truth_h5.ReadStrings("/campaign/specimen_status"));
     for (const char* p : {"sigma_c", "J_B", "delta_c", "J_tip_c"}) {
@@ -168,6 +187,13 @@ TEST(CampaignMpi, OneTwoAndThreeRanksGiveTheSerialResultBitForBitAndTheCorruptRe
         EXPECT_TRUE(SameBits({h5.ReadNumberAttribute(g, attribute)},
                              {truth_h5.ReadNumberAttribute(g, attribute)}))
             << g << " " << attribute;
+      // The joint fit's estimate and interval, bit for bit.
+      const std::string jg = std::string("/campaign/joint/parameters/") + p;
+      if (joint)
+        for (const char* attribute : {"value", "ci95_low", "ci95_high", "lower_bound"})
+          EXPECT_TRUE(SameBits({h5.ReadNumberAttribute(jg, attribute)},
+                               {truth_h5.ReadNumberAttribute(jg, attribute)}))
+              << jg << " " << attribute;
       // Each specimen's fit file, as copied into campaign.h5 (B ran on
       // another rank with 2 and 3 ranks).
       for (const char* s : {"A", "B"}) {

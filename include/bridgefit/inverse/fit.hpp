@@ -12,6 +12,10 @@
 #include "bridgefit/laws/law.hpp"
 #include "bridgefit/laws/rcurve_theory.hpp"
 
+namespace bridgefit::parallel {
+class Communicator;
+}
+
 namespace bridgefit::inverse {
 
 // Parameter order inside the fitter.
@@ -57,6 +61,12 @@ struct FitOptions {
   unsigned seed = 12345;          // Latin-hypercube design
   int threads = 0;                // profiles side by side (0: two OpenMP threads, 1: serial)
   bool progress = false;
+  // Ranks of one job sharing this fit's profiles (a campaign's joint fit
+  // under MPI, docs/MPI.md): profile q runs on rank q mod N, on `threads`
+  // there, and every rank gets them all. Every rank must make the same fit
+  // at the same time (collective). Null or one rank: this process alone. The
+  // result does not depend on it, bit for bit.
+  parallel::Communicator* ranks = nullptr;
 
   bool IsValid(std::string* why) const;
 };

@@ -11,6 +11,7 @@
 #include "bridgefit/inverse/fit.hpp"
 #include "bridgefit/inverse/joint.hpp"
 #include "bridgefit/laws/law.hpp"
+#include "bridgefit/parallel/communicator.hpp"
 #include "bridgefit/pipeline/fit.hpp"
 
 namespace bridgefit::pipeline {
@@ -40,8 +41,14 @@ struct JointFitRun {
 // re-fitted alone with the joint fit's options (no outlier removal) so the
 // likelihood ratio compares like with like. Throws Error (kInput) for
 // specimens that cannot be joined, naming the specimen.
+// With `ranks` (the ranks of an MPI job, each calling this with the same
+// specimens at the same time): the fits alone dealt round-robin over them
+// and each joint fit's profiles too (inverse::FitOptions::ranks), every rank
+// receiving all; the result is the one of a process alone, bit for bit, on
+// every rank.
 JointFitRun RunJointFit(const std::vector<FitRequest>& requests,
                         const std::vector<const FitRun*>& runs,
-                        const std::vector<std::string>& names);
+                        const std::vector<std::string>& names,
+                        parallel::Communicator* ranks = nullptr);
 
 }  // namespace bridgefit::pipeline
