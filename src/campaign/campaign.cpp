@@ -249,7 +249,12 @@ void RunJoint(CampaignResult& result, const CampaignOptions& options, parallel::
   try {
     result.joint = pipeline::RunJointFit(requests, runs, names, &comm);
   } catch (const Error& e) {
-    if (e.kind() == ErrorKind::kInterrupted) throw;
+    // Over ranks, an error that only this rank has (or an interrupt) ends
+    // the job (the others wait for it); one every rank has stays the
+    // campaign's joint_error, as on one process.
+    const bool every_rank = e.kind() == ErrorKind::kInput || e.kind() == ErrorKind::kUsage ||
+                            e.context().field == pipeline::kRanksAgreeField;
+    if (comm.size() > 1 && !every_rank) throw;
     result.joint_error = e.what();
   }
 }

@@ -216,8 +216,9 @@ struct StartRun {
   std::string last_failure;  // the objective's after this search, when it failed at all
 };
 // A fit's work over the ranks of a job (fit_ranks.cpp, FitOptions::ranks).
-// Throws Error (kRuntime) when a rank's optimum, full vector or threshold
-// differs from rank 0's in any bit (the dealt profiles would not fit together).
+// Throws Error (kInternal, on that rank) when a rank's optimum, full vector
+// or threshold differs from rank 0's in any bit (the dealt profiles would not
+// fit together).
 void CheckSameOptimum(parallel::Communicator& ranks, const LocalResult& best,
                       const std::vector<double>& full, double threshold);
 // Each rank's own runs (those of index q with OwnerOf(q) == its rank) to

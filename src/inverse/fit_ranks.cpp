@@ -39,7 +39,7 @@ void CheckSameOptimum(parallel::Communicator& ranks, const LocalResult& best,
   const std::string mine = own.Take();
   const std::string root = ranks.Broadcast(mine);
   if (root != mine)
-    throw Error(ErrorKind::kRuntime,
+    throw Error(ErrorKind::kInternal,
                 fmt::format("rank {} reached another optimum than rank 0 before the profiles "
                             "(chi^2 {:.17g}); the ranks' fits would not fit together",
                             ranks.rank(), best.chi2),

@@ -82,7 +82,8 @@ struct AloneFit {
 
 // fit(j) for j < count: with several ranks, item j on rank j mod N and every
 // rank receiving them all (doubles bit for bit); an Error on any rank is
-// re-thrown on every rank (the first in item order), so all go on or none.
+// re-thrown on every rank (the first in rank order; field kRanksAgreeField),
+// so all go on or none.
 template <class Fit>
 std::vector<AloneFit> Dealt(parallel::Communicator* ranks, std::size_t count, Fit&& fit) {
   std::vector<AloneFit> out(count);
@@ -92,28 +93,30 @@ std::vector<AloneFit> Dealt(parallel::Communicator* ranks, std::size_t count, Fi
   }
   parallel::ByteWriter own;
   std::string error;
+  ErrorKind kind = ErrorKind::kRuntime;
   for (std::size_t j = 0; j < count && error.empty(); ++j) {
     if (ranks->OwnerOf(j) != ranks->rank()) continue;
     try {
       out[j] = fit(j);
     } catch (const Error& e) {
       if (e.kind() == ErrorKind::kInterrupted) throw;
-      error = e.what();
+      error = e.what(), kind = e.kind();
     }
     own.Field(static_cast<std::uint64_t>(j));
     own.Field(out[j].chi2), own.Field(out[j].data_points), own.Field(out[j].optimum);
   }
   parallel::ByteWriter message;
-  message.Field(error), message.Field(own.Take());
+  message.Field(error), message.Field(kind), message.Field(own.Take());
   const std::vector<std::string> all = ranks->AllGather(message.Take());
   for (int from = 0; from < static_cast<int>(all.size()); ++from) {
     parallel::ByteReader in(all[from], "joint-fit results", from);
     std::string their_error, fits;
-    in.Field(their_error), in.Field(fits);
+    ErrorKind their_kind = ErrorKind::kRuntime;
+    in.Field(their_error), in.Field(their_kind), in.Field(fits);
     if (!in.done()) in.Corrupt();
     if (!their_error.empty())
-      throw Error(ErrorKind::kRuntime, fmt::format("rank {}: {}", from, their_error),
-                  {.field = "joint fit over MPI ranks"});
+      throw Error(their_kind, fmt::format("rank {}: {}", from, their_error),
+                  {.field = kRanksAgreeField});
     parallel::ByteReader items(fits, "joint-fit results", from);
     while (!items.done()) {
       std::uint64_t j = 0;

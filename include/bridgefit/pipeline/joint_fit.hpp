@@ -45,7 +45,12 @@ struct JointFitRun {
 // specimens at the same time): the fits alone dealt round-robin over them
 // and each joint fit's profiles too (inverse::FitOptions::ranks), every rank
 // receiving all; the result is the one of a process alone, bit for bit, on
-// every rank.
+// every rank. An Error is then thrown on every rank alike when it is of kind
+// kInput or kUsage (found before any work is shared) or names the field
+// kRanksAgreeField (a fit on one rank failed: every rank was told); any other
+// (a message lost or garbled, ranks that reached different optima) is this
+// rank's alone, and the job must end (parallel::Communicator::Abort).
+inline constexpr const char* kRanksAgreeField = "joint fit over MPI ranks";
 JointFitRun RunJointFit(const std::vector<FitRequest>& requests,
                         const std::vector<const FitRun*>& runs,
                         const std::vector<std::string>& names,
