@@ -172,11 +172,12 @@ TEST(CampaignMpi, OneTwoAndThreeRanksGiveTheSerialResultAndJointFitBitForBitAndT
     EXPECT_FALSE(fs::exists(dir / "specimens" / "broken.h5"));
     const io::H5Reader h5(dir / "campaign.h5");
     EXPECT_EQ(h5.ReadNumberAttribute("/campaign", "ranks"), ranks);
-    if (joint)
+    if (joint) {
       for (const char* attribute : {"likelihood_ratio", "p_value"})
         EXPECT_TRUE(SameBits({h5.ReadNumberAttribute("/campaign/joint", attribute)},
                              {truth_h5.ReadNumberAttribute("/campaign/joint", attribute)}))
             << attribute;
+    }
     EXPECT_EQ(h5.ReadStrings("/campaign/specimen_status"),
               truth_h5.ReadStrings("/campaign/specimen_status"));
     for (const char* p : {"sigma_c", "J_B", "delta_c", "J_tip_c"}) {
@@ -189,11 +190,12 @@ TEST(CampaignMpi, OneTwoAndThreeRanksGiveTheSerialResultAndJointFitBitForBitAndT
             << g << " " << attribute;
       // The joint fit's estimate and interval, bit for bit.
       const std::string jg = std::string("/campaign/joint/parameters/") + p;
-      if (joint)
+      if (joint) {
         for (const char* attribute : {"value", "ci95_low", "ci95_high", "lower_bound"})
           EXPECT_TRUE(SameBits({h5.ReadNumberAttribute(jg, attribute)},
                                {truth_h5.ReadNumberAttribute(jg, attribute)}))
               << jg << " " << attribute;
+      }
       // Each specimen's fit file, as copied into campaign.h5 (B ran on
       // another rank with 2 and 3 ranks).
       for (const char* s : {"A", "B"}) {
@@ -235,6 +237,26 @@ TEST(CampaignMpi, AKilledRankEndsTheJobNonZeroWithNoOutput) {
     GTEST_SKIP() << "rank 2 finished B before the kill: not a lost rank";
   EXPECT_NE(std::stoi(run.out), 0) << text;
   EXPECT_FALSE(fs::exists(out)) << text;
+}
+
+// A joint fit that cannot run (one specimen converged) fails the same way on
+// every rank: the campaign's joint error as without MPI, no rank left waiting.
+TEST(CampaignMpi, AJointFitThatCannotRunIsTheSerialRunsJointErrorOnTwoRanks) {
+  const Campaign c;
+  std::ofstream(c.manifest) << "[campaign]\nscene = \"scene.toml\"\nlaw = \"linear\"\n"
+                               "resolution = \"1 mm\"\n"
+                               "[[specimen]]\nname = \"A\"\nrecord = \"a.csv\"\n"
+                               "[[specimen]]\nname = \"broken\"\nrecord = \"broken.csv\"\n";
+  const ShellRun serial = c.RunCli("", "serial", "--jobs 1 --joint");
+  const nlohmann::json truth = nlohmann::json::parse(serial.out);
+  ASSERT_TRUE(truth["joint"].contains("error")) << serial.out;
+  ASSERT_NE(truth["joint"]["error"].get<std::string>().find("two or more"), std::string::npos)
+      << truth["joint"];
+  const ShellRun mpi = c.RunCli(Mpirun(2), "ranks2", "--joint");
+  EXPECT_EQ(mpi.exit_code, serial.exit_code) << mpi.err;
+  const nlohmann::json got = nlohmann::json::parse(mpi.out);
+  EXPECT_EQ(got["joint"], truth["joint"]);
+  EXPECT_TRUE(fs::exists(c.dir / "ranks2" / "summary.csv"));
 }
 
 // A missing record: every rank finds it before any work; rank 0 reports it
