@@ -144,7 +144,7 @@ class JointFitter {
       : models_(std::move(models)), data_(std::move(data)), shape_(std::move(shape)),
         options_(std::move(options)), ranks_(ranks) {
     options_.outlier_threshold = 0.0;  // like with like: the same points alone and together
-    options_.ranks = ranks;            // the joint fits' profiles dealt over the ranks
+    options_.ranks = ranks;            // the joint fits' starts and profiles dealt over the ranks
     alone_ = options_;
     alone_.profile_likelihood = false;
     alone_.progress = false;
