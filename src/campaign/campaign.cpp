@@ -220,7 +220,8 @@ namespace {
 // campaign's joint_error (the separate fits stand). Over several ranks every
 // rank makes it (its parts dealt over them, pipeline::RunJointFit) and
 // rank 0's result is the campaign's.
-void RunJoint(CampaignResult& result, const CampaignOptions& options, parallel::Communicator& comm) {
+void RunJoint(CampaignResult& result, const CampaignOptions& options,
+              parallel::Communicator& comm) {
   std::vector<pipeline::FitRequest> requests;
   std::vector<const pipeline::FitRun*> runs;
   std::vector<std::string> names;

@@ -65,7 +65,6 @@ void ApplyProfile(const ProfileRun& run, bool lower_side, const FitOptions& opti
   }
 }
 
-
 // Stage 1: multi-start local searches from a Latin-hypercube design (one
 // start for the global optimizers); every start into s.starts, the lowest
 // (the first of equals) returned.
@@ -88,7 +87,8 @@ LocalResult MultiStartSearch(const FitContext& c, FitSummary& s) {
   }
   // The starts are independent: over ranks (options.ranks), start k on
   // rank k mod N, then every rank gets every start.
-  parallel::Communicator* ranks = options.ranks && options.ranks->size() > 1 ? options.ranks : nullptr;
+  parallel::Communicator* ranks =
+      options.ranks && options.ranks->size() > 1 ? options.ranks : nullptr;
   std::vector<StartRun> runs(starts);
   for (int k = 0; k < starts; ++k) {
     if (ranks && ranks->OwnerOf(k) != ranks->rank()) continue;

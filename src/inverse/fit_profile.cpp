@@ -368,7 +368,8 @@ std::vector<ProfileRun> RunProfiles(const ForwardModel& model, const laws::LawSh
   for (int k : ks) runs.push_back({.k = k});
   // Over ranks (options.ranks): profile q on rank q mod N, then every rank
   // gets every profile; the ranks must start from one optimum.
-  parallel::Communicator* ranks = options.ranks && options.ranks->size() > 1 ? options.ranks : nullptr;
+  parallel::Communicator* ranks =
+      options.ranks && options.ranks->size() > 1 ? options.ranks : nullptr;
   if (ranks) CheckSameOptimum(*ranks, best, full, threshold);
   std::vector<std::size_t> mine;
   for (std::size_t q = 0; q < runs.size(); ++q)
@@ -376,8 +377,8 @@ std::vector<ProfileRun> RunProfiles(const ForwardModel& model, const laws::LawSh
   const int profile_threads = options.threads > 0 ? options.threads : 2;
   // The profiles are independent: they run side by side, each with its own
   // objective (and counters).
-#pragma omp parallel for num_threads(profile_threads) schedule(dynamic) \
-    if (mine.size() > 1 && profile_threads > 1)
+#pragma omp parallel for num_threads(profile_threads) \
+    schedule(dynamic) if (mine.size() > 1 && profile_threads > 1)
   for (std::size_t m = 0; m < mine.size(); ++m) {
     ProfileRun& run = runs[mine[m]];
     Profile& profile = run.profile;

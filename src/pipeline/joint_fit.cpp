@@ -67,7 +67,6 @@ double OptimumChi2(const inverse::FitSummary& s) {
   return best;
 }
 
-
 // What the joint fit keeps of a specimen's fit alone: its chi^2 at its
 // bridged optimum, its data points and that optimum (its starts' lowest end).
 struct AloneFit {
@@ -75,7 +74,8 @@ struct AloneFit {
   int data_points = 0;
   std::array<double, inverse::kParameterCount> optimum = {NAN, NAN, NAN};
   AloneFit() = default;
-  explicit AloneFit(const inverse::FitSummary& s) : chi2(OptimumChi2(s)), data_points(s.data_points) {
+  explicit AloneFit(const inverse::FitSummary& s)
+      : chi2(OptimumChi2(s)), data_points(s.data_points) {
     if (const inverse::StartResult* best = BestStart(s)) optimum = best->end;
   }
 };
@@ -141,8 +141,11 @@ class JointFitter {
   // `ranks` (may be null): the job's ranks, each making this same joint fit.
   JointFitter(std::vector<const inverse::ForwardModel*> models, std::vector<inverse::FitData> data,
               laws::LawShape shape, inverse::FitOptions options, parallel::Communicator* ranks)
-      : models_(std::move(models)), data_(std::move(data)), shape_(std::move(shape)),
-        options_(std::move(options)), ranks_(ranks) {
+      : models_(std::move(models)),
+        data_(std::move(data)),
+        shape_(std::move(shape)),
+        options_(std::move(options)),
+        ranks_(ranks) {
     options_.outlier_threshold = 0.0;  // like with like: the same points alone and together
     options_.ranks = ranks;            // the joint fits' starts and profiles dealt over the ranks
     alone_ = options_;

@@ -4,9 +4,9 @@
 // not depend on the rank or thread that runs it): every specimen's estimates
 // and intervals, the statistics, the verdicts, the campaign.h5 datasets,
 // each specimen's fit file, and the joint fit (--joint), whose work is dealt
-// over the ranks: its estimates, profile intervals and test. A specimen whose record is corrupt fails alone on
-// whichever rank ran it; a rank killed mid-campaign ends the job non-zero
-// with no output; a manifest fault is reported once, by rank 0.
+// over the ranks: its estimates, profile intervals and test. A specimen whose record is corrupt
+// fails alone on whichever rank ran it; a rank killed mid-campaign ends the job non-zero with no
+// output; a manifest fault is reported once, by rank 0.
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -120,7 +120,8 @@ std::string WithoutWallColumn(const fs::path& csv) {
   return out;
 }
 
-TEST(CampaignMpi, OneTwoAndThreeRanksGiveTheSerialResultAndJointFitBitForBitAndTheCorruptRecordFailsAlone) {
+TEST(CampaignMpi,
+     OneTwoAndThreeRanksGiveTheSerialResultAndJointFitBitForBitAndTheCorruptRecordFailsAlone) {
   const Campaign c;
   const ShellRun serial = c.RunCli("", "serial", "--jobs 1 --joint");
   ASSERT_EQ(serial.exit_code, 1) << serial.err;  // one specimen failed

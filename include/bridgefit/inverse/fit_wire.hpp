@@ -12,8 +12,8 @@
 namespace bridgefit::inverse::wire {
 
 template <class Io, class E>
-void Visit(Io& io, E& e)
-  requires std::is_same_v<std::remove_const_t<E>, inverse::ParameterEstimate> {
+void Visit(Io& io,
+           E& e) requires std::is_same_v<std::remove_const_t<E>, inverse::ParameterEstimate> {
   io.Field(e.value), io.Field(e.ci95_low), io.Field(e.ci95_high), io.Field(e.lower_bound);
   io.Field(e.identified), io.Field(e.fixed), io.Field(e.decided_by), io.Field(e.note);
   io.Field(e.interval_status), io.Field(e.interval_reason);
@@ -21,8 +21,7 @@ void Visit(Io& io, E& e)
 }
 
 template <class Io, class P>
-void Visit(Io& io, P& p)
-  requires std::is_same_v<std::remove_const_t<P>, inverse::Profile> {
+void Visit(Io& io, P& p) requires std::is_same_v<std::remove_const_t<P>, inverse::Profile> {
   io.Field(p.parameter);
   io.Items(p.points, [](auto& io2, auto& q) {
     io2.Field(q.value), io2.Field(q.chi2), io2.Field(q.ok), io2.Field(q.parameters);
@@ -32,8 +31,7 @@ void Visit(Io& io, P& p)
 }
 
 template <class Io, class S>
-void Visit(Io& io, S& s)
-  requires std::is_same_v<std::remove_const_t<S>, inverse::FitSummary> {
+void Visit(Io& io, S& s) requires std::is_same_v<std::remove_const_t<S>, inverse::FitSummary> {
   io.Field(s.model), io.Field(s.optimizer), io.Field(s.law), io.Field(s.evaluations);
   io.Field(s.failed_evaluations), io.Field(s.wall_s), io.Field(s.converged);
   io.Field(s.stop_reason), io.Field(s.steady_state_reached), io.Field(s.steady_state_crack_length);
@@ -68,8 +66,7 @@ static_assert(sizeof(inverse::Profile) == 88 && sizeof(inverse::ProfilePoint) ==
 #endif
 
 template <class Io, class D>
-void Visit(Io& io, D& d)
-  requires std::is_same_v<std::remove_const_t<D>, inverse::FitData> {
+void Visit(Io& io, D& d) requires std::is_same_v<std::remove_const_t<D>, inverse::FitData> {
   io.Field(d.target), io.Field(d.crack_length), io.Field(d.R), io.Field(d.R_uncertainty);
   io.Field(d.kind), io.Field(d.displacement), io.Field(d.load), io.Field(d.load_uncertainty);
 }
