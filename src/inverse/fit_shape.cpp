@@ -113,11 +113,17 @@ LocalRun Bobyqa(const JointObjective& f, std::vector<double> x0, int max_evaluat
 // Starts: each converged seed's optimum with its shape projected, then a
 // Latin-hypercube design.
 std::vector<std::vector<double>> Starts(const JointObjective& f, const ShapeLayout& layout,
-                                        const std::vector<LawComparison>& seeds, int random,
-                                        unsigned seed) {
+                                        const std::vector<LawComparison>& all_seeds, int from_seeds,
+                                        int random, unsigned seed) {
+  std::vector<const LawComparison*> seeds;
+  for (const LawComparison& s : all_seeds)
+    if (s.summary.converged && std::isfinite(s.summary.best_parameters[kSigmaC])) seeds.push_back(&s);
+  std::stable_sort(seeds.begin(), seeds.end(),
+                   [](const auto* a, const auto* b) { return a->summary.chi2 < b->summary.chi2; });
+  if (static_cast<int>(seeds.size()) > from_seeds) seeds.resize(from_seeds);
   std::vector<std::vector<double>> starts;
-  for (const LawComparison& s : seeds) {
-    if (!s.summary.converged || !std::isfinite(s.summary.best_parameters[kSigmaC])) continue;
+  for (const LawComparison* seed_fit : seeds) {
+    const LawComparison& s = *seed_fit;
     std::vector<double> x;
     for (int i : f.free()) x.push_back(ToBox(i, s.summary.best_parameters[i], f.options()));
     const std::vector<double> shape = layout.Project(s.shape);
@@ -234,7 +240,8 @@ JointResult RunJoint(const ForwardModel& model, const ShapeLayout& layout, const
   j.nominal_parameters = static_cast<int>(FreeScaleParameters(options).size()) + layout.counted();
   const JointObjective f(model, data, options, j.layout, j.lambda);
   LocalRun best;
-  for (const auto& x0 : Starts(f, j.layout, seeds, shape_options.random_starts, options.seed)) {
+  for (const auto& x0 : Starts(f, j.layout, seeds, shape_options.seed_starts,
+                                    shape_options.random_starts, options.seed)) {
     LocalRun run = Bobyqa(f, x0, shape_options.max_evaluations);
     if (run.cost < best.cost) best = std::move(run);
   }

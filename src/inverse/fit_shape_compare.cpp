@@ -32,7 +32,8 @@ bool ShapeFitOptions::IsValid(std::string* why) const {
   for (int n : table_knots)
     if (n < 2 || n > 20) return fail(fmt::format("table_knots: {} not in 2 .. 20", n));
   if (!(smoothness >= 0.0) || !std::isfinite(smoothness)) return fail("smoothness must be >= 0");
-  if (random_starts < 0) return fail("random_starts must be >= 0");
+  if (random_starts < 0 || seed_starts < 0) return fail("random_starts and seed_starts must be >= 0");
+  if (random_starts + seed_starts < 1) return fail("at least one start");
   if (max_evaluations < 10) return fail("max_evaluations must be >= 10");
   return true;
 }
@@ -154,6 +155,7 @@ ShapeFit FitTableLaw(const ForwardModel& model, const FitData& data, const FitOp
   ShapeFit chosen = FinishShapeFit(model, data, options, best);
   chosen.knots_tried = out.knots_tried;
   chosen.knots_aicc = out.knots_aicc;
+  chosen.summary.evaluations += evaluations - best.evaluations;  // the other knot counts' searches
   chosen.evaluations = evaluations;
   std::string tried;
   for (size_t i = 0; i < out.knots_tried.size(); ++i)

@@ -42,7 +42,8 @@ struct ShapeFitOptions {
   // 1 / sqrt(2 smoothness) (weak: the cubic law's second differences at
   // N = 6 are <= 0.56).
   double smoothness = 1.0;
-  int random_starts = 2;       // Latin-hypercube starts besides those from the fixed shapes
+  int seed_starts = 2;         // starts from the fixed-shape fits with the lowest chi^2
+  int random_starts = 2;       // Latin-hypercube starts besides those
   int max_evaluations = 3000;  // per local search
   bool IsValid(std::string* why) const;
 };
