@@ -482,7 +482,7 @@ std::string FitRun::BriefReport() const {
     for (const auto& c : comparison)
       out << fmt::format("  {:<12} k {:5.2f}  AICc {:10.2f}  delta {:7.2f}  weight {:5.3f}  chi2 {:10.2f}{}{}\n",
                          c.law, c.parameters, c.aicc, c.delta_aicc, c.weight, c.summary.chi2,
-                         c.summary.converged || !c.note.empty() ? "" : "  (not converged)",
+                         c.summary.converged || c.note.rfind("skipped", 0) == 0 ? "" : "  (not converged)",
                          c.note.empty() ? "" : "  " + c.note);
   }
   out << "data: " << input.label << ": " << input.ReductionText() << ", " << input.curve.size()
