@@ -113,6 +113,8 @@ TEST(FitShape, TableFollowsTheCubicLaw) {
   const double best = std::min(Find(comparison, "cubic").aicc, table.aicc);
   EXPECT_LT(best, Find(comparison, "linear").aicc);
   const KnotCheck check = CheckKnots(table, cubic, truth);
+  for (const ParameterEstimate* e : {&table.summary.sigma_c, &table.summary.J_B, &table.summary.J_tip_c})
+    std::printf("  %.6g [%.6g, %.6g] %s\n", e->value, e->ci95_low, e->ci95_high, e->note.c_str());
   EXPECT_LE(check.worst_inner, 0.05);
   EXPECT_TRUE(check.first_covered);
 }
@@ -174,6 +176,34 @@ TEST(FitShape, BilinearRecoversItsKink) {
   for (int k = 0; k < 2; ++k) {
     const ShapeParameter& p = f.shape_parameters[k];
     ASSERT_TRUE(std::isfinite(p.standard_error)) << p.name;
+    EXPECT_LE(std::abs(p.value - expected[k]), 1.96 * p.standard_error) << p.name;
+  }
+}
+
+// The law module's trilinear law (a rise to the peak, a drop and a tail:
+// (0, 0.5), (0.1, 1), (0.4, 0.3), (1, 0)): the scale parameters within
+// their intervals and the break points within 1.96 Wald standard errors.
+TEST(FitShape, TrilinearRecoversItsBreakPoints) {
+  const laws::LawShape trilinear = laws::MakeTrilinearShape(0.5, 0.1, 1.0, 0.4, 0.3);
+  const LawParameters truth{2.0e6, 500.0, 2210.0};
+  const FitData data = MakeData(trilinear, truth, kA0 + 0.08, 100, 0.005, 43);
+  const AnalyticForwardModel model(kModulus, kA0);
+  const ShapeFit f = FitShapeFamily(model, ShapeFamily::kTrilinear, data, FastOptions(), {});
+  std::printf("%s", f.BriefReport().c_str());
+  ASSERT_TRUE(f.fitted) << f.skip_reason;
+  EXPECT_EQ(f.parameters, 7);
+  EXPECT_TRUE(f.summary.steady_state_reached) << f.summary.verdict;
+  ExpectCovers(f.summary.sigma_c, truth.sigma_c, "sigma_c");
+  ExpectCovers(f.summary.J_B, truth.J_B, "J_B");
+  ExpectCovers(f.summary.J_tip_c, truth.J_tip_c, "J_tip_c");
+  const double expected[] = {0.1, 0.4, 0.5, 1.0, 0.3};  // d1, d2, s0, s1, s2
+  ASSERT_EQ(f.shape_parameters.size(), 5u);
+  for (int k = 0; k < 5; ++k) {
+    const ShapeParameter& p = f.shape_parameters[k];
+    if (p.pinned) {
+      EXPECT_EQ(p.name, "s1");
+      continue;
+    }
     EXPECT_LE(std::abs(p.value - expected[k]), 1.96 * p.standard_error) << p.name;
   }
 }
