@@ -102,7 +102,9 @@ LocalRun Bobyqa(const JointObjective& f, std::vector<double> x0, int max_evaluat
   try {
     const nlopt::result r = opt.optimize(x0, run.cost);
     run.converged = r == nlopt::SUCCESS || r == nlopt::FTOL_REACHED || r == nlopt::XTOL_REACHED;
-    run.stop_reason = r == nlopt::MAXEVAL_REACHED ? "evaluation limit reached" : "tolerance reached";
+    run.stop_reason = run.converged                 ? "tolerance reached"
+                      : r == nlopt::MAXEVAL_REACHED ? "evaluation limit reached"
+                                                    : "nlopt result " + std::to_string(static_cast<int>(r));
   } catch (const std::exception& e) {
     run.stop_reason = std::string("nlopt stopped: ") + e.what();
   }
@@ -378,6 +380,8 @@ ShapeFit FinishShapeFit(const ForwardModel& model, const FitData& data, const Fi
     out.note = "no bridging detected: the shape parameters mean nothing";
     return out;
   }
+  if (!j.converged)  // said in the verdict too: the shape's optimum may not be reached
+    s.verdict += "; the shape search stopped before converging (" + j.stop_reason + ")";
   std::vector<std::string> widened;
   for (int k = 0; k < n_main; ++k) {
     ParameterEstimate& e = EstimateOf(s, free[k]);
@@ -395,7 +399,10 @@ ShapeFit FinishShapeFit(const ForwardModel& model, const FitData& data, const Fi
                                           : std::string());
   if (!widened.empty())
     s.verdict += "; intervals widened for the shape's uncertainty: " + fmt::format("{}", fmt::join(widened, ", "));
-  if (!have_cov) out.note = "shape parameters' covariance singular: no Wald errors";
+  std::vector<std::string> notes;
+  if (!j.converged) notes.push_back("shape search: " + j.stop_reason + " (its best point kept)");
+  if (!have_cov) notes.push_back("shape parameters' covariance singular: no Wald errors");
+  out.note = fmt::format("{}", fmt::join(notes, "; "));
   return out;
 }
 
