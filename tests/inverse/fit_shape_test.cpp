@@ -49,8 +49,9 @@ FitOptions FastOptions() {
 
 const LawComparison& Find(const std::vector<LawComparison>& c, const std::string& law) {
   const auto it = std::find_if(c.begin(), c.end(), [&](const auto& x) { return x.law == law; });
-  EXPECT_NE(it, c.end()) << law;
-  return *it;
+  static const LawComparison missing;  // NaN AICc: the checks that use it fail
+  if (it == c.end()) ADD_FAILURE() << "no family " << law;
+  return it == c.end() ? missing : *it;
 }
 
 // The fitted table against the true law at each knot's opening: the largest
