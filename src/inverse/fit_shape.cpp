@@ -19,13 +19,16 @@ using namespace fit_internal;
 
 namespace {
 
-
 // The cost (1) of box coordinates x = (free scale parameters, positions, values).
 class JointObjective {
  public:
   JointObjective(const ForwardModel& model, const FitData& data, const FitOptions& options,
                  const ShapeLayout& layout, double lambda)
-      : model_(model), data_(data), options_(options), layout_(layout), lambda_(lambda),
+      : model_(model),
+        data_(data),
+        options_(options),
+        layout_(layout),
+        lambda_(lambda),
         free_(FreeScaleParameters(options)) {}
 
   int dims() const { return static_cast<int>(free_.size()) + layout_.dims(); }
@@ -102,9 +105,10 @@ LocalRun Bobyqa(const JointObjective& f, std::vector<double> x0, int max_evaluat
   try {
     const nlopt::result r = opt.optimize(x0, run.cost);
     run.converged = r == nlopt::SUCCESS || r == nlopt::FTOL_REACHED || r == nlopt::XTOL_REACHED;
-    run.stop_reason = run.converged                 ? "tolerance reached"
-                      : r == nlopt::MAXEVAL_REACHED ? "evaluation limit reached"
-                                                    : "nlopt result " + std::to_string(static_cast<int>(r));
+    run.stop_reason = run.converged ? "tolerance reached"
+                      : r == nlopt::MAXEVAL_REACHED
+                          ? "evaluation limit reached"
+                          : "nlopt result " + std::to_string(static_cast<int>(r));
   } catch (const std::exception& e) {
     run.stop_reason = std::string("nlopt stopped: ") + e.what();
   }
@@ -119,7 +123,8 @@ std::vector<std::vector<double>> Starts(const JointObjective& f, const ShapeLayo
                                         int random, unsigned seed) {
   std::vector<const LawComparison*> seeds;
   for (const LawComparison& s : all_seeds)
-    if (s.summary.converged && std::isfinite(s.summary.best_parameters[kSigmaC])) seeds.push_back(&s);
+    if (s.summary.converged && std::isfinite(s.summary.best_parameters[kSigmaC]))
+      seeds.push_back(&s);
   std::stable_sort(seeds.begin(), seeds.end(),
                    [](const auto* a, const auto* b) { return a->summary.chi2 < b->summary.chi2; });
   if (static_cast<int>(seeds.size()) > from_seeds) seeds.resize(from_seeds);
@@ -184,7 +189,8 @@ bool Information(const JointObjective& f, const FitData& data, JointResult& j) {
     std::array<double, kParameterCount> main{};
     laws::LawShape shape;
     const bool up = map.Unpack(wp, j.main, &main, &shape) && f.Residuals(main, shape, plus.data());
-    const bool down = map.Unpack(wm, j.main, &main, &shape) && f.Residuals(main, shape, minus.data());
+    const bool down =
+        map.Unpack(wm, j.main, &main, &shape) && f.Residuals(main, shape, minus.data());
     if (!up && !down) return false;
     std::vector<double> centre(m);
     if (!up || !down) {
@@ -243,7 +249,7 @@ JointResult RunJoint(const ForwardModel& model, const ShapeLayout& layout, const
   const JointObjective f(model, data, options, j.layout, j.lambda);
   LocalRun best;
   for (const auto& x0 : Starts(f, j.layout, seeds, shape_options.seed_starts,
-                                    shape_options.random_starts, options.seed)) {
+                               shape_options.random_starts, options.seed)) {
     LocalRun run = Bobyqa(f, x0, shape_options.max_evaluations);
     if (run.cost < best.cost) best = std::move(run);
   }
@@ -387,18 +393,19 @@ ShapeFit FinishShapeFit(const ForwardModel& model, const FitData& data, const Fi
     ParameterEstimate& e = EstimateOf(s, free[k]);
     if (!e.identified) continue;  // a bound or an open profile: left as the held-shape fit says
     if (Widen(e, std::sqrt(cov(k, k)))) widened.push_back(ParameterName(free[k]));
-    e.note += fmt::format("; with the shape free (Wald, {} parameters) -+{:.4g}", j.nominal_parameters,
-                          1.96 * std::sqrt(cov(k, k)));
+    e.note += fmt::format("; with the shape free (Wald, {} parameters) -+{:.4g}",
+                          j.nominal_parameters, 1.96 * std::sqrt(cov(k, k)));
   }
   if (s.delta_c.identified && !options.fixed[kJB] && !options.fixed[kSigmaC] && have_cov &&
       Widen(s.delta_c, DeltaCError(j, map, w0, cov)))
     widened.push_back("delta_c");
-  s.verdict += fmt::format("; {} shape fitted with the scale parameters ({} parameters{})", out.law,
-                           j.nominal_parameters,
-                           j.lambda > 0.0 ? fmt::format(", {:.2f} effective", j.effective_parameters)
-                                          : std::string());
+  s.verdict += fmt::format(
+      "; {} shape fitted with the scale parameters ({} parameters{})", out.law,
+      j.nominal_parameters,
+      j.lambda > 0.0 ? fmt::format(", {:.2f} effective", j.effective_parameters) : std::string());
   if (!widened.empty())
-    s.verdict += "; intervals widened for the shape's uncertainty: " + fmt::format("{}", fmt::join(widened, ", "));
+    s.verdict += "; intervals widened for the shape's uncertainty: " +
+                 fmt::format("{}", fmt::join(widened, ", "));
   std::vector<std::string> notes;
   if (!j.converged) notes.push_back("shape search: " + j.stop_reason + " (its best point kept)");
   if (!have_cov) notes.push_back("shape parameters' covariance singular: no Wald errors");

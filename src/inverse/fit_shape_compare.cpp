@@ -16,9 +16,12 @@ using namespace shape_internal;
 
 const char* ShapeFamilyName(ShapeFamily family) {
   switch (family) {
-    case ShapeFamily::kBilinear: return "bilinear";
-    case ShapeFamily::kTrilinear: return "trilinear";
-    case ShapeFamily::kTable: return "table";
+    case ShapeFamily::kBilinear:
+      return "bilinear";
+    case ShapeFamily::kTrilinear:
+      return "trilinear";
+    case ShapeFamily::kTable:
+      return "table";
   }
   return "table";
 }
@@ -32,7 +35,8 @@ bool ShapeFitOptions::IsValid(std::string* why) const {
   for (int n : table_knots)
     if (n < 2 || n > 20) return fail(fmt::format("table_knots: {} not in 2 .. 20", n));
   if (!(smoothness >= 0.0) || !std::isfinite(smoothness)) return fail("smoothness must be >= 0");
-  if (random_starts < 0 || seed_starts < 0) return fail("random_starts and seed_starts must be >= 0");
+  if (random_starts < 0 || seed_starts < 0)
+    return fail("random_starts and seed_starts must be >= 0");
   if (random_starts + seed_starts < 1) return fail("at least one start");
   if (max_evaluations < 10) return fail("max_evaluations must be >= 10");
   return true;
@@ -41,13 +45,17 @@ bool ShapeFitOptions::IsValid(std::string* why) const {
 std::string ShapeFit::BriefReport() const {
   if (!fitted) return fmt::format("{}: not fitted: {}\n", law, skip_reason);
   std::string out = fmt::format("{} law: {} parameters", law, parameters);
-  if (penalty > 0.0) out += fmt::format(" ({:.2f} effective, lambda {:.3g})", effective_parameters, penalty);
+  if (penalty > 0.0)
+    out += fmt::format(" ({:.2f} effective, lambda {:.3g})", effective_parameters, penalty);
   out += fmt::format(", chi2 {:.4g}\n", summary.chi2);
   for (const ShapeParameter& p : shape_parameters) {
     out += fmt::format("  {:<9} {:.4f}", p.name, p.value);
-    if (p.pinned) out += "  (the peak: sigma_c)";
-    else out += fmt::format("  +- {:.4f} (Wald, 1.96 se)", 1.96 * p.standard_error);
-    if (family != ShapeFamily::kTable || p.name.rfind("s(", 0) != 0 || !std::isfinite(summary.sigma_c.value))
+    if (p.pinned)
+      out += "  (the peak: sigma_c)";
+    else
+      out += fmt::format("  +- {:.4f} (Wald, 1.96 se)", 1.96 * p.standard_error);
+    if (family != ShapeFamily::kTable || p.name.rfind("s(", 0) != 0 ||
+        !std::isfinite(summary.sigma_c.value))
       out += "\n";
     else
       out += fmt::format("  sigma {:.4g} MPa\n", p.value * summary.sigma_c.value * 1e-6);
@@ -62,7 +70,8 @@ double SeedScale(const FitData& data, const std::vector<LawComparison>& seeds) {
   if (data.weighted()) return 1.0;
   double best = INFINITY;
   for (const LawComparison& c : seeds)
-    if (c.summary.converged) best = std::min(best, c.summary.chi2 / std::max(1, c.summary.data_points - 3));
+    if (c.summary.converged)
+      best = std::min(best, c.summary.chi2 / std::max(1, c.summary.data_points - 3));
   return std::isfinite(best) && best > 0.0 ? best : 1.0;
 }
 
@@ -80,7 +89,8 @@ namespace {
 void Check(const FitData& data, const FitOptions& options, const ShapeFitOptions& shape_options) {
   std::string why;
   if (!options.IsValid(&why)) throw Error(ErrorKind::kUsage, "invalid fit options: " + why);
-  if (!shape_options.IsValid(&why)) throw Error(ErrorKind::kUsage, "invalid shape-fit options: " + why);
+  if (!shape_options.IsValid(&why))
+    throw Error(ErrorKind::kUsage, "invalid shape-fit options: " + why);
   data.Validate();
 }
 
@@ -91,19 +101,21 @@ ShapeFit FitShapeFamily(const ForwardModel& model, ShapeFamily family, const Fit
                         const std::vector<LawComparison>* seeds, double scale2) {
   Check(data, options, shape_options);
   BF_CHECK_INPUT(family != ShapeFamily::kTable || (knots >= 2 && knots <= 20),
-                 "a table law needs 2 to 20 knots", {.field = "knots", .value = std::to_string(knots)});
+                 "a table law needs 2 to 20 knots",
+                 {.field = "knots", .value = std::to_string(knots)});
   const Stopwatch clock;
   const ShapeLayout layout{family, family == ShapeFamily::kTable ? knots : 0};
   const int k = static_cast<int>(FreeScaleParameters(options).size()) + layout.counted();
-  const std::string name = family == ShapeFamily::kTable ? fmt::format("table N = {}", knots)
-                                                         : ShapeFamilyName(family);
+  const std::string name =
+      family == ShapeFamily::kTable ? fmt::format("table N = {}", knots) : ShapeFamilyName(family);
   ShapeFit out;
   out.family = family;
   out.law = ShapeFamilyName(family);
   out.parameters = k;
   out.skip_reason = TooFewPoints(static_cast<int>(data.size()), k, name);
   if (!out.skip_reason.empty()) return out;
-  const std::vector<LawComparison> own = seeds ? std::vector<LawComparison>{} : SeedFits(model, data, options);
+  const std::vector<LawComparison> own =
+      seeds ? std::vector<LawComparison>{} : SeedFits(model, data, options);
   const std::vector<LawComparison>& start_from = seeds ? *seeds : own;
   if (!std::isfinite(scale2)) scale2 = SeedScale(data, start_from);
   out = FinishShapeFit(model, data, options,
@@ -117,7 +129,8 @@ ShapeFit FitTableLaw(const ForwardModel& model, const FitData& data, const FitOp
                      double scale2) {
   Check(data, options, shape_options);
   const Stopwatch clock;
-  const std::vector<LawComparison> own = seeds ? std::vector<LawComparison>{} : SeedFits(model, data, options);
+  const std::vector<LawComparison> own =
+      seeds ? std::vector<LawComparison>{} : SeedFits(model, data, options);
   const std::vector<LawComparison>& start_from = seeds ? *seeds : own;
   if (!std::isfinite(scale2)) scale2 = SeedScale(data, start_from);
   const int n = static_cast<int>(data.size());
@@ -133,7 +146,8 @@ ShapeFit FitTableLaw(const ForwardModel& model, const FitData& data, const FitOp
     const ShapeLayout layout{ShapeFamily::kTable, knots};
     out.knots_tried.push_back(knots);
     out.knots_aicc.push_back(NAN);
-    const std::string why = TooFewPoints(n, n_main + layout.counted(), fmt::format("table N = {}", knots));
+    const std::string why =
+        TooFewPoints(n, n_main + layout.counted(), fmt::format("table N = {}", knots));
     if (!why.empty()) {
       skipped.push_back(why);
       continue;
@@ -148,7 +162,8 @@ ShapeFit FitTableLaw(const ForwardModel& model, const FitData& data, const FitOp
     if (out.knots_aicc.back() < best_aicc) best_aicc = out.knots_aicc.back(), best = std::move(j);
   }
   if (!best.ok) {
-    out.skip_reason = skipped.empty() ? "no knot count to try" : fmt::format("{}", fmt::join(skipped, "; "));
+    out.skip_reason =
+        skipped.empty() ? "no knot count to try" : fmt::format("{}", fmt::join(skipped, "; "));
     out.wall_s = clock.Seconds();
     return out;
   }
@@ -180,19 +195,23 @@ void RankByAicc(std::vector<LawComparison>& comparison) {
   for (LawComparison& c : comparison) c.weight = total > 0.0 ? c.weight / total : NAN;
 }
 
-std::vector<LawComparison> CompareLawFamiliesWithShapes(
-    const ForwardModel& model, const std::vector<laws::LawShape>& shapes,
-    const std::vector<ShapeFamily>& families, const FitData& data, const FitOptions& options,
-    const ShapeFitOptions& shape_options) {
+std::vector<LawComparison> CompareLawFamiliesWithShapes(const ForwardModel& model,
+                                                        const std::vector<laws::LawShape>& shapes,
+                                                        const std::vector<ShapeFamily>& families,
+                                                        const FitData& data,
+                                                        const FitOptions& options,
+                                                        const ShapeFitOptions& shape_options) {
   Check(data, options, shape_options);
-  std::vector<LawComparison> out =
-      shapes.empty() ? std::vector<LawComparison>{} : CompareLawFamilies(model, shapes, data, options);
+  std::vector<LawComparison> out = shapes.empty()
+                                       ? std::vector<LawComparison>{}
+                                       : CompareLawFamilies(model, shapes, data, options);
   const std::vector<LawComparison> seeds = shapes.empty() ? SeedFits(model, data, options) : out;
   const double scale2 = out.empty() ? SeedScale(data, seeds) : out.front().noise_scale2;
   for (ShapeFamily family : families) {
-    const ShapeFit f = family == ShapeFamily::kTable
-                           ? FitTableLaw(model, data, options, shape_options, &seeds, scale2)
-                           : FitShapeFamily(model, family, data, options, shape_options, 0, &seeds, scale2);
+    const ShapeFit f =
+        family == ShapeFamily::kTable
+            ? FitTableLaw(model, data, options, shape_options, &seeds, scale2)
+            : FitShapeFamily(model, family, data, options, shape_options, 0, &seeds, scale2);
     LawComparison c;
     c.law = f.law;
     c.shape = f.shape;
@@ -212,7 +231,8 @@ std::vector<LawComparison> CompareLawFamiliesWithShapes(
       for (const ShapeParameter& p : f.shape_parameters)
         shape_text += fmt::format("{}{} {:.3g}", shape_text.empty() ? "" : ", ", p.name, p.value);
       c.note = f.note.empty() ? shape_text : shape_text + "; " + f.note;
-      if (c.summary.converged) c.aicc = Aicc(c.summary.chi2 / scale2, c.parameters, c.summary.data_points);
+      if (c.summary.converged)
+        c.aicc = Aicc(c.summary.chi2 / scale2, c.parameters, c.summary.data_points);
     }
     out.push_back(std::move(c));
   }

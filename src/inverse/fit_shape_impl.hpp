@@ -18,8 +18,8 @@ struct ShapeLayout {
   ShapeFamily family = ShapeFamily::kTable;
   int knots = 0;  // table
 
-  int positions() const;   // free break points d
-  int values() const;      // knot values s
+  int positions() const;    // free break points d
+  int values() const;       // knot values s
   bool normalised() const;  // peak rescaled to 1 (the peak knot is sigma_c, not counted)
   int dims() const { return positions() + values(); }
   int counted() const { return dims() - (normalised() ? 1 : 0); }
@@ -42,13 +42,13 @@ struct JointResult {
   bool ok = false;
   bool converged = false;
   std::string stop_reason;
-  double chi2 = NAN;        // the data's
-  double lambda = 0.0;      // penalty weight
+  double chi2 = NAN;    // the data's
+  double lambda = 0.0;  // penalty weight
   double roughness = 0.0;
   std::array<double, kParameterCount> main = {NAN, NAN, NAN};
   std::vector<double> positions, values;  // values normalised to a peak of 1
   laws::LawShape shape;
-  int pinned = -1;                   // index of the peak knot (normalised shapes)
+  int pinned = -1;                    // index of the peak knot (normalised shapes)
   double effective_parameters = NAN;  // (2) of fit_shape.hpp
   int nominal_parameters = 0;
   // (J^T J + lambda D^T D)^-1 over the Wald coordinates: the free scale

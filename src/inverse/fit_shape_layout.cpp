@@ -24,9 +24,12 @@ bool ShapeLayout::normalised() const { return family != ShapeFamily::kBilinear; 
 
 std::vector<std::string> ShapeLayout::Names() const {
   switch (family) {
-    case ShapeFamily::kBilinear: return {"d1", "s1"};
-    case ShapeFamily::kTrilinear: return {"d1", "d2", "s0", "s1", "s2"};
-    case ShapeFamily::kTable: break;
+    case ShapeFamily::kBilinear:
+      return {"d1", "s1"};
+    case ShapeFamily::kTrilinear:
+      return {"d1", "d2", "s0", "s1", "s2"};
+    case ShapeFamily::kTable:
+      break;
   }
   std::vector<std::string> names;
   for (int k = 0; k < knots; ++k) names.push_back(fmt::format("s({:.3g})", double(k) / knots));
@@ -56,7 +59,8 @@ std::vector<double> ShapeLayout::PositionsToBox(const std::vector<double>& d) co
 
 bool ShapeLayout::Build(const std::vector<double>& d, const std::vector<double>& v,
                         laws::LawShape* out) const {
-  if (static_cast<int>(d.size()) != positions() || static_cast<int>(v.size()) != values()) return false;
+  if (static_cast<int>(d.size()) != positions() || static_cast<int>(v.size()) != values())
+    return false;
   for (double value : v)
     if (!std::isfinite(value) || value < 0.0) return false;
   for (size_t k = 0; k < d.size(); ++k) {
@@ -72,7 +76,8 @@ bool ShapeLayout::Build(const std::vector<double>& d, const std::vector<double>&
   } else {
     const double peak = *std::max_element(v.begin(), v.end());
     if (!(peak > 0.0)) return false;
-    shape.family = family == ShapeFamily::kTrilinear ? laws::LawFamily::kTrilinear : laws::LawFamily::kTable;
+    shape.family =
+        family == ShapeFamily::kTrilinear ? laws::LawFamily::kTrilinear : laws::LawFamily::kTable;
     shape.d_points.push_back(0.0);
     if (family == ShapeFamily::kTrilinear)
       shape.d_points.insert(shape.d_points.end(), d.begin(), d.end());

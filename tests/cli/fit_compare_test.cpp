@@ -25,7 +25,8 @@ TEST(FitCompare, EveryFamilyWithItsCountAndWeight) {
   const nlohmann::json j = nlohmann::json::parse(r.out);
   const nlohmann::json& rows = j["law_comparison"];
   ASSERT_EQ(rows.size(), 7u);
-  const char* laws[] = {"linear", "cubic", "triangular", "exponential", "bilinear", "trilinear", "table"};
+  const char* laws[] = {"linear",   "cubic",     "triangular", "exponential",
+                        "bilinear", "trilinear", "table"};
   double weights = 0.0;
   for (size_t i = 0; i < rows.size(); ++i) {
     const nlohmann::json& row = rows[i];
@@ -36,8 +37,9 @@ TEST(FitCompare, EveryFamilyWithItsCountAndWeight) {
       EXPECT_TRUE(row["aicc"].is_null());
       EXPECT_TRUE(row["parameters"].is_null());
       EXPECT_EQ(row["weight"].get<double>(), 0.0);
-      EXPECT_NE(row["note"].get<std::string>().find("8 data points are too few for its 7 parameters"),
-                std::string::npos)
+      EXPECT_NE(
+          row["note"].get<std::string>().find("8 data points are too few for its 7 parameters"),
+          std::string::npos)
           << row["note"];
     } else {
       EXPECT_TRUE(row["aicc"].is_number()) << row.dump();
@@ -45,7 +47,8 @@ TEST(FitCompare, EveryFamilyWithItsCountAndWeight) {
     }
   }
   EXPECT_NEAR(weights, 1.0, 1e-12);
-  EXPECT_NE(r.err.find("warning: fit: --law compare: trilinear skipped"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("warning: fit: --law compare: trilinear skipped"), std::string::npos)
+      << r.err;
   EXPECT_NE(rows[6]["note"].get<std::string>().find("skipped: table N = 5"), std::string::npos)
       << rows[6]["note"];
 }

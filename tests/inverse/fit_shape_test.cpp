@@ -106,15 +106,16 @@ TEST(FitShape, TableFollowsTheCubicLaw) {
   const LawParameters truth{1.0e6, 500.0, 2210.0};
   const FitData data = MakeData(cubic, truth, kA0 + 0.08, 400, 0.005, 31);
   const AnalyticForwardModel model(kModulus, kA0);
-  const auto comparison = CompareLawFamiliesWithShapes(
-      model, {laws::MakeLinearShape(), cubic}, {ShapeFamily::kTable}, data, FastOptions());
+  const auto comparison = CompareLawFamiliesWithShapes(model, {laws::MakeLinearShape(), cubic},
+                                                       {ShapeFamily::kTable}, data, FastOptions());
   Print(comparison);
   const LawComparison& table = Find(comparison, "table");
   ASSERT_TRUE(table.summary.converged) << table.note;
   const double best = std::min(Find(comparison, "cubic").aicc, table.aicc);
   EXPECT_LT(best, Find(comparison, "linear").aicc);
   const KnotCheck check = CheckKnots(table, cubic, truth);
-  for (const ParameterEstimate* e : {&table.summary.sigma_c, &table.summary.J_B, &table.summary.J_tip_c})
+  for (const ParameterEstimate* e :
+       {&table.summary.sigma_c, &table.summary.J_B, &table.summary.J_tip_c})
     std::printf("  %.6g [%.6g, %.6g] %s\n", e->value, e->ci95_low, e->ci95_high, e->note.c_str());
   EXPECT_LE(check.worst_inner, 0.05);
   EXPECT_TRUE(check.first_covered);
@@ -141,12 +142,14 @@ TEST(FitShape, TableFollowsTheExponentialLaw) {
   EXPECT_LT(std::min(Find(comparison, "exponential").aicc, table.aicc),
             Find(comparison, "linear").aicc);
   const KnotCheck check = CheckKnots(table, exponential, truth);
-  std::printf("  worst knot error at d > 0: %.4f sigma_c; sigma at d = 0 in sigma_c's interval: %d\n",
-              check.worst_inner, check.first_covered);
+  std::printf(
+      "  worst knot error at d > 0: %.4f sigma_c; sigma at d = 0 in sigma_c's interval: %d\n",
+      check.worst_inner, check.first_covered);
 }
 
 void ExpectCovers(const ParameterEstimate& e, double truth, const char* name) {
-  std::printf("  %-8s %.6g [%.6g, %.6g], truth %.6g\n", name, e.value, e.ci95_low, e.ci95_high, truth);
+  std::printf("  %-8s %.6g [%.6g, %.6g], truth %.6g\n", name, e.value, e.ci95_low, e.ci95_high,
+              truth);
   EXPECT_LE(e.ci95_low, truth) << name;
   EXPECT_GE(e.ci95_high, truth) << name;
 }
@@ -231,11 +234,13 @@ TEST(FitShape, TooFewPointsSkipTheFamilyWithItsReason) {
     EXPECT_FALSE(c.summary.converged) << law;
     EXPECT_NE(c.note.find("too few"), std::string::npos) << c.note;
   }
-  EXPECT_NE(Find(comparison, "bilinear").note.find("6 data points are too few for its 5 parameters"),
-            std::string::npos);
+  EXPECT_NE(
+      Find(comparison, "bilinear").note.find("6 data points are too few for its 5 parameters"),
+      std::string::npos);
 
   const FitData seven = MakeData(cubic, truth, kA0 + 0.08, 7, 0.005, 5);
-  const ShapeFit six_knots = FitShapeFamily(model, ShapeFamily::kTable, seven, FastOptions(), {}, 6);
+  const ShapeFit six_knots =
+      FitShapeFamily(model, ShapeFamily::kTable, seven, FastOptions(), {}, 6);
   EXPECT_FALSE(six_knots.fitted);
   EXPECT_EQ(six_knots.skip_reason,
             "table N = 6: 7 data points are too few for its 8 parameters (at least 10 needed)");
@@ -251,7 +256,8 @@ TEST(FitShape, TooFewPointsSkipTheFamilyWithItsReason) {
 
 TEST(FitShape, InvalidOptionsThrow) {
   const AnalyticForwardModel model(kModulus, kA0);
-  const FitData data = MakeData(laws::MakeLinearShape(), {1.0e6, 500.0, 2210.0}, kA0 + 0.08, 20, 0.005, 5);
+  const FitData data =
+      MakeData(laws::MakeLinearShape(), {1.0e6, 500.0, 2210.0}, kA0 + 0.08, 20, 0.005, 5);
   ShapeFitOptions bad;
   bad.table_knots = {1};
   EXPECT_THROW(FitTableLaw(model, data, FastOptions(), bad), Error);

@@ -50,7 +50,7 @@ struct ShapeFitOptions {
 
 struct ShapeFit {
   ShapeFamily family = ShapeFamily::kTable;
-  std::string law;     // "bilinear", "trilinear", "table"
+  std::string law;  // "bilinear", "trilinear", "table"
   bool fitted = false;
   std::string skip_reason;  // why it was not fitted (too few points for its parameters)
   laws::LawShape shape;     // the fitted shape (family kTable or kTrilinear)
@@ -90,9 +90,11 @@ ShapeFit FitTableLaw(const ForwardModel& model, const FitData& data, const FitOp
 // `families` fitted with its shape, on the same s^2; AICc differences and
 // Akaike weights over all. A family skipped for too few points has a NaN
 // AICc, weight 0 and its reason in `note`.
-std::vector<LawComparison> CompareLawFamiliesWithShapes(
-    const ForwardModel& model, const std::vector<laws::LawShape>& shapes,
-    const std::vector<ShapeFamily>& families, const FitData& data, const FitOptions& options,
-    const ShapeFitOptions& shape_options = {});
+std::vector<LawComparison> CompareLawFamiliesWithShapes(const ForwardModel& model,
+                                                        const std::vector<laws::LawShape>& shapes,
+                                                        const std::vector<ShapeFamily>& families,
+                                                        const FitData& data,
+                                                        const FitOptions& options,
+                                                        const ShapeFitOptions& shape_options = {});
 
 }  // namespace bridgefit::inverse
