@@ -148,11 +148,17 @@ void AddSearchJson(const pipeline::FitRun& run, nlohmann::json& out) {
                                                   {"R_J_per_m2", s.outlier_R[i]}});
   out["outliers_removed"] = std::move(outliers);
   nlohmann::json families = nlohmann::json::array();
-  for (const auto& c : run.comparison)
-    families.push_back({{"law", c.law}, {"aicc", NumberOrNull(c.aicc)},
-                        {"delta_aicc", NumberOrNull(c.delta_aicc)},
-                        {"chi2", NumberOrNull(c.summary.chi2)},
-                        {"converged", c.summary.converged}});
+  for (const auto& c : run.comparison) {
+    nlohmann::json shape = nlohmann::json::array();
+    for (const auto& p : c.shape_parameters)
+      shape.push_back({{"name", p.name}, {"value", NumberOrNull(p.value)},
+                       {"standard_error", NumberOrNull(p.standard_error)}, {"pinned", p.pinned}});
+    families.push_back({{"law", c.law}, {"parameters", NumberOrNull(c.parameters)},
+                        {"aicc", NumberOrNull(c.aicc)}, {"delta_aicc", NumberOrNull(c.delta_aicc)},
+                        {"weight", NumberOrNull(c.weight)}, {"chi2", NumberOrNull(c.summary.chi2)},
+                        {"converged", c.summary.converged}, {"note", c.note},
+                        {"shape_parameters", std::move(shape)}});
+  }
   out["law_comparison"] = std::move(families);
 }
 

@@ -475,6 +475,7 @@ std::vector<LawComparison> CompareLawFamilies(const ForwardModel& model,
   for (const laws::LawShape& shape : shapes) {
     LawComparison c;
     c.law = std::string(laws::LawFamilyName(shape.family));
+    c.shape = shape;
     c.summary = FitBridgingLaw(model, shape, data, options);
     out.push_back(std::move(c));
   }
@@ -486,17 +487,17 @@ std::vector<LawComparison> CompareLawFamilies(const ForwardModel& model,
       if (c.summary.converged) best = std::min(best, c.summary.chi2 / std::max(1, c.summary.data_points - 3));
     scale2 = std::isfinite(best) && best > 0 ? best : 1.0;
   }
-  double best_aicc = INFINITY;
   for (auto& c : out) {
+    c.noise_scale2 = scale2;
     if (!c.summary.converged) continue;
     const int k = c.summary.bridging_detected
                       ? static_cast<int>(std::count(options.fixed.begin(), options.fixed.end(), false))
                       : (options.fixed[kJTipC] ? 0 : 1);
     const int n = c.summary.data_points;
+    c.parameters = k;
     c.aicc = c.summary.chi2 / scale2 + 2.0 * k + (n - k - 1 > 0 ? 2.0 * k * (k + 1) / (n - k - 1) : 0.0);
-    best_aicc = std::min(best_aicc, c.aicc);
   }
-  for (auto& c : out) c.delta_aicc = c.aicc - best_aicc;
+  RankByAicc(out);
   return out;
 }
 

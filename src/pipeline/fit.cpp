@@ -53,6 +53,9 @@ void FitRequest::Check() const {
                              "or --model auto with --fit-to r-curve"});
   if (std::string why; !fit.IsValid(&why))
     throw Error(ErrorKind::kUsage, "invalid fit options: " + why);
+  if (std::string why; compare_laws && !shape_fit.IsValid(&why))
+    throw Error(ErrorKind::kUsage, "invalid shape-fit options: " + why,
+                {.field = "--table-knots", .expected = "knot counts in 2 .. 20, e.g. 3,4,5,6"});
   if (!std::isnan(resolution) && !(resolution > 0.0))
     throw Error(ErrorKind::kUsage, "the reduced model's element size must be positive",
                 {.field = "--resolution", .value = fmt::format("{:g} m", resolution)});
@@ -178,16 +181,18 @@ void FitLaw(const FitRequest& request, const FitModels& models, const inverse::F
   if (request.compare_laws) {
     const std::vector<laws::LawShape> families = laws::ComparedShapes();
     const Stopwatch watch;
-    run.comparison = inverse::CompareLawFamilies(models.model(), families, fit_data, options);
+    run.comparison = inverse::CompareLawFamiliesWithShapes(
+        models.model(), families, request.shape_families, fit_data, options, request.shape_fit);
     const double compare_s = watch.Seconds();
     const auto best = std::min_element(
         run.comparison.begin(), run.comparison.end(), [](const auto& a, const auto& b) {
-          return !std::isnan(a.aicc) && (std::isnan(b.aicc) || a.aicc < b.aicc);
+          // Ties within 1e-6 (a fitted shape that fell onto a fixed one) keep the earlier, simpler family.
+          return !std::isnan(a.aicc) && (std::isnan(b.aicc) || a.aicc < b.aicc - 1e-6);
         });
     run.summary = best->summary;
     // Issue 15: the time of the whole comparison, not of the best family.
     run.summary.wall_s = compare_s;
-    run.shape = families[best - run.comparison.begin()];
+    run.shape = best->shape;
   }
   if (models.accurate()) {
     run.model_checked = true;
@@ -475,9 +480,10 @@ std::string FitRun::BriefReport() const {
   if (!comparison.empty()) {
     out << "law families by AICc (smaller is better):\n";
     for (const auto& c : comparison)
-      out << fmt::format("  {:<12} AICc {:10.2f}  delta {:7.2f}  chi2 {:10.2f}{}\n", c.law, c.aicc,
-                         c.delta_aicc, c.summary.chi2,
-                         c.summary.converged ? "" : "  (not converged)");
+      out << fmt::format("  {:<12} k {:5.2f}  AICc {:10.2f}  delta {:7.2f}  weight {:5.3f}  chi2 {:10.2f}{}{}\n",
+                         c.law, c.parameters, c.aicc, c.delta_aicc, c.weight, c.summary.chi2,
+                         c.summary.converged || c.note.rfind("skipped", 0) == 0 ? "" : "  (not converged)",
+                         c.note.empty() ? "" : "  " + c.note);
   }
   out << "data: " << input.label << ": " << input.ReductionText() << ", " << input.curve.size()
       << " R points";

@@ -28,8 +28,10 @@ std::string CannotJoin(const FitRequest& request, const FitRun& run, const FitRu
   if (run.r_kind != first.r_kind)
     return fmt::format("its R is {}, the first specimen's {}", inverse::RKindName(run.r_kind),
                        inverse::RKindName(first.r_kind));
+  // A fitted shape (--law compare's bilinear, trilinear, table) is its points.
   if (run.shape.family != first.shape.family || run.shape.alpha != first.shape.alpha ||
-      run.shape.peak_ratio != first.shape.peak_ratio)
+      run.shape.peak_ratio != first.shape.peak_ratio || run.shape.d_points != first.shape.d_points ||
+      run.shape.s_points != first.shape.s_points)
     return "its law shape differs from the first specimen's (give every specimen the same law)";
   return "";
 }

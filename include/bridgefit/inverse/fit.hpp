@@ -229,12 +229,27 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
 // Law families compared by Akaike's information criterion with the small-
 // sample correction: AICc = chi2 / s^2 + 2k + 2k(k+1)/(n-k-1), s^2 = 1 with
 // reported uncertainties (else the best family's reduced chi^2).
+// A fitted shape's parameter (inverse/fit_shape.hpp).
+struct ShapeParameter {
+  std::string name;  // "d1", "s1", "s(0.25)" (table knot at d = 0.25)
+  double value = NAN;
+  double standard_error = NAN;  // Wald, the scale parameters free; NaN: singular
+  bool pinned = false;          // the table's peak knot (= 1 by definition, not a parameter)
+};
 struct LawComparison {
   std::string law;
   FitSummary summary;
   double aicc = NAN;
   double delta_aicc = NAN;  // against the best family
+  laws::LawShape shape;       // the law fitted (a fitted-shape family: its optimum)
+  double parameters = NAN;    // k in AICc (the penalised table: effective, fit_shape.hpp)
+  double weight = NAN;        // Akaike weight exp(-delta/2) / sum over the families (0: no AICc)
+  double noise_scale2 = NAN;  // s^2 of the AICc
+  std::string note;           // a skipped family's reason; a fitted shape's parameters
+  std::vector<ShapeParameter> shape_parameters;  // a fitted-shape family's
 };
+// delta_aicc against the smallest finite AICc, and the Akaike weights.
+void RankByAicc(std::vector<LawComparison>& comparison);
 std::vector<LawComparison> CompareLawFamilies(const ForwardModel& model,
                                               const std::vector<laws::LawShape>& shapes,
                                               const FitData& data, const FitOptions& options);

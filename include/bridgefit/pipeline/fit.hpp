@@ -22,6 +22,7 @@
 #include "bridgefit/experiment/rcurve.hpp"
 #include "bridgefit/inverse/compliance_calibration.hpp"
 #include "bridgefit/inverse/fit.hpp"
+#include "bridgefit/inverse/fit_shape.hpp"
 #include "bridgefit/inverse/model_check.hpp"
 #include "bridgefit/inverse/model_error.hpp"
 #include "bridgefit/inverse/resolution.hpp"
@@ -66,6 +67,11 @@ struct FitRequest {
   double resolution_bias_fraction = 0.3;
 
   bool compare_laws = false;  // every family, ranked by AICc
+  // With compare_laws: the families whose shape is fitted too
+  // (inverse/fit_shape.hpp), after the fixed-shape ones.
+  std::vector<inverse::ShapeFamily> shape_families = {
+      inverse::ShapeFamily::kBilinear, inverse::ShapeFamily::kTrilinear, inverse::ShapeFamily::kTable};
+  inverse::ShapeFitOptions shape_fit;
   laws::LawFamily law = laws::LawFamily::kLinear;
   // What the data's R is; nullopt: energy for an R curve, what its
   // reduction gives for a record. kAsData needs a record.
