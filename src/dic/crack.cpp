@@ -352,6 +352,8 @@ void WilliamsTip(const std::vector<LocalPoint>& pts, const CrackTipOptions& o, C
     if (std::hypot(p.x - xs, p.y - ys) <= o.fit_radius_px && std::abs(p.n) >= o.band_half_width_px)
       set.push_back(&p);
   res.williams_points = static_cast<int>(set.size());
+  res.williams_window = true;
+  res.williams_centre_s_px = s_start;
   const double lo = std::max(0.0, s_start - 0.5 * o.fit_radius_px);
   const double hi = std::min(o.line.Length(), s_start + 0.5 * o.fit_radius_px);
   const double h = std::max(0.5, 0.25 * ds);

@@ -73,10 +73,11 @@ class PassRunner {
         profile_(impl.opt.profile_stages) {}
 
   std::vector<PointResult> Run(const std::vector<Params>& guess,
-                               const std::vector<char>& has_guess, std::size_t* solves);
+                               const std::vector<char>& has_guess, std::size_t* solves,
+                               const std::vector<PointResult>* prior, const std::vector<char>* keep);
 
  private:
-  void Start();
+  void Start(const std::vector<PointResult>* prior, const std::vector<char>* keep);
   PointResult SolvePoint(size_t i, const Params& p, Workspace& ws) const {
     const ReferenceView ref{&m_.ref_interp, &m_.ref_nodes};
     ReferenceSubset* cache = m_.ref_cache.empty() ? nullptr : &m_.ref_cache[i];
@@ -109,8 +110,9 @@ class PassRunner {
   std::size_t count_ = 0;
 };
 
-// Stage start: static statuses and the reference centres.
-void PassRunner::Start() {
+// Stage start: static statuses, the reference centres, and the points whose
+// result in this frame is known already (`keep`: taken from `prior`).
+void PassRunner::Start(const std::vector<PointResult>* prior, const std::vector<char>* keep) {
   res_.assign(n_, PointResult{});
   done_.assign(n_, 0);
   active_.assign(n_, 0);
@@ -128,6 +130,10 @@ void PassRunner::Start() {
     }
     cx_[i] = m_.grid.x[i] + m_.ref_p[i][0];
     cy_[i] = m_.grid.y[i] + m_.ref_p[i][6];
+    if (keep && (*keep)[i] && active_[i]) {
+      res_[i] = (*prior)[i];
+      done_[i] = 1;
+    }
   }
 }
 
@@ -375,8 +381,10 @@ void PassRunner::LatticeGuesses(int stride, std::vector<Params>* g, std::vector<
 
 std::vector<PointResult> PassRunner::Run(const std::vector<Params>& guess,
                                          const std::vector<char>& has_guess,
-                                         std::size_t* solves) {
-  Start();
+                                         std::size_t* solves,
+                                         const std::vector<PointResult>* prior,
+                                         const std::vector<char>* keep) {
+  Start(prior, keep);
   const int coarse_stride = 4;
   bool any_guess = false;
   size_t n_active = 0;
@@ -410,10 +418,12 @@ std::vector<PointResult> PassRunner::Run(const std::vector<Params>& guess,
 std::vector<PointResult> RunPass(CorrelatorState& state, const Image& def_image,
                                  const InterpolatedImage& def_interp,
                                  const std::vector<Params>& guess,
-                                 const std::vector<char>& has_guess, std::size_t* solves) {
+                                 const std::vector<char>& has_guess, std::size_t* solves,
+                                 const std::vector<PointResult>* prior,
+                                 const std::vector<char>* keep) {
   state.workspaces.resize(std::max(state.Threads(), 1));
   PassRunner runner(state, def_image, def_interp);
-  return runner.Run(guess, has_guess, solves);
+  return runner.Run(guess, has_guess, solves, prior, keep);
 }
 
 }  // namespace bridgefit::dic::detail
