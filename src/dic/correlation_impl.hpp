@@ -51,6 +51,9 @@ struct CorrelatorState {
   std::vector<detail::Workspace> workspaces;  // one per thread
 
   int Threads() const;
+  bool OnLattice(size_t i, int stride) const {
+    return static_cast<int>(i % grid.nx) % stride == 0 && static_cast<int>(i / grid.nx) % stride == 0;
+  }
 };
 
 // One pass: every eligible point from `guess` (where given) or by
@@ -85,9 +88,7 @@ struct Correlator::Impl : detail::CorrelatorState {
   // before the first frame, whose coarse pass runs on that lattice, then
   // sample_stride); hidden = eligible and not active.
   void ApplyActive();
-  bool OnLattice(size_t i, int stride) const {
-    return static_cast<int>(i % grid.nx) % stride == 0 && static_cast<int>(i / grid.nx) % stride == 0;
-  }
+
   DisplacementField Next(const Image& frame, CorrelationSummary* summary);
   DisplacementField Extend(const std::vector<char>& active, CorrelationSummary* summary);
   // The frame's field from its point results (total motion = increment o

@@ -407,6 +407,15 @@ std::vector<PointResult> PassRunner::Run(const std::vector<Params>& guess,
     SolveGuessed(g2, hg2);
   } else {
     SolveGuessed(guess, has_guess);
+    // The update test's lattice first, by fronts along the lattice: its
+    // points get the same results whatever else is active (with a crack
+    // band most of them have no active neighbour), so band and full field
+    // update the reference at the same frames.
+    if (m_.sample_stride > 1) {
+      std::vector<char> lattice(n_, 0);
+      for (size_t i = 0; i < n_; ++i) lattice[i] = active_[i] && m_.OnLattice(i, m_.sample_stride);
+      Propagate(lattice, m_.sample_stride, guess, has_guess);
+    }
   }
   Propagate(active_, 1, guess, has_guess);
   *solves += count_;
