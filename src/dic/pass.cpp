@@ -106,6 +106,7 @@ class PassRunner {
   const bool profile_;
   std::vector<PointResult> res_;
   std::vector<char> done_, active_;
+  mutable std::vector<char> in_front_;  // FrontierOf's marks, all zero between calls
   std::vector<double> cx_, cy_;
   std::size_t count_ = 0;
 };
@@ -115,6 +116,7 @@ class PassRunner {
 void PassRunner::Start(const std::vector<PointResult>* prior, const std::vector<char>* keep) {
   res_.assign(n_, PointResult{});
   done_.assign(n_, 0);
+  in_front_.assign(n_, 0);
   active_.assign(n_, 0);
   cx_.resize(n_);
   cy_.resize(n_);
@@ -184,17 +186,18 @@ int PassRunner::Neighbours(size_t i, int stride, size_t* out) const {
 std::vector<size_t> PassRunner::FrontierOf(const std::vector<size_t>& from,
                                            const std::vector<char>& act, int stride) const {
   std::vector<size_t> front;
-  std::vector<char> in_front(n_, 0);
+  // in_front_ is all zero between calls (cleared below): no O(n) per front.
   for (size_t i : from) {
     if (res_[i].status != PointStatus::kOk) continue;
     size_t nb[4];
     const int m = Neighbours(i, stride, nb);
     for (int k = 0; k < m; ++k)
-      if (act[nb[k]] && !done_[nb[k]] && !in_front[nb[k]]) {
-        in_front[nb[k]] = 1;
+      if (act[nb[k]] && !done_[nb[k]] && !in_front_[nb[k]]) {
+        in_front_[nb[k]] = 1;
         front.push_back(nb[k]);
       }
   }
+  for (size_t i : front) in_front_[i] = 0;
   return front;
 }
 
