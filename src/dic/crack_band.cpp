@@ -61,7 +61,7 @@ void BandTracker::Prepare() {
     return;
   }
   CrackBandReads reads;
-  reads.scan = true;
+  reads.scan = o_.find_path;  // --fixed-line: no path scan
   reads.scan_line = scan_line_;
   if (have_last_) {
     reads.cod = true;
@@ -79,7 +79,7 @@ void BandTracker::Prepare() {
 // were not correlated.
 std::vector<char> BandTracker::Missing(const FrameResult& r) const {
   CrackBandReads reads;
-  reads.scan = true;
+  reads.scan = o_.find_path;  // --fixed-line: no path scan
   reads.scan_line = scan_line_;
   reads.cod = !r.tip.cod.s_px.empty();
   reads.cod_line = r.line_used;
