@@ -93,11 +93,15 @@ void PrintDicResult(const dic::CrackSequenceResult& result, const dic::CrackSequ
           {"valid_fraction", f.valid_fraction},
           {"mean_zncc", f.correlation.mean_zncc},
           {"reference_frame", f.correlation.reference_frame},
+          {"correlated_points", f.correlation.points},
+          {"solves", f.correlation.solves},
+          {"correlation_s", f.correlation.wall_s},
       });
       if (result.j_integral) frames.back()["j_integral"] = FrameJJson(f.j);
     }
     out["frames"] = std::move(frames);
     out["points_per_frame"] = result.points;
+    out["mean_correlated_points"] = result.mean_correlated_points;
     out["wall_s"] = result.wall_s;
     out["points_per_s"] = result.points_per_s;
     // The *_px values are in the images' pixels, or for `crack` in the

@@ -18,10 +18,12 @@ line="0,$((size / 2)).5,$((size - 1)),$((size / 2)).5"
 common=(--crack-line "$line" --scale 0.01mm/px --subset 31 --step 6 --quiet)
 mkdir -p "$work/full_in"
 for f in $(ls "$work/frames"/frame_*.png | sort | head -n "$full_frames"); do ln -sf "$f" "$work/full_in/"; done
+uptime
 /usr/bin/time -v "$build/apps/bridgefit" dic "$work/frames" "${common[@]}" --csv "$work/band.csv" \
   > "$work/band.txt" 2> "$work/band.time"
 /usr/bin/time -v "$build/apps/bridgefit" dic "$work/full_in" "${common[@]}" --full-field --csv "$work/full.csv" \
   > "$work/full.txt" 2> "$work/full.time"
+uptime
 python3 - "$work" <<'PY'
 import csv, re, sys
 w = sys.argv[1]
@@ -43,10 +45,15 @@ for name, r in (("band", band), ("full", full)):
     errs = [float(x["crack_length_raw [mm]"]) / 0.01 - float(truth[k])
             for k, x in r.items() if k > 0 and x["crack_length_raw [mm]"].strip()]
     flagged = sum(1 for k, x in r.items() if k > 0 and x["flags"].strip())
+    # Never a confident wrong length: |error| <= 2 sigma or flagged.
+    wrong = [k for k, x in r.items() if k > 0 and x["crack_length_raw [mm]"].strip()
+             and abs(float(x["crack_length_raw [mm]"]) / 0.01 - float(truth[k]))
+             > 2 * float(x["uncertainty [mm]"]) / 0.01 and not x["flags"].strip()]
     n = len(r) - 1
     print(f"{name}: {n} deformed frames, {sec:.1f} s wall ({sec / max(n, 1):.2f} s/frame), peak RSS {rss / 1024:.0f} MiB, "
           f"{len(errs)} lengths, max |error| {max(map(abs, errs)) if errs else float('nan'):.2f} px, "
-          f"mean error {sum(errs) / max(len(errs), 1):+.2f} px, {flagged} flagged")
+          f"mean error {sum(errs) / max(len(errs), 1):+.2f} px, {flagged} flagged, "
+          f"{len(wrong)} unflagged beyond 2 sigma {wrong[:10]}")
     print("   ", [l for l in brief.splitlines() if "frames," in l])
 raw = "crack_length_raw [mm]"
 common = [k for k in full if k > 0 and full[k][raw].strip() and band.get(k, {}).get(raw, "").strip()]

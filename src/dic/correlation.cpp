@@ -57,6 +57,7 @@ bool CorrelationOptions::IsValid(std::string* why) const {
   if (seed_search_radius < 0 || local_search_radius < 0) return fail("search radii must be >= 0");
   if (has_crack && !(crack.Length() > 1.0)) return fail("crack line must be longer than 1 px");
   if (threads < 0) return fail("threads must be >= 0");
+  if (update_sample_stride < 0) return fail("update sample stride must be >= 0");
   return true;
 }
 
@@ -147,9 +148,19 @@ void Correlator::Impl::SetActive(const std::vector<char>& active) {
   if (!active.empty() && active.size() != n)
     throw Error(ErrorKind::kUsage, "active point list differs from the grid",
                 {.value = std::to_string(active.size()), .expected = std::to_string(n)});
+  active_set = active;
+  ApplyActive();
+}
+
+void Correlator::Impl::ApplyActive() {
+  const size_t n = grid.size();
+  const int stride = prev_ok.empty() ? std::min(sample_stride, 4) : sample_stride;
+  hidden.assign(n, 0);
   for (size_t i = 0; i < n; ++i) {
-    const bool on = static_eligible[i] && (active.empty() || active[i]);
+    const bool wanted = active_set.empty() || active_set[i];
+    const bool on = static_eligible[i] && (wanted || OnLattice(i, stride));
     eligible[i] = on ? 1 : 0;
+    hidden[i] = on && !wanted ? 1 : 0;
     grid.status[i] = static_eligible[i] && !on ? PointStatus::kMasked : static_status[i];
   }
   // Points back in play after a reference update: their motion to the
@@ -216,29 +227,31 @@ DisplacementField Correlator::Impl::Next(const Image& frame, CorrelationSummary*
                             frame.height, grid_width, grid_height),
                 {.expected = "all images of a sequence with the same size"});
   Stopwatch watch;
+  // With an active set: the update test's lattice for this frame.
+  if (!active_set.empty()) ApplyActive();
   ++frame_index;
   const size_t n = grid.size();
   const double cpu0 = opt.profile_stages ? detail::StageClock::Seconds() : 0.0;
-  const detail::InterpolatedImage def_interp(frame, opt.interpolation);
+  frame_interp = detail::InterpolatedImage(frame, opt.interpolation);
   const double setup_s = opt.profile_stages ? detail::StageClock::Seconds() - cpu0 : 0.0;
   for (detail::Workspace& ws : workspaces) ws.times = detail::StageTimes{};
   std::size_t solves = 0;
   std::vector<PointResult> res;
   for (int attempt = 0; attempt < 2; ++attempt) {
     // Guesses: last frame's total motion expressed from the current reference.
-    std::vector<Params> guess(n);
-    std::vector<char> has_guess(n, 0);
+    frame_guess.assign(n, Params{});
+    frame_has_guess.assign(n, 0);
     for (size_t i = 0; i < n; ++i) {
       if (!prev_ok.empty() && prev_ok[i] && ref_known[i]) {
-        guess[i] = Increment(prev_total[i], ref_p[i]);
-        has_guess[i] = 1;
+        frame_guess[i] = Increment(prev_total[i], ref_p[i]);
+        frame_has_guess[i] = 1;
       }
     }
-    res = Pass(frame, def_interp, guess, has_guess, &solves);
+    res = Pass(frame, frame_interp, frame_guess, frame_has_guess, &solves);
     size_t used = 0, good = 0;
     double zsum = 0;
     for (size_t i = 0; i < n; ++i) {
-      if (!eligible[i]) continue;
+      if (!eligible[i] || !OnLattice(i, sample_stride)) continue;
       ++used;
       if (res[i].status == PointStatus::kOk) {
         ++good;
@@ -264,44 +277,13 @@ DisplacementField Correlator::Impl::Next(const Image& frame, CorrelationSummary*
     }
     break;
   }
-  // Accumulate: total = increment o reference motion.
-  DisplacementField field = grid;
-  std::vector<Params> total(n);
-  std::vector<char> ok(n, 0);
-  double zsum = 0, itsum = 0;
-  size_t used = 0, good = 0;
-  for (size_t i = 0; i < n; ++i) {
-    field.status[i] = res[i].status;
-    field.zncc[i] = res[i].zncc;
-    field.iterations[i] = res[i].iterations;
-    if (!eligible[i]) continue;
-    ++used;
-    itsum += res[i].iterations;
-    if (res[i].status != PointStatus::kOk) continue;
-    total[i] = Accumulate(res[i].p, ref_p[i]);
-    ok[i] = 1;
-    ++good;
-    zsum += res[i].zncc;
-    field.u[i] = total[i][0];
-    field.v[i] = total[i][6];
-    field.dudx[i] = total[i][1];
-    field.dudy[i] = total[i][2];
-    field.dvdx[i] = total[i][7];
-    field.dvdy[i] = total[i][8];
-  }
-  prev_total = std::move(total);
-  prev_ok = std::move(ok);
-  prev_status = field.status;
   prev_image = frame;
+  frame_res = res;
+  DisplacementField field = Collect(res, summary);
+  frame_solves = solves;
+  frame_wall_s = watch.Seconds();
   if (summary) {
-    summary->frame = frame_index;
-    summary->reference_frame = ref_index;
-    summary->reference_updates = updates;
-    summary->points = used;
-    summary->valid = good;
-    summary->mean_zncc = good ? zsum / good : 0;
-    summary->mean_iterations = used ? itsum / used : 0;
-    summary->wall_s = watch.Seconds();
+    summary->wall_s = frame_wall_s;
     summary->points_per_s = summary->wall_s > 0 ? solves / summary->wall_s : 0;
     summary->solves = solves;
     if (opt.profile_stages) {
@@ -320,6 +302,94 @@ DisplacementField Correlator::Impl::Next(const Image& frame, CorrelationSummary*
                                          t.search - t.reference - t.interpolation - t.residual -
                                          t.update);
     }
+  }
+  return field;
+}
+
+// More points in the frame last correlated: against the same reference (no
+// update), the new points from the guesses that frame's pass had and from
+// fronts out of the points solved already, which keep their results.
+DisplacementField Correlator::Impl::Extend(const std::vector<char>& active,
+                                           CorrelationSummary* summary) {
+  if (frame_index == 0 || frame_res.size() != grid.size())
+    throw Error(ErrorKind::kUsage, "Correlator::Extend needs a frame correlated by Next");
+  if (active.size() != grid.size())
+    throw Error(ErrorKind::kUsage, "active point list differs from the grid",
+                {.value = std::to_string(active.size()), .expected = std::to_string(grid.size())});
+  Stopwatch watch;
+  const size_t n = grid.size();
+  const std::vector<char> before = eligible;
+  std::vector<char> wanted(n, 0);
+  for (size_t i = 0; i < n; ++i)
+    wanted[i] = active_set.empty() || active_set[i] || active[i] ? 1 : 0;
+  SetActive(wanted);
+  // Converged points keep their results; the others (a lattice point of the
+  // update test is isolated: no front reaches it) try again with the new
+  // points around them.
+  std::vector<char> keep(n, 0);
+  for (size_t i = 0; i < n; ++i) keep[i] = before[i] && frame_res[i].status == PointStatus::kOk;
+  for (detail::Workspace& ws : workspaces) ws.times = detail::StageTimes{};
+  std::size_t solves = 0;
+  frame_res = detail::RunPass(*this, prev_image, frame_interp, frame_guess, frame_has_guess, &solves,
+                              &frame_res, &keep);
+  DisplacementField field = Collect(frame_res, summary);
+  frame_solves += solves;
+  frame_wall_s += watch.Seconds();
+  if (summary) {
+    summary->wall_s = frame_wall_s;
+    summary->solves = frame_solves;
+    summary->points_per_s = frame_wall_s > 0 ? frame_solves / frame_wall_s : 0;
+  }
+  return field;
+}
+
+DisplacementField Correlator::Impl::Collect(const std::vector<PointResult>& res,
+                                            CorrelationSummary* summary) {
+  const size_t n = grid.size();
+  // Accumulate: total = increment o reference motion.
+  DisplacementField field = grid;
+  std::vector<Params> total(n);
+  std::vector<char> ok(n, 0);
+  double zsum = 0, itsum = 0;
+  size_t used = 0, good = 0;
+  for (size_t i = 0; i < n; ++i) {
+    field.status[i] = res[i].status;
+    field.zncc[i] = res[i].zncc;
+    field.iterations[i] = res[i].iterations;
+    if (!eligible[i]) continue;
+    ++used;
+    itsum += res[i].iterations;
+    if (res[i].status != PointStatus::kOk) continue;
+    total[i] = Accumulate(res[i].p, ref_p[i]);
+    ok[i] = 1;
+    ++good;
+    zsum += res[i].zncc;
+    if (!hidden.empty() && hidden[i]) continue;  // reported masked below
+    field.u[i] = total[i][0];
+    field.v[i] = total[i][6];
+    field.dudx[i] = total[i][1];
+    field.dudy[i] = total[i][2];
+    field.dvdx[i] = total[i][7];
+    field.dvdy[i] = total[i][8];
+  }
+  prev_total = std::move(total);
+  prev_ok = std::move(ok);
+  prev_status = field.status;
+  // Correlated for the update test and the next frame's guesses only.
+  for (size_t i = 0; i < n && !hidden.empty(); ++i)
+    if (hidden[i]) {
+      field.status[i] = PointStatus::kMasked;
+      field.zncc[i] = 0;
+      field.iterations[i] = 0;
+    }
+  if (summary) {
+    summary->frame = frame_index;
+    summary->reference_frame = ref_index;
+    summary->reference_updates = updates;
+    summary->points = used;
+    summary->valid = good;
+    summary->mean_zncc = good ? zsum / good : 0;
+    summary->mean_iterations = used ? itsum / used : 0;
   }
   return field;
 }
@@ -383,6 +453,11 @@ Correlator::Correlator(const CorrelationOptions& options, const Image& reference
   m.BuildGrid(reference);
   m.static_eligible = m.eligible;
   m.static_status = m.grid.status;
+  m.sample_stride = options.update_sample_stride;
+  if (m.sample_stride <= 0) {
+    const double n = static_cast<double>(m.grid.size());
+    m.sample_stride = n / 4 < 256 ? 1 : n / 16 < 256 ? 2 : 4 * std::max(1, static_cast<int>(std::sqrt(n / 256) / 4));
+  }
   m.SetReference(reference);
   m.ref_p.assign(m.grid.size(), detail::Params{});
   m.ref_known.assign(m.grid.size(), 1);
@@ -395,6 +470,9 @@ DisplacementField Correlator::Next(const Image& frame, CorrelationSummary* summa
   return impl_->Next(frame, summary);
 }
 void Correlator::SetActive(const std::vector<char>& active) { impl_->SetActive(active); }
+DisplacementField Correlator::Extend(const std::vector<char>& active, CorrelationSummary* summary) {
+  return impl_->Extend(active, summary);
+}
 
 DisplacementField CorrelatePair(const Image& reference, const Image& deformed,
                                 const CorrelationOptions& options, CorrelationSummary* summary) {

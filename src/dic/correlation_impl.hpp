@@ -19,6 +19,9 @@ struct CorrelatorState {
   DisplacementField grid;        // positions and static status
   std::vector<char> eligible;    // correlate this point
   std::vector<char> static_eligible;  // from the grid (ROI, mask, crack band)
+  std::vector<char> active_set;  // SetActive's points (empty: all)
+  int sample_stride = 1;         // the update test's lattice (update_sample_stride)
+  std::vector<char> hidden;      // correlated for the update test only: reported masked
   std::vector<PointStatus> static_status;
   Image ref_image;               // current reference
   detail::InterpolatedImage ref_interp;
@@ -36,18 +39,33 @@ struct CorrelatorState {
   // in that frame): reported for it from then on.
   std::vector<PointStatus> lost_status;
   int updates = 0;
+  // The frame last correlated (Next), for Extend: its interpolant, the
+  // guesses its pass started from, its point results and its cost so far.
+  detail::InterpolatedImage frame_interp;
+  std::vector<Params> frame_guess;
+  std::vector<char> frame_has_guess;
+  std::vector<PointResult> frame_res;
+  std::size_t frame_solves = 0;
+  double frame_wall_s = 0;
   int grid_width = 0, grid_height = 0;
   std::vector<detail::Workspace> workspaces;  // one per thread
 
   int Threads() const;
+  bool OnLattice(size_t i, int stride) const {
+    return static_cast<int>(i % grid.nx) % stride == 0 && static_cast<int>(i / grid.nx) % stride == 0;
+  }
 };
 
 // One pass: every eligible point from `guess` (where given) or by
 // wavefront propagation from converged neighbours and seeds (pass.cpp).
+// Points with (*keep)[i] take (*prior)[i] as their result (solved already in
+// this frame) and start fronts into the others.
 std::vector<PointResult> RunPass(CorrelatorState& state, const Image& def_image,
                                  const InterpolatedImage& def_interp,
                                  const std::vector<Params>& guess,
-                                 const std::vector<char>& has_guess, std::size_t* solves);
+                                 const std::vector<char>& has_guess, std::size_t* solves,
+                                 const std::vector<PointResult>* prior = nullptr,
+                                 const std::vector<char>* keep = nullptr);
 
 }  // namespace detail
 
@@ -66,7 +84,17 @@ struct Correlator::Impl : detail::CorrelatorState {
   }
   void FillUnknown(std::vector<Params>& p, std::vector<char>& known) const;
   void SetActive(const std::vector<char>& active);
+  // eligible = static and (active or on the update test's lattice: stride 4
+  // before the first frame, whose coarse pass runs on that lattice, then
+  // sample_stride); hidden = eligible and not active.
+  void ApplyActive();
+
   DisplacementField Next(const Image& frame, CorrelationSummary* summary);
+  DisplacementField Extend(const std::vector<char>& active, CorrelationSummary* summary);
+  // The frame's field from its point results (total motion = increment o
+  // reference motion); keeps them as the next frame's guesses and fills the
+  // summary's counts.
+  DisplacementField Collect(const std::vector<PointResult>& res, CorrelationSummary* summary);
   static Params Accumulate(const Params& d, const Params& r);
   static Params Increment(const Params& t, const Params& r);
 };

@@ -352,14 +352,17 @@ void WilliamsTip(const std::vector<LocalPoint>& pts, const CrackTipOptions& o, C
     if (std::hypot(p.x - xs, p.y - ys) <= o.fit_radius_px && std::abs(p.n) >= o.band_half_width_px)
       set.push_back(&p);
   res.williams_points = static_cast<int>(set.size());
+  res.williams_window = true;
+  res.williams_centre_s_px = s_start;
   const double lo = std::max(0.0, s_start - 0.5 * o.fit_radius_px);
   const double hi = std::min(o.line.Length(), s_start + 0.5 * o.fit_radius_px);
   const double h = std::max(0.5, 0.25 * ds);
-  std::vector<double> grid_s, grid_ssr;
-  for (double s = lo; s <= hi + 1e-9; s += h) {
-    grid_s.push_back(s);
-    grid_ssr.push_back(FitWilliams(set, s, o).ssr);
-  }
+  std::vector<double> grid_s;
+  for (double s = lo; s <= hi + 1e-9; s += h) grid_s.push_back(s);
+  // The scan's fits are independent (about 100 QR solves of 2N x 9-12).
+  std::vector<double> grid_ssr(grid_s.size());
+#pragma omp parallel for schedule(dynamic, 2)
+  for (size_t k = 0; k < grid_s.size(); ++k) grid_ssr[k] = FitWilliams(set, grid_s[k], o).ssr;
   size_t best = 0;
   for (size_t k = 1; k < grid_s.size(); ++k)
     if (grid_ssr[k] < grid_ssr[best]) best = k;

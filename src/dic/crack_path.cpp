@@ -310,10 +310,16 @@ Scan ScanFrame(const DisplacementField& f, const Frame& frame, bool limit_to_hin
   double smin = 1e300, smax = -1e300, nmin = 1e300, nmax = -1e300;
   struct P { double s, n, un; };
   std::vector<P> pts;
+  // With a hint, stations only over its extent (+- half a station), so the
+  // scan reads the same points whatever else the field holds (a notch or a
+  // grip behind the hint's start; the crack band's edges).
+  const double s_lo = limit_to_hint ? -0.5 * ds : -1e300;
+  const double s_hi = limit_to_hint ? o.hint.Length() + 0.5 * ds : 1e300;
   for (size_t i = 0; i < f.size(); ++i) {
     if (!f.ok(i)) continue;
     P p;
     frame.ToLocal(f.x[i], f.y[i], &p.s, &p.n);
+    if (p.s < s_lo || p.s > s_hi) continue;
     p.un = -f.u[i] * frame.ty + f.v[i] * frame.tx;
     pts.push_back(p);
     smin = std::min(smin, p.s);

@@ -73,10 +73,11 @@ class PassRunner {
         profile_(impl.opt.profile_stages) {}
 
   std::vector<PointResult> Run(const std::vector<Params>& guess,
-                               const std::vector<char>& has_guess, std::size_t* solves);
+                               const std::vector<char>& has_guess, std::size_t* solves,
+                               const std::vector<PointResult>* prior, const std::vector<char>* keep);
 
  private:
-  void Start();
+  void Start(const std::vector<PointResult>* prior, const std::vector<char>* keep);
   PointResult SolvePoint(size_t i, const Params& p, Workspace& ws) const {
     const ReferenceView ref{&m_.ref_interp, &m_.ref_nodes};
     ReferenceSubset* cache = m_.ref_cache.empty() ? nullptr : &m_.ref_cache[i];
@@ -105,14 +106,17 @@ class PassRunner {
   const bool profile_;
   std::vector<PointResult> res_;
   std::vector<char> done_, active_;
+  mutable std::vector<char> in_front_;  // FrontierOf's marks, all zero between calls
   std::vector<double> cx_, cy_;
   std::size_t count_ = 0;
 };
 
-// Stage start: static statuses and the reference centres.
-void PassRunner::Start() {
+// Stage start: static statuses, the reference centres, and the points whose
+// result in this frame is known already (`keep`: taken from `prior`).
+void PassRunner::Start(const std::vector<PointResult>* prior, const std::vector<char>* keep) {
   res_.assign(n_, PointResult{});
   done_.assign(n_, 0);
+  in_front_.assign(n_, 0);
   active_.assign(n_, 0);
   cx_.resize(n_);
   cy_.resize(n_);
@@ -128,6 +132,10 @@ void PassRunner::Start() {
     }
     cx_[i] = m_.grid.x[i] + m_.ref_p[i][0];
     cy_[i] = m_.grid.y[i] + m_.ref_p[i][6];
+    if (keep && (*keep)[i] && active_[i]) {
+      res_[i] = (*prior)[i];
+      done_[i] = 1;
+    }
   }
 }
 
@@ -178,17 +186,18 @@ int PassRunner::Neighbours(size_t i, int stride, size_t* out) const {
 std::vector<size_t> PassRunner::FrontierOf(const std::vector<size_t>& from,
                                            const std::vector<char>& act, int stride) const {
   std::vector<size_t> front;
-  std::vector<char> in_front(n_, 0);
+  // in_front_ is all zero between calls (cleared below): no O(n) per front.
   for (size_t i : from) {
     if (res_[i].status != PointStatus::kOk) continue;
     size_t nb[4];
     const int m = Neighbours(i, stride, nb);
     for (int k = 0; k < m; ++k)
-      if (act[nb[k]] && !done_[nb[k]] && !in_front[nb[k]]) {
-        in_front[nb[k]] = 1;
+      if (act[nb[k]] && !done_[nb[k]] && !in_front_[nb[k]]) {
+        in_front_[nb[k]] = 1;
         front.push_back(nb[k]);
       }
   }
+  for (size_t i : front) in_front_[i] = 0;
   return front;
 }
 
@@ -375,8 +384,10 @@ void PassRunner::LatticeGuesses(int stride, std::vector<Params>* g, std::vector<
 
 std::vector<PointResult> PassRunner::Run(const std::vector<Params>& guess,
                                          const std::vector<char>& has_guess,
-                                         std::size_t* solves) {
-  Start();
+                                         std::size_t* solves,
+                                         const std::vector<PointResult>* prior,
+                                         const std::vector<char>* keep) {
+  Start(prior, keep);
   const int coarse_stride = 4;
   bool any_guess = false;
   size_t n_active = 0;
@@ -399,6 +410,15 @@ std::vector<PointResult> PassRunner::Run(const std::vector<Params>& guess,
     SolveGuessed(g2, hg2);
   } else {
     SolveGuessed(guess, has_guess);
+    // The update test's lattice first, by fronts along the lattice: its
+    // points get the same results whatever else is active (with a crack
+    // band most of them have no active neighbour), so band and full field
+    // update the reference at the same frames.
+    if (m_.sample_stride > 1) {
+      std::vector<char> lattice(n_, 0);
+      for (size_t i = 0; i < n_; ++i) lattice[i] = active_[i] && m_.OnLattice(i, m_.sample_stride);
+      Propagate(lattice, m_.sample_stride, guess, has_guess);
+    }
   }
   Propagate(active_, 1, guess, has_guess);
   *solves += count_;
@@ -410,10 +430,12 @@ std::vector<PointResult> PassRunner::Run(const std::vector<Params>& guess,
 std::vector<PointResult> RunPass(CorrelatorState& state, const Image& def_image,
                                  const InterpolatedImage& def_interp,
                                  const std::vector<Params>& guess,
-                                 const std::vector<char>& has_guess, std::size_t* solves) {
+                                 const std::vector<char>& has_guess, std::size_t* solves,
+                                 const std::vector<PointResult>* prior,
+                                 const std::vector<char>* keep) {
   state.workspaces.resize(std::max(state.Threads(), 1));
   PassRunner runner(state, def_image, def_interp);
-  return runner.Run(guess, has_guess, solves);
+  return runner.Run(guess, has_guess, solves, prior, keep);
 }
 
 }  // namespace bridgefit::dic::detail

@@ -8,6 +8,7 @@
 #include "bridgefit/core/progress.hpp"
 #include "bridgefit/core/units.hpp"
 #include "bridgefit/dic/fields.hpp"
+#include "crack_band_impl.hpp"
 
 namespace bridgefit::dic {
 
@@ -240,80 +241,6 @@ void MakeMonotone(std::vector<FrameResult>* frames) {
     if ((*frames)[k].has_length) (*frames)[k].crack_length_m = mono[k];
 }
 
-std::vector<char> CrackBandPoints(const DisplacementField& grid, const CrackLine& line, bool tip_known,
-                                  double tip_x, double tip_y, double strip, double disk) {
-  std::vector<char> on(grid.size(), 0);
-  const double half = tip_known ? strip : disk;
-  for (size_t i = 0; i < grid.size(); ++i) {
-    double s, n;
-    line.ToLocal(grid.x[i], grid.y[i], &s, &n);
-    const bool in_strip = s >= -half && std::abs(n) <= half;
-    const bool in_disk = tip_known && std::hypot(grid.x[i] - tip_x, grid.y[i] - tip_y) <= disk;
-    on[i] = in_strip || in_disk ? 1 : 0;
-  }
-  return on;
-}
-
-void CrackBandWidths(const CrackSequenceOptions& o, double margin, double* strip, double* disk) {
-  const double half_subset = 0.5 * o.correlation.subset_size;
-  const double search = o.find_path ? o.path.search_half_width_px : 0.0;
-  *strip = std::max(search, o.tip.band_half_width_px) +
-           std::max(o.path.side_depth_px, o.tip.side_depth_px) + half_subset + o.correlation.step;
-  *disk = std::max(o.tip.fit_radius_px, o.tip.sqrt_window_px) + half_subset + margin;
-}
-
-namespace {
-
-// Follows the tip from frame to frame and sets the Correlator's band.
-class BandTracker {
- public:
-  BandTracker(const CrackSequenceOptions& o, Correlator* c) : o_(o), c_(c), line_(o.tip.line) {}
-
-  // Before correlating a frame. Without a line and before the first tip:
-  // the whole field (the path is not known yet).
-  void Prepare() {
-    if (o_.full_field || o_.j_integral.enabled) return;
-    if (!o_.has_line && !tip_known_) {
-      c_->SetActive({});
-      return;
-    }
-    double strip, disk;
-    CrackBandWidths(o_, Margin(), &strip, &disk);
-    c_->SetActive(CrackBandPoints(c_->Grid(), line_, tip_known_, tip_x_, tip_y_, strip, disk));
-  }
-
-  // After locating the crack in the frame.
-  void Update(FrameResult* r) {
-    if (o_.full_field || o_.j_integral.enabled || !r->tip.tip.found) return;
-    // The strip follows the given line (it holds the path search around
-    // it); without one, the path found.
-    if (!o_.has_line && r->path.found) line_ = r->line_used;
-    double x, y;
-    r->line_used.FromLocal(r->tip.tip.s_px, 0, &x, &y);
-    if (tip_known_) {
-      const double moved = std::hypot(x - tip_x_, y - tip_y_);
-      r->tip_beyond_band = moved > Margin();
-      r->flagged = r->flagged || r->tip_beyond_band;
-      growth_ = std::max(growth_, moved);
-    }
-    tip_known_ = true;
-    tip_x_ = x;
-    tip_y_ = y;
-  }
-
- private:
-  // Room for the tip to move: twice the largest step seen, at least 4 grid steps.
-  double Margin() const { return std::max(4.0 * o_.correlation.step, 2.0 * growth_); }
-
-  const CrackSequenceOptions& o_;
-  Correlator* c_;
-  CrackLine line_;
-  bool tip_known_ = false;
-  double tip_x_ = 0, tip_y_ = 0, growth_ = 0;
-};
-
-}  // namespace
-
 CrackSequenceResult AnalyzeCrackSequence(const std::vector<std::filesystem::path>& images,
                                          const CrackSequenceOptions& options) {
   std::string why;
@@ -360,7 +287,7 @@ CrackSequenceResult AnalyzeCrackSequence(const std::vector<std::filesystem::path
   out.frames.push_back(std::move(first));
   Progress progress("dic", images.size() - 1, options.show_progress);
   double solve_seconds = 0, solves = 0, correlated = 0;
-  BandTracker band(options, correlator.get());
+  detail::BandTracker band(options, path_opt, correlator.get());
   for (size_t k = 1; k < images.size(); ++k) {
     const Image frame = ReadImage(images[k]);
     if (frame.width != reference.width || frame.height != reference.height)
@@ -372,12 +299,12 @@ CrackSequenceResult AnalyzeCrackSequence(const std::vector<std::filesystem::path
     r.image = images[k].string();
     band.Prepare();
     DisplacementField field = correlator->Next(frame, &r.correlation);
-    solve_seconds += r.correlation.wall_s;
-    solves += r.correlation.points_per_s * r.correlation.wall_s;
-    correlated += static_cast<double>(r.correlation.points);
     LocateCrackInField(field, options, path_opt, &r);
+    band.Complete(&field, &r);  // the points the location read and the band lacked
+    solve_seconds += r.correlation.wall_s;
+    solves += static_cast<double>(r.correlation.solves);
+    correlated += static_cast<double>(r.correlation.points);
     MeasureFrameJ(field, options, &r);
-    band.Update(&r);
     if (options.keep_fields) r.field = std::move(field);
     out.frames.push_back(std::move(r));
     progress.Update(k);

@@ -74,6 +74,13 @@ struct CorrelationOptions {
   bool incremental = true;
   double update_min_valid_fraction = 0.9;
   double update_min_mean_zncc = 0.9;
+  // The update test reads the grid points on a lattice of this stride (every
+  // k-th point in x and y; 0: the largest stride leaving >= 256 points, a
+  // multiple of 4 from 4 on). With an active set (Correlator::SetActive)
+  // those points are correlated too, so the test - and with it the
+  // reference of every frame - is the same whatever the active set; they are
+  // reported kMasked unless active.
+  int update_sample_stride = 0;
   int threads = 0;  // OpenMP threads, 0 = default
   // Time the stages of every solve into CorrelationSummary::stages (costs a
   // clock read per stage; off for production runs).
@@ -147,6 +154,14 @@ class Correlator {
   // update takes its position in the current reference from its known
   // neighbours. Throws Error(kUsage) on a size mismatch.
   void SetActive(const std::vector<char>& active);
+  // Adds the points of `active` to the frame last correlated by Next (the
+  // points correlated already keep their results): they are correlated in
+  // that frame against its reference, from the guesses its pass had and from
+  // their solved neighbours. Returns the frame's whole field; `summary` (that
+  // of Next, or null) is updated to the frame's totals. The following frames
+  // keep the union as their active set. Throws Error(kUsage) before the
+  // first frame or on a size mismatch.
+  DisplacementField Extend(const std::vector<char>& active, CorrelationSummary* summary = nullptr);
 
  private:
   struct Impl;

@@ -64,6 +64,11 @@ struct CrackTipResult {
   double k_over_2mu_sqrt_px = 0;  // Williams: K_I / (2 mu), px^0.5
   double williams_residual_px = 0;  // RMS residual of the field fit
   int williams_points = 0;
+  // Centre of the Williams fit window along the line (the sqrt-COD tip
+  // clamped to [jump tip - fit radius, jump tip], else the jump tip): the
+  // fit reads the valid points within fit_radius_px of it.
+  bool williams_window = false;
+  double williams_centre_s_px = 0;
   TipMethod method = TipMethod::kWilliams;  // the method that gave `tip`
   TipEstimate tip;
   // The found tips differ by more than their stated uncertainties allow

@@ -36,7 +36,9 @@ namespace bridgefit::dic {
 struct CrackPathOptions {
   bool has_hint = false;
   CrackLine hint;                    // start point on the notch side and direction
-  double search_half_width_px = 40;  // with a hint: scan n within +- this of the hint
+  // With a hint: scan n within +- this of the hint, over the hint's extent
+  // (s from -1/2 to L + 1/2 station).
+  double search_half_width_px = 40;
   double station_spacing_px = 5;
   double gap_px = 16;                // half width of the smeared band (subset/2 + 1)
   double side_depth_px = 15;         // normal extent of each side window

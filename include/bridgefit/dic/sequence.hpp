@@ -28,8 +28,9 @@ struct CrackSequenceOptions {
   TipMethod method = TipMethod::kWilliams;
   double scale_m_per_px = 0;  // > 0
   double offset_m = 0;
-  // false (default): each frame correlates only the crack band (see
-  // CrackBandPoints), which follows the tip; true: every grid point.
+  // false (default): each frame correlates only the crack band, the points
+  // its crack location reads (CrackBandPoints; completed after locating, so
+  // the lengths are those of the full field); true: every grid point.
   bool full_field = false;
   bool keep_fields = false;   // keep each frame's displacement field
   // Per-frame J_ff and delta* (dic/frame_j.hpp) while each field is in
@@ -49,8 +50,8 @@ struct FrameResult {
   bool flagged = false;
   bool path_not_found = false;     // find_path and no path: the given line was used
   bool path_disagrees_with_hint = false;
-  // Crack band: the tip moved further than the band's margin since the last
-  // frame, so its Williams window was not wholly correlated.
+  // Crack band: some points the crack location read were not correlated
+  // (three extensions of the band did not catch up with the path found).
   bool tip_beyond_band = false;
   CrackPathResult path;            // find_path only
   CrackLine line_used;             // the line the crack length is measured along
@@ -138,17 +139,25 @@ CrackSequenceResult AnalyzeCrackFields(const std::vector<std::filesystem::path>&
                                        const FieldSettings& settings = {},
                                        CrackSequenceOptions* used = nullptr);
 
-// The crack band of a frame: the grid points within `strip` of the line
-// (from `strip` behind its start on, to the grid's end ahead) and, with a
-// known tip, within `disk` of it; without a tip the strip is `disk` wide.
-// Static exclusions (ROI, mask) stay with the Correlator.
-std::vector<char> CrackBandPoints(const DisplacementField& grid, const CrackLine& line, bool tip_known,
-                                  double tip_x, double tip_y, double strip, double disk);
+// What one frame's crack location reads, for the crack band: the path scan
+// about `scan_line` (find_path with a line: |n| <= path search half width +
+// gap + side depth, s over the line's extent +- half a station), the COD
+// profile's side windows about `cod_line` (|n| <= band half width + side
+// depth, s from -1.01 to L + 1.01 stations) and the Williams window about
+// (window_x, window_y) (radius fit_radius_px + window_margin_px).
+struct CrackBandReads {
+  bool scan = false;
+  CrackLine scan_line;
+  bool cod = false;
+  CrackLine cod_line;
+  bool window = false;
+  double window_x = 0, window_y = 0, window_margin_px = 0;
+};
 
-// Half widths of the band (px) from the options: `strip` holds the path
-// search, the crack-band gap and the side windows of the COD profile; `disk`
-// the Williams / sqrt-COD window plus half a subset and `margin` for growth.
-void CrackBandWidths(const CrackSequenceOptions& options, double margin, double* strip, double* disk);
+// The grid points in `reads` (1) and the others (0). Static exclusions (ROI,
+// mask) stay with the Correlator.
+std::vector<char> CrackBandPoints(const DisplacementField& grid, const CrackSequenceOptions& options,
+                                  const CrackBandReads& reads);
 
 // Throws Error(kInput) naming the file for unreadable images or a size
 // mismatch, Error(kUsage) for invalid options, Error(kInput) for a crack
