@@ -30,6 +30,36 @@ void VisitLocal(Io& io, L& r) {
   io.Field(r.converged);
 }
 
+// Items 0..count-1 dealt over the ranks (item j on OwnerOf(j)): each rank's
+// own items, written by `write(j, out)`, go to every rank, where `read(j, in)`
+// reads them back; a message with another magic, or an item its sender does
+// not own, is corrupt.
+template <class Write, class Read>
+void ShareOwned(parallel::Communicator& ranks, std::size_t count, std::uint32_t magic,
+                const char* what, Write&& write, Read&& read) {
+  parallel::ByteWriter out;
+  out.Field(magic);
+  for (std::size_t j = 0; j < count; ++j) {
+    if (ranks.OwnerOf(j) != ranks.rank()) continue;
+    out.Field(static_cast<std::uint64_t>(j));
+    write(j, out);
+  }
+  const std::vector<std::string> messages = ranks.AllGather(out.Take());
+  for (int from = 0; from < static_cast<int>(messages.size()); ++from) {
+    if (from == ranks.rank()) continue;
+    parallel::ByteReader in(messages[from], what, from);
+    std::uint32_t their_magic = 0;
+    in.Field(their_magic);
+    if (their_magic != magic) in.Corrupt();
+    while (!in.done()) {
+      std::uint64_t j = 0;
+      in.Field(j);
+      if (j >= count || ranks.OwnerOf(j) != from) in.Corrupt();
+      read(static_cast<std::size_t>(j), in);
+    }
+  }
+}
+
 }  // namespace
 
 void CheckSameOptimum(parallel::Communicator& ranks, const LocalResult& best,
@@ -48,64 +78,38 @@ void CheckSameOptimum(parallel::Communicator& ranks, const LocalResult& best,
 }
 
 void ShareProfileRuns(parallel::Communicator& ranks, std::vector<ProfileRun>& runs) {
-  parallel::ByteWriter out;
-  out.Field(kProfilesMagic);
-  for (std::size_t q = 0; q < runs.size(); ++q) {
-    if (ranks.OwnerOf(q) != ranks.rank()) continue;
-    const ProfileRun& run = runs[q];
-    out.Field(static_cast<std::uint64_t>(q));
-    out.Field(run.k), out.Field(run.evaluations), out.Field(run.failures);
-    wire::Visit(out, run.profile);
-    VisitEdge(out, run.low), VisitEdge(out, run.high);
-  }
-  const std::vector<std::string> messages = ranks.AllGather(out.Take());
-  for (int from = 0; from < static_cast<int>(messages.size()); ++from) {
-    if (from == ranks.rank()) continue;
-    parallel::ByteReader in(messages[from], "fit profiles", from);
-    std::uint32_t magic = 0;
-    in.Field(magic);
-    if (magic != kProfilesMagic) in.Corrupt();
-    while (!in.done()) {
-      std::uint64_t q = 0;
-      in.Field(q);
-      if (q >= runs.size() || ranks.OwnerOf(q) != from) in.Corrupt();
-      ProfileRun& run = runs[q];
-      in.Field(run.k), in.Field(run.evaluations), in.Field(run.failures);
-      wire::Visit(in, run.profile);
-      VisitEdge(in, run.low), VisitEdge(in, run.high);
-    }
-  }
+  ShareOwned(
+      ranks, runs.size(), kProfilesMagic, "fit profiles",
+      [&](std::size_t q, parallel::ByteWriter& out) {
+        const ProfileRun& run = runs[q];
+        out.Field(run.k), out.Field(run.evaluations), out.Field(run.failures);
+        wire::Visit(out, run.profile);
+        VisitEdge(out, run.low), VisitEdge(out, run.high);
+      },
+      [&](std::size_t q, parallel::ByteReader& in) {
+        ProfileRun& run = runs[q];
+        in.Field(run.k), in.Field(run.evaluations), in.Field(run.failures);
+        wire::Visit(in, run.profile);
+        VisitEdge(in, run.low), VisitEdge(in, run.high);
+      });
 }
 
 void ShareStartRuns(parallel::Communicator& ranks, std::vector<StartRun>& runs,
                     const Objective& objective) {
-  parallel::ByteWriter out;
-  out.Field(kStartsMagic);
-  for (std::size_t k = 0; k < runs.size(); ++k) {
-    if (ranks.OwnerOf(k) != ranks.rank()) continue;
-    const StartRun& run = runs[k];
-    out.Field(static_cast<std::uint64_t>(k));
-    VisitLocal(out, run.result);
-    out.Field(run.evaluations), out.Field(run.failures), out.Field(run.last_failure);
-  }
-  const std::vector<std::string> messages = ranks.AllGather(out.Take());
   std::vector<bool> remote(runs.size(), false);
-  for (int from = 0; from < static_cast<int>(messages.size()); ++from) {
-    if (from == ranks.rank()) continue;
-    parallel::ByteReader in(messages[from], "fit starts", from);
-    std::uint32_t magic = 0;
-    in.Field(magic);
-    if (magic != kStartsMagic) in.Corrupt();
-    while (!in.done()) {
-      std::uint64_t k = 0;
-      in.Field(k);
-      if (k >= runs.size() || ranks.OwnerOf(k) != from) in.Corrupt();
-      StartRun& run = runs[k];
-      VisitLocal(in, run.result);
-      in.Field(run.evaluations), in.Field(run.failures), in.Field(run.last_failure);
-      remote[k] = true;
-    }
-  }
+  ShareOwned(
+      ranks, runs.size(), kStartsMagic, "fit starts",
+      [&](std::size_t k, parallel::ByteWriter& out) {
+        const StartRun& run = runs[k];
+        VisitLocal(out, run.result);
+        out.Field(run.evaluations), out.Field(run.failures), out.Field(run.last_failure);
+      },
+      [&](std::size_t k, parallel::ByteReader& in) {
+        StartRun& run = runs[k];
+        VisitLocal(in, run.result);
+        in.Field(run.evaluations), in.Field(run.failures), in.Field(run.last_failure);
+        remote[k] = true;
+      });
   for (std::size_t k = 0; k < runs.size(); ++k)
     if (remote[k]) objective.AddCounts(runs[k].evaluations, runs[k].failures);
   // The last failure a process alone would keep: the last start's that failed.
