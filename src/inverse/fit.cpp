@@ -13,6 +13,7 @@
 #include "bridgefit/core/progress.hpp"
 #include "bridgefit/parallel/communicator.hpp"
 #include "fit_impl.hpp"
+#include "fit_shape_impl.hpp"
 
 namespace bridgefit::inverse {
 
@@ -479,14 +480,7 @@ std::vector<LawComparison> CompareLawFamilies(const ForwardModel& model,
     c.summary = FitBridgingLaw(model, shape, data, options);
     out.push_back(std::move(c));
   }
-  const bool weighted = data.weighted();
-  double scale2 = 1.0;
-  if (!weighted) {
-    double best = INFINITY;
-    for (const auto& c : out)
-      if (c.summary.converged) best = std::min(best, c.summary.chi2 / std::max(1, c.summary.data_points - 3));
-    scale2 = std::isfinite(best) && best > 0 ? best : 1.0;
-  }
+  const double scale2 = shape_internal::SeedScale(data, out);
   for (auto& c : out) {
     c.noise_scale2 = scale2;
     if (!c.summary.converged) continue;
@@ -495,7 +489,9 @@ std::vector<LawComparison> CompareLawFamilies(const ForwardModel& model,
                       : (options.fixed[kJTipC] ? 0 : 1);
     const int n = c.summary.data_points;
     c.parameters = k;
-    c.aicc = c.summary.chi2 / scale2 + 2.0 * k + (n - k - 1 > 0 ? 2.0 * k * (k + 1) / (n - k - 1) : 0.0);
+    // Too few points for the small-sample term: AIC alone (as always for these families).
+    c.aicc = n - k - 1 > 0 ? shape_internal::Aicc(c.summary.chi2 / scale2, k, n)
+                           : c.summary.chi2 / scale2 + 2.0 * k;
   }
   RankByAicc(out);
   return out;
