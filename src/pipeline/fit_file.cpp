@@ -132,6 +132,13 @@ void WriteFittedData(io::H5Writer& file, const std::string& g, const FitRun& run
     file.WriteAttribute(g, "rms_residual_J_per_m2", s.rms_residual);
     file.WriteVector(g + "/outlier_crack_length", s.outlier_crack_lengths, "m", "removed points");
     file.WriteVector(g + "/outlier_R", s.outlier_R, "J/m^2", "removed points");
+    file.WriteAttribute(g, "misfit_points", static_cast<double>(s.misfit.points));
+    if (s.misfit.points > 0) {
+      file.WriteAttribute(g, "misfit_crack_length_from_m", s.misfit.crack_length_from);
+      file.WriteAttribute(g, "misfit_crack_length_to_m", s.misfit.crack_length_to);
+      file.WriteAttribute(g, "misfit_largest_robust_sd", s.misfit.largest_sd);
+      file.WriteAttribute(g, "misfit", s.misfit.Describe());
+    }
     file.WriteVector(g + "/fitted_crack_length", s.fitted_crack_length, "m", "points used");
     if (!s.fitted_R.empty()) file.WriteVector(g + "/fitted_R", s.fitted_R, "J/m^2", "model R");
   }
