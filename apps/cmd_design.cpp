@@ -53,6 +53,10 @@ class DesignCommand final : public Command {
                    "Fit file: where J_B is only a lower bound, the region's upper end as a "
                    "multiple of the bound")
         ->default_val(2.0);
+    sub.add_option("--sigma-c-span", sigma_c_span_,
+                   "Fit file: where sigma_c's 95% interval is open or reaches 0, the region's "
+                   "end as the value divided or multiplied by this")
+        ->default_val(2.0);
     sub.add_option("--chart", chart_, "Fit file: folder for the onset-against-size chart (onset.png)");
   }
 
@@ -123,6 +127,7 @@ class DesignCommand final : public Command {
     request.sizes = Sizes();
     request.grid = grid_;
     request.jb_cap_factor = jb_cap_;
+    request.sigma_c_span = sigma_c_span_;
     request.resolution_fraction = resolution_fraction_;
     request.r_points = r_points_;
     std::string why;
@@ -166,7 +171,7 @@ class DesignCommand final : public Command {
             {"specimen", r.specimen == SpecimenType::kCT ? "ct" : "dcb"},
             {"bound_law", LawJson(r.bound)}, {"bound_law_text", r.bound_text},
             {"region_text", r.region_text}, {"region_laws", region},
-            {"jb_cap_factor", jb_cap_}, {"sizes", sizes},
+            {"jb_cap_factor", jb_cap_}, {"sigma_c_span", sigma_c_span_}, {"sizes", sizes},
             {"smallest_size_bound_law_m", size_or_null(r.smallest_bound)},
             {"smallest_size_whole_region_m", size_or_null(r.smallest_region)},
             {"warning", r.Warning()}, {"chart", chart.empty() ? nlohmann::json(nullptr) : nlohmann::json(chart)},
@@ -186,7 +191,7 @@ class DesignCommand final : public Command {
   }
 
   std::string scene_, size_, sigma_c_, J_B_, specimen_, shape_scene_, chart_;
-  double resolution_fraction_ = 0.0, jb_cap_ = 2.0;
+  double resolution_fraction_ = 0.0, jb_cap_ = 2.0, sigma_c_span_ = 2.0;
   int r_points_ = 20, grid_ = 3;
 };
 

@@ -94,6 +94,7 @@ bool FitDesignRequest::IsValid(std::string* why) const {
         SpecimenName(*specimen), scene ? "scene given" : "fit's specimen", SpecimenName(own)));
   if (grid < 2 || grid > 9) return fail(fmt::format("the region grid must be 2 .. 9, got {}", grid));
   if (!(jb_cap_factor >= 1.0)) return fail("the J_B cap factor must be >= 1");
+  if (!(sigma_c_span > 1.0)) return fail("the sigma_c span must be > 1");
   DesignRequest probe;
   probe.scene = law.scene;
   probe.scene.fracture = FractureSpec{law.J_tip_c.value};
@@ -128,9 +129,18 @@ void ChooseLaws(const FitDesignRequest& request, FitDesignResult* result) {
       "sigma_c {:.4g} MPa (fitted), J_B {:.4g} J/m^2 ({}), delta_c {:.4g} mm, J_tip,c {:.5g} J/m^2",
       result->bound.sigma_c * 1e-6, result->bound.J_B, jb_bound ? "lower bound" : "fitted",
       result->bound.delta_c * 1e3, f.J_tip_c.value);
-  const bool s_ci = f.sigma_c.ci95_low > 0 && f.sigma_c.ci95_high > f.sigma_c.ci95_low;
-  const double s_lo = s_ci ? f.sigma_c.ci95_low : f.sigma_c.value;
-  const double s_hi = s_ci ? f.sigma_c.ci95_high : f.sigma_c.value;
+  // sigma_c's interval; an open or zero end (sigma_c -> 0 would need an
+  // infinite specimen) is replaced by value / span or value x span, stated.
+  const double v = f.sigma_c.value, span = request.sigma_c_span;
+  const bool lo_ok = f.sigma_c.ci95_low > 0 && f.sigma_c.ci95_low <= v;
+  const bool hi_ok = std::isfinite(f.sigma_c.ci95_high) && f.sigma_c.ci95_high >= v;
+  const double s_lo = lo_ok ? f.sigma_c.ci95_low : v / span;
+  const double s_hi = hi_ok ? f.sigma_c.ci95_high : v * span;
+  const std::string s_text =
+      lo_ok && hi_ok ? "its 95% interval"
+                     : fmt::format("its 95% interval, {} end open or zero: value {} {:g} instead",
+                                   lo_ok ? "upper" : hi_ok ? "lower" : "each",
+                                   lo_ok ? "x" : hi_ok ? "/" : "/ and x", span);
   double j_lo = jb, j_hi = jb;
   std::string j_text;
   if (!jb_bound && f.J_B.ci95_low > 0 && f.J_B.ci95_high > f.J_B.ci95_low) {
@@ -151,7 +161,7 @@ void ChooseLaws(const FitDesignRequest& request, FitDesignResult* result) {
   result->region_text = fmt::format(
       "sigma_c {:.4g} .. {:.4g} MPa ({}), J_B {:.4g} .. {:.4g} J/m^2 ({}); {} law(s), geometric "
       "{}x{} grid",
-      s_lo * 1e-6, s_hi * 1e-6, s_ci ? "its 95% interval" : "its value (no interval)", j_lo,
+      s_lo * 1e-6, s_hi * 1e-6, s_text, j_lo,
       j_hi, j_text, result->region.size(), request.grid, request.grid);
 }
 

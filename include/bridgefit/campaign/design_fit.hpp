@@ -7,7 +7,9 @@
 //   - the bound law: sigma_c at its fitted value, J_B at its lower bound
 //     (PHYSICS 7) when the fit reports a bound, else at its value;
 //   - every law of the fit's region, a grid x grid lattice over
-//       sigma_c in its total 95% interval (the value alone when it has none),
+//       sigma_c in its total 95% interval (an open or zero end - sigma_c
+//       -> 0 would need an infinite specimen - replaced by value / span or
+//       value x span, `sigma_c_span`, stated),
 //       J_B in its 95% interval when identified, else from the lower bound
 //       up to a stated cap: jb_cap_factor x the bound (the data give no
 //       upper end; the cap is the design's assumption and is reported);
@@ -39,6 +41,7 @@ struct FitDesignRequest {
   std::vector<double> sizes;  // [m], ascending: CT W, DCB L
   int grid = 3;               // region points per parameter (>= 2: the corners)
   double jb_cap_factor = 2.0; // J_B's upper end when only a bound is known
+  double sigma_c_span = 2.0;  // sigma_c's end where its interval is open or zero
   double resolution_fraction = 0.0;  // as DesignRequest
   int r_points = 20;
   int points_past_onset = 3;
