@@ -92,7 +92,8 @@ bool FitDesignRequest::IsValid(std::string* why) const {
     return fail(fmt::format(
         "--specimen {} but the {} is a {}: designing another shape needs its scene (--scene)",
         SpecimenName(*specimen), scene ? "scene given" : "fit's specimen", SpecimenName(own)));
-  if (grid < 2 || grid > 9) return fail(fmt::format("the region grid must be 2 .. 9, got {}", grid));
+  if (grid < 2 || grid > 9)
+    return fail(fmt::format("the region grid must be 2 .. 9, got {}", grid));
   if (!(jb_cap_factor >= 1.0)) return fail("the J_B cap factor must be >= 1");
   if (!(sigma_c_span > 1.0)) return fail("the sigma_c span must be > 1");
   DesignRequest probe;
@@ -139,8 +140,13 @@ void ChooseLaws(const FitDesignRequest& request, FitDesignResult* result) {
   const std::string s_text =
       lo_ok && hi_ok ? "its 95% interval"
                      : fmt::format("its 95% interval, {} end open or zero: value {} {:g} instead",
-                                   lo_ok ? "upper" : hi_ok ? "lower" : "each",
-                                   lo_ok ? "x" : hi_ok ? "/" : "/ and x", span);
+                                   lo_ok   ? "upper"
+                                   : hi_ok ? "lower"
+                                           : "each",
+                                   lo_ok   ? "x"
+                                   : hi_ok ? "/"
+                                           : "/ and x",
+                                   span);
   double j_lo = jb, j_hi = jb;
   std::string j_text;
   if (!jb_bound && f.J_B.ci95_low > 0 && f.J_B.ci95_high > f.J_B.ci95_low) {
@@ -149,20 +155,22 @@ void ChooseLaws(const FitDesignRequest& request, FitDesignResult* result) {
     j_text = "its 95% interval";
   } else if (jb_bound) {
     j_hi = request.jb_cap_factor * jb;
-    j_text = fmt::format("lower bound up to a cap of {:g} x the bound (an assumption: the data "
-                         "give no upper end)",
-                         request.jb_cap_factor);
+    j_text = fmt::format(
+        "lower bound up to a cap of {:g} x the bound (an assumption: the data "
+        "give no upper end)",
+        request.jb_cap_factor);
   } else {
     j_text = "its value (no interval)";
   }
   result->region.clear();
   for (double s : Spaced(s_lo, s_hi, request.grid))
-    for (double j : Spaced(j_lo, j_hi, request.grid)) result->region.push_back(Completed(f.shape, s, j));
+    for (double j : Spaced(j_lo, j_hi, request.grid))
+      result->region.push_back(Completed(f.shape, s, j));
   result->region_text = fmt::format(
       "sigma_c {:.4g} .. {:.4g} MPa ({}), J_B {:.4g} .. {:.4g} J/m^2 ({}); {} law(s), geometric "
       "{}x{} grid",
-      s_lo * 1e-6, s_hi * 1e-6, s_text, j_lo,
-      j_hi, j_text, result->region.size(), request.grid, request.grid);
+      s_lo * 1e-6, s_hi * 1e-6, s_text, j_lo, j_hi, j_text, result->region.size(), request.grid,
+      request.grid);
 }
 
 FitDesignResult RunFitDesign(const FitDesignRequest& request) {
@@ -203,10 +211,11 @@ std::string FitDesignResult::Warning() const {
   int unknown = 0;
   for (int i = 0; i < end; ++i) unknown += sizes[i].region_unknown;
   if (unknown > 0)
-    w += fmt::format("{}{} run(s) of the region's laws stopped early {}: the region's smallest "
-                     "size may be smaller",
-                     w.empty() ? "" : "; ", unknown,
-                     smallest_region >= 0 ? "below its smallest size" : "on the grid");
+    w += fmt::format(
+        "{}{} run(s) of the region's laws stopped early {}: the region's smallest "
+        "size may be smaller",
+        w.empty() ? "" : "; ", unknown,
+        smallest_region >= 0 ? "below its smallest size" : "on the grid");
   return w;
 }
 
@@ -214,24 +223,30 @@ std::string FitDesignResult::BriefReport() const {
   std::ostringstream out;
   const bool ct = specimen == SpecimenType::kCT;
   const char* size_name = ct ? "W" : "L";
-  const auto mm = [](double v) { return std::isfinite(v) ? fmt::format("{:.1f}", v * 1e3) : std::string("not reached"); };
-  out << "  law: " << note << "\n  bound law: " << bound_text << "\n  region: " << region_text << "\n";
+  const auto mm = [](double v) {
+    return std::isfinite(v) ? fmt::format("{:.1f}", v * 1e3) : std::string("not reached");
+  };
+  out << "  law: " << note << "\n  bound law: " << bound_text << "\n  region: " << region_text
+      << "\n";
   out << fmt::format("  {:>8} {:>8} {:>11} {:>16} {:>19} {:>16}\n", ct ? "W [mm]" : "L [mm]",
-                     "a0 [mm]", "window [mm]", "bound onset [mm]", "worst onset [mm]", "region identifies");
+                     "a0 [mm]", "window [mm]", "bound onset [mm]", "worst onset [mm]",
+                     "region identifies");
   for (const FitDesignSize& s : sizes)
     out << fmt::format("  {:>8.1f} {:>8.1f} {:>11.1f} {:>16} {:>19} {:>16}\n", s.size * 1e3,
                        s.notch * 1e3, s.window_end * 1e3, mm(s.bound_onset), mm(s.worst_onset),
                        fmt::format("{}/{}", s.region_identify, region.size()));
-  out << (smallest_bound >= 0
-              ? fmt::format("  smallest size identifying J_B and delta_c at the bound law: {} = {:.1f} mm\n",
-                            size_name, sizes[smallest_bound].size * 1e3)
-              : "  smallest size at the bound law: none in the range\n");
+  out << (smallest_bound >= 0 ? fmt::format("  smallest size identifying J_B and delta_c at the "
+                                            "bound law: {} = {:.1f} mm\n",
+                                            size_name, sizes[smallest_bound].size * 1e3)
+                              : "  smallest size at the bound law: none in the range\n");
   out << (smallest_region >= 0
-              ? fmt::format("  smallest size identifying them for every law of the region: {} = {:.1f} mm\n",
+              ? fmt::format("  smallest size identifying them for every law of the region: {} = "
+                            "{:.1f} mm\n",
                             size_name, sizes[smallest_region].size * 1e3)
               : "  smallest size for every law of the region: none in the range\n");
   if (const std::string w = Warning(); !w.empty()) out << "  warning: " << w << "\n";
-  out << fmt::format("  {} reduced-model runs in {:.1f} s\n", sizes.size() * (1 + region.size()), wall_s);
+  out << fmt::format("  {} reduced-model runs in {:.1f} s\n", sizes.size() * (1 + region.size()),
+                     wall_s);
   return out.str();
 }
 

@@ -116,7 +116,7 @@ TEST_F(DesignFit, BoundLawMatchesTheSceneRouteAndTheRegionsSmallestSizeIsTheFirs
   ASSERT_FALSE(run_->summary.J_B.identified) << run_->summary.verdict;
   request.sizes = {0.050, 0.100, 0.150, 0.200, 0.250, 0.300};
   request.resolution_fraction = 1.0 / 50;
-  request.grid = 2;           // the corners
+  request.grid = 2;             // the corners
   request.jb_cap_factor = 1.5;  // J_B from the bound to 1.5 x the bound
   const FitDesignResult r = RunFitDesign(request);
   std::printf("%s", r.BriefReport().c_str());
@@ -138,8 +138,10 @@ TEST_F(DesignFit, BoundLawMatchesTheSceneRouteAndTheRegionsSmallestSizeIsTheFirs
   ASSERT_EQ(r.sizes.size(), expected.sizes.size());
   for (std::size_t k = 0; k < r.sizes.size(); ++k) {
     EXPECT_EQ(r.sizes[k].bound_identifies, expected.sizes[k].identifies) << k;
-    if (expected.sizes[k].reached) EXPECT_EQ(r.sizes[k].bound_onset, expected.sizes[k].onset) << k;
-    else EXPECT_TRUE(std::isnan(r.sizes[k].bound_onset)) << k;
+    if (expected.sizes[k].reached)
+      EXPECT_EQ(r.sizes[k].bound_onset, expected.sizes[k].onset) << k;
+    else
+      EXPECT_TRUE(std::isnan(r.sizes[k].bound_onset)) << k;
   }
   EXPECT_EQ(r.smallest_bound, expected.smallest);
   EXPECT_EQ(r.bound.J_B, run_->summary.J_B.lower_bound);
@@ -158,7 +160,8 @@ TEST_F(DesignFit, BoundLawMatchesTheSceneRouteAndTheRegionsSmallestSizeIsTheFirs
     return models::SimulateReduced(s, options);
   };
   EXPECT_TRUE(Identifies(simulate(request.sizes[k]), request.r_points, request.points_past_onset));
-  EXPECT_FALSE(Identifies(simulate(request.sizes[k - 1]), request.r_points, request.points_past_onset));
+  EXPECT_FALSE(
+      Identifies(simulate(request.sizes[k - 1]), request.r_points, request.points_past_onset));
 }
 
 // (c) bad input names the file and what is expected.
@@ -213,7 +216,10 @@ TEST_F(DesignFit, CampaignFileGivesItsJointFitOrNamesTheSpecimen) {
       for (const char* name : {"sigma_c", "J_B", "delta_c", "J_tip_c"}) {
         const std::string pg = std::string("/campaign/joint/parameters/") + name;
         const bool jb = std::string(name) == "J_B";
-        file.WriteAttribute(pg, "value", jb ? 640.0 : std::string(name) == "sigma_c" ? 1.1e6 : 2200.0);
+        file.WriteAttribute(pg, "value",
+                            jb                               ? 640.0
+                            : std::string(name) == "sigma_c" ? 1.1e6
+                                                             : 2200.0);
         file.WriteAttribute(pg, "ci95_low", jb ? 450.0 : NAN);
         file.WriteAttribute(pg, "ci95_high", jb ? 860.0 : NAN);
         file.WriteAttribute(pg, "lower_bound", NAN);
@@ -246,8 +252,9 @@ TEST_F(DesignFit, CommandPrintsBothAnswersAndDrawsTheChart) {
   EXPECT_NE(r.out.find("lower bound up to a cap of 2 x the bound"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("every law of the region"), std::string::npos) << r.out;
   EXPECT_GT(fs::file_size(kDir / "chart" / "onset.png"), 1000u);
-  const bridgefit::testing::CliResult bad = bridgefit::testing::RunCli(
-      "design " + std::string(BRIDGEFIT_SOURCE_DIR) + "/data_samples/mdf_ct/scene.toml --size 50mm:60mm:10mm --chart x");
+  const bridgefit::testing::CliResult bad =
+      bridgefit::testing::RunCli("design " + std::string(BRIDGEFIT_SOURCE_DIR) +
+                                 "/data_samples/mdf_ct/scene.toml --size 50mm:60mm:10mm --chart x");
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_NE(bad.err.find("take a fit file"), std::string::npos) << bad.err;
 }

@@ -38,10 +38,10 @@ struct FitDesignRequest {
   // Optional: the shape (specimen and material) to design instead of the
   // fit's own specimen; its law and fracture are replaced by the fit's.
   std::optional<Scene> scene;
-  std::vector<double> sizes;  // [m], ascending: CT W, DCB L
-  int grid = 3;               // region points per parameter (>= 2: the corners)
-  double jb_cap_factor = 2.0; // J_B's upper end when only a bound is known
-  double sigma_c_span = 2.0;  // sigma_c's end where its interval is open or zero
+  std::vector<double> sizes;         // [m], ascending: CT W, DCB L
+  int grid = 3;                      // region points per parameter (>= 2: the corners)
+  double jb_cap_factor = 2.0;        // J_B's upper end when only a bound is known
+  double sigma_c_span = 2.0;         // sigma_c's end where its interval is open or zero
   double resolution_fraction = 0.0;  // as DesignRequest
   int r_points = 20;
   int points_past_onset = 3;
@@ -54,13 +54,13 @@ struct RegionLaw {
 
 struct FitDesignSize {
   double size = 0.0, notch = 0.0, window_end = 0.0;  // [m] (the bound law's run)
-  double bound_onset = NAN;    // [m]; NaN: not reached
+  double bound_onset = NAN;                          // [m]; NaN: not reached
   bool bound_identifies = false;
-  double worst_onset = NAN;    // latest onset over the region [m]; NaN: some law not reached
-  int worst_law = -1;          // index in `region` of the worst case (latest or not reached)
-  int region_reached = 0;      // laws of the region that reach steady state
-  int region_identify = 0;     // ... and identify J_B
-  int region_unknown = 0;      // ... whose model run stopped early
+  double worst_onset = NAN;  // latest onset over the region [m]; NaN: some law not reached
+  int worst_law = -1;        // index in `region` of the worst case (latest or not reached)
+  int region_reached = 0;    // laws of the region that reach steady state
+  int region_identify = 0;   // ... and identify J_B
+  int region_unknown = 0;    // ... whose model run stopped early
   double min_onset = NAN, max_onset = NAN;  // over the laws that reached [m]
 };
 
@@ -71,10 +71,10 @@ struct FitDesignResult {
   std::vector<RegionLaw> region;
   std::string bound_text, region_text;  // how each was chosen, with units
   std::vector<FitDesignSize> sizes;
-  DesignResult bound_design;                // the bound law's design
-  std::vector<DesignResult> region_designs; // one per region law
-  int smallest_bound = -1;   // index into sizes; -1: none in the range
-  int smallest_region = -1;  // every law of the region identifies
+  DesignResult bound_design;                 // the bound law's design
+  std::vector<DesignResult> region_designs;  // one per region law
+  int smallest_bound = -1;                   // index into sizes; -1: none in the range
+  int smallest_region = -1;                  // every law of the region identifies
   double wall_s = 0.0;
   std::string Warning() const;
   std::string BriefReport() const;

@@ -13,8 +13,8 @@
 namespace bridgefit::report {
 
 struct DesignChartView {
-  std::string title;               // plain text
-  std::string size_name = "W";     // CT W, DCB L
+  std::string title;            // plain text
+  std::string size_name = "W";  // CT W, DCB L
   // Per size [m]; NaN where none. The shaded band runs from region_low to
   // region_high: the earliest and latest onset over the region's laws, up to
   // the window's end where some law of the region does not reach it.
