@@ -17,6 +17,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <utility>
 
 #include "../cli/cli_helpers.hpp"
 #include "bridgefit/campaign/design_fit.hpp"
@@ -199,6 +200,34 @@ TEST_F(DesignFit, RefusesFilesThatHoldNoFitNamingThem) {
 
   e = ErrorOf(kDir / "missing.h5");
   EXPECT_NE(e.find("missing.h5"), std::string::npos) << e;
+}
+
+// A fit file written before /fit/scene and /fit/law_shape: the scene file
+// its `scene` attribute names and the family's default shape, said so.
+TEST_F(DesignFit, OlderFitFileTakesTheSceneItNamesAndSaysSo) {
+  const std::string scene =
+      (fs::path(BRIDGEFIT_SOURCE_DIR) / "data_samples/mdf_ct/scene.toml").string();
+  {
+    io::H5Writer old(kDir / "old.h5");
+    old.WriteAttribute("/fit", "kind", "fit");
+    old.WriteAttribute("/fit", "scene", scene);
+    old.WriteAttribute("/fit", "law", "linear");
+    for (const auto& [name, value] :
+         {std::pair<const char*, double>{"sigma_c", 0.45e6}, {"J_B", NAN}, {"J_tip_c", 2210.0}}) {
+      const std::string pg = std::string("/fit/parameters/") + name;
+      old.WriteAttribute(pg, "value", value);
+      old.WriteAttribute(pg, "lower_bound", std::isnan(value) ? 210.0 : NAN);
+      old.WriteAttribute(pg, "identified", std::isnan(value) ? 0.0 : 1.0);
+    }
+    old.Commit();
+  }
+  const pipeline::FittedLaw law = ReadDesignLaw(kDir / "old.h5");
+  EXPECT_NE(law.note.find("predates /fit/scene"), std::string::npos) << law.note;
+  EXPECT_NE(law.note.find("default"), std::string::npos) << law.note;
+  EXPECT_EQ(law.scene.specimen.width, 0.100);
+  EXPECT_EQ(law.J_B.lower_bound, 210.0);
+  EXPECT_FALSE(law.J_B.identified);
+  EXPECT_FALSE(law.scene.bridging.has_value());  // the scene's own law is not the fit's
 }
 
 // A campaign.h5 (its layout: each specimen's fit file under /specimens/NAME,
