@@ -6,7 +6,8 @@
 // BRIDGEFIT_SWEEP_INTERPOLATION=linear compares with straight segments;
 // BRIDGEFIT_SWEEP_MODELS=analytic skips the reduced model;
 // BRIDGEFIT_SWEEP_NOISE=0.0001 (one level) measures the bias alone;
-// BRIDGEFIT_SWEEP_LAWS=cubic keeps the laws whose names it contains.
+// BRIDGEFIT_SWEEP_LAWS=cubic keeps the laws whose names it contains;
+// BRIDGEFIT_SWEEP_SMOOTHNESS=0 drops the table's roughness penalty.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -64,6 +65,8 @@ void RunCase(const ForwardModel& model, const std::string& label, const laws::La
   const char* interpolation = std::getenv("BRIDGEFIT_SWEEP_INTERPOLATION");
   if (interpolation && std::string(interpolation) == "linear")
     shape_options.table_interpolation = laws::TableInterpolation::kLinear;
+  if (const char* smoothness = std::getenv("BRIDGEFIT_SWEEP_SMOOTHNESS"))
+    shape_options.smoothness = std::atof(smoothness);
   const auto start = std::chrono::steady_clock::now();
   const auto c = CompareLawFamiliesWithShapes(model, {laws::MakeLinearShape(), truth_shape},
                                               {ShapeFamily::kTable}, data, options, shape_options);
