@@ -70,7 +70,8 @@ void RunCase(const ForwardModel& model, const std::string& label, const laws::La
   const auto start = std::chrono::steady_clock::now();
   const auto c = CompareLawFamiliesWithShapes(model, {laws::MakeLinearShape(), truth_shape},
                                               {ShapeFamily::kTable}, data, options, shape_options);
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double wall =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::printf("== %s, %d points, noise %.3g, J_B %.0f, steady state at %.1f mm, %.1f s\n",
               label.c_str(), n, noise, truth.J_B, p.steady_state_crack_length * 1e3, wall);
   for (const LawComparison& f : c)
@@ -128,8 +129,8 @@ TEST(FitShapeSweep, DISABLED_TableKnotsOverLawsNoiseAndSpecimens) {
     }
     for (const auto& [model_name, model] : fits)
       for (const laws::LawShape& law : laws_) {
-        if (laws_env && std::string(laws_env).find(laws::LawFamilyName(law.family)) == std::string::npos)
-          continue;
+        const std::string name(laws::LawFamilyName(law.family));
+        if (laws_env && std::string(laws_env).find(name) == std::string::npos) continue;
         for (double noise : noises) {
           const LawParameters truth{s.sigma_c, law.Area() * s.sigma_c * s.delta_c, s.J_tip_c};
           RunCase(*model,
