@@ -61,7 +61,7 @@ void Visit(Io& io, S& s) requires std::is_same_v<std::remove_const_t<S>, inverse
 static_assert(sizeof(inverse::FitSummary) == 1280, "FitSummary changed: update Visit");
 static_assert(sizeof(inverse::ParameterEstimate) == 168, "ParameterEstimate changed: update Visit");
 static_assert(sizeof(inverse::FitData) == 160, "FitData changed: update Visit");
-static_assert(sizeof(laws::LawShape) == 72, "LawShape changed: update Visit");
+static_assert(sizeof(laws::LawShape) == 80, "LawShape changed: update Visit");
 static_assert(sizeof(inverse::Profile) == 88 && sizeof(inverse::ProfilePoint) == 48 &&
                   sizeof(inverse::StartResult) == 96 && sizeof(laws::TruncationBounds) == 40 &&
                   sizeof(inverse::MisfitRun) == 40,
