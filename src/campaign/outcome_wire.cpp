@@ -17,7 +17,7 @@
 namespace bridgefit::campaign::wire {
 namespace {
 
-constexpr std::uint32_t kMagic = 0x32574642;  // "BFW2": change it when the layout changes
+constexpr std::uint32_t kMagic = 0x33574642;  // "BFW3": change it when the layout changes
 
 using Writer = parallel::ByteWriter;
 using Reader = parallel::ByteReader;
