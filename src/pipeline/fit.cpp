@@ -438,15 +438,13 @@ FitRun RunFit(const FitRequest& given) {
   // is repeated at half the size while the ladder's finest allows; where
   // the model does not follow a run of R points (FitSummary::misfit: a rise
   // shorter than its elements), one rung further, down to half the finest.
-  // `next`: the size to try, NaN for none.
-  const auto why_refine = [&](double& next) -> std::string {
-    next = NAN;
+  // The reason for the next halving, empty for none.
+  const auto why_refine = [&]() -> std::string {
     const double h = request.resolution, finest = run.resolution_choice->finest;
     const bool biased = !run.model_error.warning.empty();
     const bool misfit = run.summary.misfit.points > 0;
     const double floor = misfit ? 0.5 * finest : finest;
     if ((!biased && !misfit) || 0.5 * h < floor * (1.0 - 1e-9)) return "";
-    next = 0.5 * h;
     return misfit ? fmt::format("{:.3g} mm ({} R points in runs off the model)", h * 1e3,
                                 run.summary.misfit.points)
                   : fmt::format("{:.3g} mm (predicted data bias {:.2g} noise sd rms)", h * 1e3,
@@ -456,15 +454,14 @@ FitRun RunFit(const FitRequest& given) {
   int spent_runs = 0;
   std::string refined, failed;
   while (run.resolution_choice) {
-    double next = NAN;
-    const std::string why = why_refine(next);
+    const std::string why = why_refine();
     if (why.empty()) break;
     // Each attempt's summary holds the choice's own time once.
     spent_s += run.summary.wall_s - run.resolution_choice->wall_s;
     spent_runs += run.summary.evaluations - run.resolution_choice->runs;
     refined += (refined.empty() ? "" : ", ") + why;
     FitRequest finer = request;
-    finer.resolution = next;
+    finer.resolution /= 2.0;
     FitRun attempt = chosen;
     const std::array<double, inverse::kParameterCount> answer = run.summary.best_parameters;
     try {

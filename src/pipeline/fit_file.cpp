@@ -270,6 +270,31 @@ using detail::NumberAttr;
 using detail::StringAttr;
 using detail::VectorOrEmpty;
 
+namespace {
+
+// One estimate as WriteEstimate wrote it (the report's and the design's
+// reader); absent attributes stay NaN.
+inverse::ParameterEstimate ReadEstimate(const io::H5Reader& r, const std::string& pg) {
+  inverse::ParameterEstimate e;
+  if (!r.Exists(pg)) return e;
+  e.value = NumberAttr(r, pg, "value");
+  e.ci95_low = NumberAttr(r, pg, "ci95_low");
+  e.ci95_high = NumberAttr(r, pg, "ci95_high");
+  e.lower_bound = NumberAttr(r, pg, "lower_bound");
+  if (r.HasAttribute(pg, "model_bias")) {
+    e.statistical_ci95_low = NumberAttr(r, pg, "statistical_ci95_low");
+    e.statistical_ci95_high = NumberAttr(r, pg, "statistical_ci95_high");
+    e.model_bias = NumberAttr(r, pg, "model_bias");
+  }
+  e.identified = NumberAttr(r, pg, "identified") == 1.0;
+  e.fixed = NumberAttr(r, pg, "fixed") == 1.0;
+  e.decided_by = StringAttr(r, pg, "decided_by");
+  e.note = StringAttr(r, pg, "note");
+  return e;
+}
+
+}  // namespace
+
 report::FitView ReadFitView(const std::filesystem::path& path) {
   if (!std::filesystem::exists(path))
     throw Error(ErrorKind::kInput, "the fit file does not exist",
@@ -326,21 +351,20 @@ report::FitView ReadFitView(const std::filesystem::path& path) {
     e.name = name;
     const std::string pg = g + "/parameters/" + name;
     if (r.Exists(pg)) {
+      const inverse::ParameterEstimate read = ReadEstimate(r, pg);
       e.present = true;
       e.units = StringAttr(r, pg, "units");
-      e.value = NumberAttr(r, pg, "value");
-      e.ci_low = NumberAttr(r, pg, "ci95_low");
-      e.ci_high = NumberAttr(r, pg, "ci95_high");
-      e.lower_bound = NumberAttr(r, pg, "lower_bound");
-      if (r.HasAttribute(pg, "model_bias")) {
-        e.statistical_low = NumberAttr(r, pg, "statistical_ci95_low");
-        e.statistical_high = NumberAttr(r, pg, "statistical_ci95_high");
-        e.model_bias = NumberAttr(r, pg, "model_bias");
-      }
-      e.identified = NumberAttr(r, pg, "identified") == 1.0;
-      e.fixed = NumberAttr(r, pg, "fixed") == 1.0;
-      e.decided_by = StringAttr(r, pg, "decided_by");
-      e.note = StringAttr(r, pg, "note");
+      e.value = read.value;
+      e.ci_low = read.ci95_low;
+      e.ci_high = read.ci95_high;
+      e.lower_bound = read.lower_bound;
+      e.statistical_low = read.statistical_ci95_low;
+      e.statistical_high = read.statistical_ci95_high;
+      e.model_bias = read.model_bias;
+      e.identified = read.identified;
+      e.fixed = read.fixed;
+      e.decided_by = read.decided_by;
+      e.note = read.note;
     }
     f.estimates.push_back(e);
     const std::string prof = g + "/profiles/" + name;
@@ -359,19 +383,6 @@ namespace {
 const char* const kFitFileExpected =
     "a fit file from 'bridgefit fit --out FIT.h5' (or a campaign.h5 from 'bridgefit campaign')";
 
-inverse::ParameterEstimate ReadEstimate(const io::H5Reader& r, const std::string& pg) {
-  inverse::ParameterEstimate e;
-  if (!r.Exists(pg)) return e;
-  e.value = NumberAttr(r, pg, "value");
-  e.ci95_low = NumberAttr(r, pg, "ci95_low");
-  e.ci95_high = NumberAttr(r, pg, "ci95_high");
-  e.lower_bound = NumberAttr(r, pg, "lower_bound");
-  e.identified = NumberAttr(r, pg, "identified") == 1.0;
-  e.fixed = NumberAttr(r, pg, "fixed") == 1.0;
-  e.decided_by = StringAttr(r, pg, "decided_by");
-  e.note = StringAttr(r, pg, "note");
-  return e;
-}
 
 // /fit/scene (written since issue 19's design): specimen and material.
 Scene ReadFitScene(const io::H5Reader& r, const std::string& sg, const std::string& file) {
