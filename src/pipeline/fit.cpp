@@ -434,16 +434,16 @@ FitRun RunFit(const FitRequest& given) {
   const FitRun chosen = run;
   FitAtResolution(request, run);
   // --resolution auto chose the size at the pilot's parameters; where the
-  // answer's own model error is visible in the data (the warning), the fit
-  // is repeated at half the size while the ladder's finest allows; where
-  // the model does not follow a run of R points (FitSummary::misfit: a rise
-  // shorter than its elements), one rung further, down to half the finest.
+  // answer's own model error is visible in the data (the warning), or the
+  // model does not follow a run of R points (FitSummary::misfit: a rise
+  // shorter than its elements), the fit is repeated at half the size, down
+  // to half the ladder's finest (one rung beyond it: the ladder halves from
+  // its coarsest, so its last rung may sit up to twice above the finest).
   // The reason for the next halving, empty for none.
   const auto why_refine = [&]() -> std::string {
-    const double h = request.resolution, finest = run.resolution_choice->finest;
+    const double h = request.resolution, floor = 0.5 * run.resolution_choice->finest;
     const bool biased = !run.model_error.warning.empty();
     const bool misfit = run.summary.misfit.points > 0;
-    const double floor = misfit ? 0.5 * finest : finest;
     if ((!biased && !misfit) || 0.5 * h < floor * (1.0 - 1e-9)) return "";
     return misfit ? fmt::format("{:.3g} mm ({} R points in runs off the model)", h * 1e3,
                                 run.summary.misfit.points)
