@@ -84,8 +84,11 @@ class FitCommand final : public Command {
                    "Forward model: reduced | analytic | mpm | auto (reduced fit, checked by MPM "
                    "and corrected by space mapping when they differ)")
         ->default_val("reduced");
-    sub.add_option("--mpm-cell", mpm_cell_, "MPM cell size for --model mpm|auto")
-        ->default_val("2.5 mm");
+    sub.add_option("--mpm-cell", mpm_cell_,
+                   "MPM cell size for --model mpm|auto, or auto: the coarsest valid cell "
+                   "(<= 2.5 mm, 8 through a DCB arm, 10 over the growth), halved for --model auto "
+                   "while MPM's own error is above half --model-tolerance")
+        ->default_val("auto");
     sub.add_option("--model-tolerance", model_tolerance_,
                    "--model auto: largest relative R difference between the reduced and MPM "
                    "models accepted without correction")
@@ -207,7 +210,9 @@ class FitCommand final : public Command {
     ApplyRCurveFlags(reduction_, "rcurve-", request.reduction);
     request.model = pipeline::ParseModelChoice(model_);
     if (model_ == "mpm" || model_ == "auto")
-      request.mpm_cell = ParseOptionQuantity(mpm_cell_, Dimension::Length(), "--mpm-cell");
+      request.mpm_cell = mpm_cell_ == "auto"
+                             ? NAN
+                             : ParseOptionQuantity(mpm_cell_, Dimension::Length(), "--mpm-cell");
     request.model_tolerance = model_tolerance_;
     if (!resolution_.empty() && resolution_ != "auto")
       request.resolution = ParseOptionQuantity(resolution_, Dimension::Length(), "--resolution");
@@ -290,7 +295,7 @@ class FitCommand final : public Command {
 
   std::string shape_families_ = "bilinear,trilinear,table", table_knots_ = "3,4,5,6";
   std::string input_, scene_, model_, law_, optimizer_, fix_, bounds_, r_kind_, resolution_,
-      out_h5_, report_dir_, mpm_cell_ = "2.5 mm", fit_to_ = "r-curve";
+      out_h5_, report_dir_, mpm_cell_ = "auto", fit_to_ = "r-curve";
   double model_tolerance_ = 0.03;
   int starts_ = 4;
   bool no_profile_ = false;

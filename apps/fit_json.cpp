@@ -54,7 +54,8 @@ nlohmann::json ModelCheckJson(const pipeline::FitRun& run) {
           {"discrepancy_at_cheap_optimum", NumberOrNull(model_check.discrepancy_at_cheap_optimum)},
           {"discrepancy_final", NumberOrNull(model_check.discrepancy_final)},
           {"mpm_convergence", NumberOrNull(run.mpm_convergence)},
-          {"warning", run.model_check_warning}};
+          {"warning", run.model_check_warning},
+          {"mpm_cell_choice", run.mpm_cell_choice}};
 }
 
 // "data": what the fit was given (and how a record was reduced).

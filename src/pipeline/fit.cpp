@@ -176,7 +176,7 @@ namespace {
 
 // The fit itself: one law, or every family ranked by AICc (the best one
 // kept); --model auto: the reduced fit checked (and corrected) by MPM.
-void FitLaw(const FitRequest& request, const FitModels& models, const inverse::FitData& fit_data,
+void FitLaw(const FitRequest& request, FitModels& models, const inverse::FitData& fit_data,
             const inverse::FitOptions& options, FitRun& run) {
   if (request.compare_laws) {
     const std::vector<laws::LawShape> families = laws::ComparedShapes();
@@ -196,10 +196,7 @@ void FitLaw(const FitRequest& request, const FitModels& models, const inverse::F
   }
   if (models.accurate()) {
     run.model_checked = true;
-    run.summary = inverse::FitWithModelCheck(models.model(), *models.accurate(), run.shape,
-                                             fit_data, options, run.check, &run.model_check);
-    run.model_note = "auto: " + run.model_check.outcome;
-    run.mpm_cell = models.mpm_cell();
+    FitCheckedByMpm(request, models, fit_data, options, run);
     CheckModelAuto(request, models, fit_data, options, run);
   } else if (!request.compare_laws) {
     run.summary = inverse::FitBridgingLaw(models.model(), run.shape, fit_data, options);
@@ -534,6 +531,7 @@ std::string FitRun::BriefReport() const {
   out << "  " << model_error.Summary() << "\n";
   if (!model_error.warning.empty()) out << "  warning: " << model_error.warning << "\n";
   if (!model_note.empty()) out << "  " << model_note << "\n";
+  if (!mpm_cell_choice.empty()) out << "  " << mpm_cell_choice << "\n";
   if (!model_check_warning.empty()) out << "  warning: --model auto: " << model_check_warning << "\n";
   return out.str();
 }

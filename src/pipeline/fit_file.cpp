@@ -168,6 +168,7 @@ void WriteModelCheck(io::H5Writer& file, const std::string& g, const FitRun& run
   file.WriteAttribute(mc, "discrepancy_final", m.discrepancy_final);
   file.WriteAttribute(mc, "mpm_convergence", run.mpm_convergence);
   file.WriteAttribute(mc, "warning", run.model_check_warning);
+  file.WriteAttribute(mc, "mpm_cell_choice", run.mpm_cell_choice);
   if (!m.crack_length.empty()) {
     file.WriteVector(mc + "/crack_length", m.crack_length, "m", "data crack length");
     file.WriteVector(mc + "/R_cheap", m.R_cheap, "J/m^2", "reduced model R");

@@ -25,7 +25,8 @@ namespace {
 
 constexpr double kMinCellsThroughArm = 8.0;    // DCB (docs/MPM.md, growth)
 constexpr double kMinCellsOverGrowth = 10.0;   // any specimen
-constexpr double kConvergenceShare = 0.5;      // of the correction
+constexpr double kConvergenceShare = 0.5;      // of the correction (or of the tolerance)
+constexpr double kMaxAutoCell = 2.5e-3;        // [m], --mpm-cell auto's coarsest
 
 // Max |b / a - 1| over points where both are finite; NaN when none is.
 double MaxRelativeDifference(const std::vector<double>& a, const std::vector<double>& b) {
@@ -36,6 +37,30 @@ double MaxRelativeDifference(const std::vector<double>& a, const std::vector<dou
     if (!(d <= worst)) worst = d;
   }
   return worst;
+}
+
+// max |R(cell / 2) / R(cell) - 1| of MPM at the final parameters over the
+// check's crack lengths; NaN with `why` when either run fails.
+double MpmHalvingStep(const FitModels& models, const FitRun& run, std::string* why) {
+  const inverse::ModelCheckResult& c = run.model_check;
+  const inverse::LawParameters p = inverse::FittedLaw(run.summary);
+  const double cell = run.mpm_cell;
+  const inverse::RKind kind = run.data.kind;
+  inverse::ForwardPrediction at_cell, at_half;
+  try {
+    at_cell = models.accurate()->Predict(run.shape, p, c.crack_length, kind);
+    at_half = models.MpmAt(0.5 * cell)->Predict(run.shape, p, c.crack_length, kind);
+  } catch (const Error& e) {
+    *why = fmt::format("MPM at {:.3g} mm could not run ({})", 0.5 * cell * 1e3, e.what());
+    return NAN;
+  }
+  if (!at_cell.ok() || !at_half.ok()) {
+    *why = fmt::format("MPM at the final parameters failed at {:.3g} mm ({})",
+                       (at_cell.ok() ? 0.5 : 1.0) * cell * 1e3,
+                       at_cell.ok() ? at_half.message : at_cell.message);
+    return NAN;
+  }
+  return MaxRelativeDifference(at_cell.R, at_half.R);
 }
 
 // The cell against the scene: the reasons it is too coarse (empty: none).
@@ -54,28 +79,18 @@ std::string CellTooCoarse(const FitRequest& request, const FitModels& models, do
 }
 
 // A correction to MPM: MPM at the cell and at half of it, at the final
-// parameters. False (with `why`) when the correction is not to be trusted.
-bool CorrectionConverged(const FitModels& models, FitRun& run,
-                         std::string* why) {
+// parameters (computed once: FitCheckedByMpm may have). False (with `why`)
+// when the correction is not to be trusted.
+bool CorrectionConverged(const FitModels& models, FitRun& run, std::string* why) {
   const inverse::ModelCheckResult& c = run.model_check;
-  const inverse::LawParameters p = inverse::FittedLaw(run.summary);
   const double cell = run.mpm_cell;
-  const inverse::RKind kind = run.data.kind;
-  inverse::ForwardPrediction at_cell, at_half;
-  try {
-    at_cell = models.accurate()->Predict(run.shape, p, c.crack_length, kind);
-    at_half = models.MpmAt(0.5 * cell)->Predict(run.shape, p, c.crack_length, kind);
-  } catch (const Error& e) {
-    *why = fmt::format("MPM at {:.3g} mm could not run ({})", 0.5 * cell * 1e3, e.what());
+  // --mpm-cell auto computed the step at this cell already (NaN: it failed, said there).
+  if (std::isnan(run.mpm_convergence) && run.mpm_cell_choice.empty())
+    run.mpm_convergence = MpmHalvingStep(models, run, why);
+  if (std::isnan(run.mpm_convergence)) {
+    if (why->empty()) *why = fmt::format("MPM at {:.3g} mm failed", 0.5 * cell * 1e3);
     return false;
   }
-  if (!at_cell.ok() || !at_half.ok()) {
-    *why = fmt::format("MPM at the corrected parameters failed at {:.3g} mm ({})",
-                       (at_cell.ok() ? 0.5 : 1.0) * cell * 1e3,
-                       at_cell.ok() ? at_half.message : at_cell.message);
-    return false;
-  }
-  run.mpm_convergence = MaxRelativeDifference(at_cell.R, at_half.R);
   const double correction = c.discrepancy_at_cheap_optimum;
   const double limit = kConvergenceShare * correction;
   if (run.mpm_convergence <= limit) return true;
@@ -87,6 +102,77 @@ bool CorrectionConverged(const FitModels& models, FitRun& run,
 }
 
 }  // namespace
+
+double CoarsestMpmCell(const SpecimenSpec& s, double data_end) {
+  double cell = kMaxAutoCell;
+  if (s.type == SpecimenType::kDCB) cell = std::min(cell, s.height / kMinCellsThroughArm);
+  const double growth = data_end - s.notch;
+  if (growth > 0.0) cell = std::min(cell, growth / kMinCellsOverGrowth);
+  return cell;
+}
+
+void FitCheckedByMpm(const FitRequest& request, FitModels& models, const inverse::FitData& data,
+                     const inverse::FitOptions& options, FitRun& run) {
+  const bool auto_cell = !std::isfinite(request.mpm_cell);
+  const double finest = models.mpm_cell() / std::pow(2.0, request.mpm_cell_halvings);
+  const double limit = kConvergenceShare * request.model_tolerance;
+  std::string tried, verdict;
+  for (;;) {
+    run.summary = inverse::FitWithModelCheck(models.model(), *models.accurate(), run.shape, data,
+                                             options, run.check, &run.model_check);
+    run.model_note = "auto: " + run.model_check.outcome;
+    run.mpm_cell = models.mpm_cell();
+    const double coarser_step = run.mpm_convergence;  // the step that led to this cell
+    run.mpm_convergence = NAN;
+    if (!auto_cell) return;
+    if (!run.model_check.accurate_ok) {
+      verdict = "not verified: the check did not complete";
+      break;
+    }
+    // MPM's own error at a halved cell is, to order 1, the step that led to
+    // it (R(h) - R(h/2) = C h/2): accepted without a finer run when small.
+    if (coarser_step <= limit) {
+      run.mpm_convergence = 0.5 * coarser_step;  // its step to half the cell, order 1
+      tried += fmt::format(", {:.3g} mm {:.2f}% (the step from the coarser cell)",
+                           run.mpm_cell * 1e3, 100 * coarser_step);
+      verdict = "accepted";
+      break;
+    }
+    // Otherwise: twice its step to half the cell (order 1).
+    std::string why;
+    run.mpm_convergence = MpmHalvingStep(models, run, &why);
+    const double error = 2.0 * run.mpm_convergence;
+    tried += fmt::format("{}{:.3g} mm {}", tried.empty() ? "" : ", ", run.mpm_cell * 1e3,
+                         std::isnan(error) ? "unknown" : fmt::format("{:.2f}%", 100 * error));
+    if (error <= limit) {
+      verdict = "accepted";
+      break;
+    }
+    if (std::isnan(error)) {
+      verdict = "not verified";
+      run.model_check_warning = fmt::format(
+          "--mpm-cell auto: MPM's own error at {:.3g} mm is unknown ({}): the check is "
+          "unverified; pass --mpm-cell, or --model reduced",
+          run.mpm_cell * 1e3, why);
+      break;
+    }
+    if (0.5 * run.mpm_cell < finest * (1.0 - 1e-9)) {
+      verdict = "not converged enough";
+      run.model_check_warning = fmt::format(
+          "--mpm-cell auto: MPM's own error at the finest cell tried, {:.3g} mm, is {:.2f}%, "
+          "above half the tolerance ({:.2f}%): the check cannot resolve R differences that "
+          "small; pass a finer --mpm-cell or a larger --model-tolerance",
+          run.mpm_cell * 1e3, 100 * error, 100 * limit);
+      break;
+    }
+    models.UseMpmCell(0.5 * run.mpm_cell);
+    run.mpm_convergence = 0.5 * error;  // the step to the new cell, read above
+  }
+  run.mpm_cell_choice = fmt::format(
+      "--mpm-cell auto: {:.3g} mm, {} (MPM's own error, twice its R step to half the cell, "
+      "accepted below half the tolerance, {:.2f}%; tried: {})",
+      run.mpm_cell * 1e3, verdict, 100 * limit, tried.empty() ? "none" : tried);
+}
 
 void CheckModelAuto(const FitRequest& request, const FitModels& models,
                     const inverse::FitData& data, const inverse::FitOptions& options, FitRun& run) {

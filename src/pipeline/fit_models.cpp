@@ -146,11 +146,19 @@ void FitModels::Build(double modulus_factor, double series_compliance) {
     model_ = MakeReduced(model_scene, resolution_, 2e-3);
   }
   if (choice == ModelChoice::kMpm || choice == ModelChoice::kAuto) {
-    auto accurate = MpmAt(request_.mpm_cell);
+    const double cell = std::isfinite(request_.mpm_cell)
+                            ? request_.mpm_cell
+                            : CoarsestMpmCell(request_.scene.specimen, data_end_);
+    auto accurate = MpmAt(cell);
     if (choice == ModelChoice::kMpm) model_ = std::move(accurate);
     else accurate_ = std::move(accurate);
-    mpm_cell_ = request_.mpm_cell;
+    mpm_cell_ = cell;
   }
+}
+
+void FitModels::UseMpmCell(double cell) {
+  accurate_ = MpmAt(cell);
+  mpm_cell_ = cell;
 }
 
 std::unique_ptr<inverse::ForwardModel> FitModels::MpmAt(double cell) const {

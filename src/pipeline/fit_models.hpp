@@ -49,6 +49,8 @@ class FitModels {
   const inverse::ForwardModel& model() const { return *model_; }
   const inverse::ForwardModel* accurate() const { return accurate_.get(); }
   double mpm_cell() const { return mpm_cell_; }  // [m], NaN without MPM
+  // --model auto: MPM at another cell [m] becomes accurate().
+  void UseMpmCell(double cell);
   // The reduced model's element size [m] (NaN for analytic or MPM alone).
   double resolution() const { return resolution_; }
   // The reduced model as model() is (same scene scaling, series compliance
@@ -90,6 +92,22 @@ inverse::FitSummary StartFromRCurveFit(const inverse::ForwardModel& model,
 // a pilot fit at the coarsest valid size) and sets request.resolution and
 // run.resolution_choice. Otherwise leaves both as they are.
 void ChooseAutoResolution(FitRequest& request, const laws::LawShape& shape, FitRun& run);
+
+// MPM's validity limits on its cell (fit_model_auto.cpp; docs/MPM.md): the
+// coarsest cell [m] for a specimen whose data end at crack length
+// `data_end` [m]: 2.5 mm at most, 8 cells through a DCB arm, 10 over the
+// growth from the notch.
+double CoarsestMpmCell(const SpecimenSpec& specimen, double data_end);
+
+// --model auto's fit (fit_model_auto.cpp): the reduced fit checked (and
+// corrected) by MPM; with --mpm-cell auto (request.mpm_cell NaN) the cell
+// is halved from models.mpm_cell() while MPM's own error at the final
+// parameters (twice its R step to half the cell: order 1) is above half the
+// tolerance, at most request.mpm_cell_halvings times; at a halved cell the
+// step that led there is its error (order 1), so a finer run is made only
+// when that is too large (run.mpm_cell_choice says how).
+void FitCheckedByMpm(const FitRequest& request, FitModels& models, const inverse::FitData& data,
+                     const inverse::FitOptions& options, FitRun& run);
 
 // --model auto never passes silently (issue 17; fit_model_auto.cpp): after
 // the checked fit, sets run.model_check_warning where the MPM check did not

@@ -57,7 +57,14 @@ struct FitRequest {
   std::string scene_path;  // provenance in the fit file and errors
 
   ModelChoice model = ModelChoice::kReduced;
-  double mpm_cell = 2.5e-3;       // [m], kMpm / kAuto
+  // MPM cell [m], kMpm / kAuto; NaN: automatic (--mpm-cell auto): the
+  // coarsest cell inside MPM's validity limits (2.5 mm at most, 8 cells
+  // through a DCB arm, 10 over the data's growth); for kAuto then halved
+  // while MPM's own error (from a solve at half the cell, order 1) is above
+  // half the tolerance, at most `mpm_cell_halvings` times
+  // (src/pipeline/fit_model_auto.cpp; an MPM run costs about 8x per halving).
+  double mpm_cell = NAN;
+  int mpm_cell_halvings = 3;
   double model_tolerance = 0.03;  // kAuto: relative R difference accepted
   // Reduced model element size [m]; NaN: automatic (--resolution auto,
   // inverse/resolution.hpp: the coarsest size whose predicted parameter
@@ -128,9 +135,13 @@ struct FitRun {
   // the data, its cell is too coarse for the scene, a correction rejected
   // for MPM's own convergence); empty when none. Printed as a warning.
   std::string model_check_warning;
-  // --model auto, corrected: max |R(cell / 2) / R(cell) - 1| of MPM at the
-  // final parameters over the data (NaN when not checked).
+  // --model auto: max |R(cell / 2) / R(cell) - 1| of MPM at the final
+  // parameters over the data (NaN when not computed: a given cell and no
+  // correction).
   double mpm_convergence = NAN;
+  // --model auto with --mpm-cell auto: how the cell was chosen (the cells
+  // tried, MPM's own error at each); empty for a given cell.
+  std::string mpm_cell_choice;
   // Load-displacement fit: the model's R at the R curve's crack lengths.
   std::vector<double> load_fit_R;  // [J/m^2]
   double load_fit_R_rms = NAN;     // [J/m^2]
