@@ -377,5 +377,40 @@ TEST(DesignMpi, AnInputFaultIsReportedOnceByRankZero) {
   EXPECT_TRUE(mpi.out.empty()) << mpi.out;
 }
 
+// A specimen with its images ([specimen.dic]) run on rank 1 of 2 (issue 19
+// with 20): its DIC file, notes and frame crack lengths travel to rank 0, and
+// with --joint to every rank, which rebuilds its record from the frames: the
+// JSON (the joint fit too) and the DIC datasets in campaign.h5 equal the
+// serial run's.
+TEST(CampaignMpi, ASpecimensDicOnAnotherRankGivesTheSerialResultWithTheJointFit) {
+  const Campaign c;
+  fs::create_directory_symlink(kSample / "images", c.dir / "images");
+  std::ofstream(c.manifest) << "[campaign]\nscene = \"scene.toml\"\nlaw = \"linear\"\n"
+                               "resolution = \"1 mm\"\nprofile = false\n"
+                               "[[specimen]]\nname = \"B\"\nrecord = \"b.csv\"\n"
+                               "[[specimen]]\nname = \"MDF\"\nrecord = \"a.csv\"\n"
+                               "[specimen.dic]\nimages = \"images\"\n"
+                               "crack_line = [\"0 px\", \"150 px\", \"399 px\", \"150 px\"]\n"
+                               "scale = \"0.15 mm/px\"\noffset = \"20 mm\"\n";
+  const ShellRun serial = c.RunCli("", "serial", "--jobs 1 --joint");
+  ASSERT_EQ(serial.exit_code, 0) << serial.err;
+  const nlohmann::json truth = nlohmann::json::parse(serial.out);
+  ASSERT_TRUE(truth["specimens"][1]["ok"].get<bool>()) << serial.out;
+  ASSERT_FALSE(truth["specimens"][1]["notes"].empty()) << serial.out;
+  ASSERT_FALSE(truth["joint"].contains("error")) << truth["joint"];
+  const ShellRun mpi = c.RunCli(Mpirun(2), "ranks2", "--jobs 1 --joint");
+  ASSERT_EQ(mpi.exit_code, 0) << mpi.err;
+  EXPECT_NE(mpi.err.find("rank 1: [2/2] MDF: started"), std::string::npos) << mpi.err;
+  EXPECT_EQ(Comparable(nlohmann::json::parse(mpi.out)), Comparable(truth)) << mpi.out;
+  const io::H5Reader a(c.dir / "serial" / "campaign.h5"), b(c.dir / "ranks2" / "campaign.h5");
+  for (const char* d : {"crack_length", "crack_length_raw", "crack_length_uncertainty"}) {
+    const std::string path = std::string("/specimens/MDF/dic/") + d;
+    ASSERT_TRUE(b.Exists(path)) << path;
+    EXPECT_TRUE(SameBits(a.ReadVector(path), b.ReadVector(path))) << path;
+  }
+  EXPECT_TRUE(SameBits(a.ReadVector("/specimens/MDF/experiment/crack_length"),
+                       b.ReadVector("/specimens/MDF/experiment/crack_length")));
+}
+
 }  // namespace
 }  // namespace bridgefit::campaign
