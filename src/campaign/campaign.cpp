@@ -134,10 +134,13 @@ void RunDic(SpecimenOutcome& out) {
     else if (f.flagged) out.notes.push_back(fmt::format("DIC {}: flagged {}", file, f.Flags()));
   }
   out.request.frame_crack_lengths = std::move(frames);
-  // The dic file's one writer, through a temporary file of this process.
+  // The dic file's one writer, through a temporary file of this process
+  // (numbered: two campaigns of one process may run side by side).
+  static std::atomic<unsigned> serial{0};
   const std::filesystem::path temporary =
       std::filesystem::temp_directory_path() /
-      fmt::format("bf_campaign_dic_{}_{}.h5", static_cast<long>(::getpid()), out.name);
+      fmt::format("bf_campaign_dic_{}_{}_{}.h5", static_cast<long>(::getpid()), serial++,
+                  out.name);
   pipeline::WriteDicH5(temporary.string(), result, options);
   out.dic_file = ReadFileLimited(temporary, std::uint64_t{1} << 40, "",
                                  "this specimen's DIC file");
