@@ -23,7 +23,9 @@ nlohmann::json ResultJson(const campaign::CampaignResult& r, const std::string& 
   for (const campaign::SpecimenOutcome& s : r.specimens) {
     nlohmann::json j = {{"name", s.name}, {"record", s.request.input_path},
                         {"ran", s.ran()}, {"ok", s.ok()}, {"wall_s", s.wall_s}, {"rank", s.rank},
-                        {"error", s.error}};
+                        {"error", s.error}, {"notes", s.notes},
+                        {"images", s.dic ? nlohmann::json(s.dic->folder.string())
+                                         : nlohmann::json(nullptr)}};
     if (s.ran()) {
       const inverse::FitSummary& f = s.run->summary;
       j["converged"] = f.converged;

@@ -2,17 +2,25 @@
 // (issue 19; docs/CAMPAIGN.md "Design").
 //   bridgefit design data_samples/mdf_ct/scene.toml --sigma-c 1MPa --jb 500J/m^2 --size 50mm:200mm:25mm
 //   bridgefit design fit.h5 --size 50mm:300mm:25mm --chart design_chart
+//   mpirun -n 4 bridgefit design fit.h5 --size 50mm:300mm:25mm   (docs/MPI.md)
 // Flags -> campaign::RunDesign (a scene) or campaign::RunFitDesign (a fit
 // file or campaign.h5, told apart from a scene by its .toml name) -> printing.
+// Under an MPI launcher the forward runs are dealt over the ranks; rank 0
+// alone prints and writes the chart.
 
 #include <filesystem>
 #include <iostream>
+#include <memory>
+#include <optional>
+
+#include <fmt/format.h>
 
 #include "bridgefit/campaign/design.hpp"
 #include "bridgefit/campaign/design_fit.hpp"
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/io/scene_file.hpp"
 #include "bridgefit/laws/law.hpp"
+#include "bridgefit/parallel/communicator.hpp"
 #include "command.hpp"
 
 namespace bridgefit::cli {
@@ -61,7 +69,62 @@ class DesignCommand final : public Command {
   }
 
   int Run(const CommonOptions& common) override {
-    if (std::filesystem::path(scene_).extension() != ".toml") return RunFit(common);
+    const std::unique_ptr<parallel::Communicator> comm = parallel::MakeWorldCommunicator();
+    const bool from_fit = std::filesystem::path(scene_).extension() != ".toml";
+    campaign::DesignRequest scene_request;
+    campaign::FitDesignRequest fit_request;
+    // Every rank reads the inputs; a fault found on any rank stops all, and
+    // rank 0 alone reports it.
+    std::optional<Error> own;
+    try {
+      if (from_fit) fit_request = FitRequest();
+      else scene_request = SceneRequest();
+    } catch (const Error& e) {
+      if (comm->size() == 1 || e.kind() == ErrorKind::kInterrupted) throw;
+      own = e;
+    }
+    if (comm->size() > 1) {
+      if (const std::string first = comm->FirstError(own ? own->what() : ""); !first.empty()) {
+        if (!comm->root()) return own && own->kind() == ErrorKind::kUsage ? 2 : 1;
+        if (own) throw *own;
+        throw Error(ErrorKind::kInput, first, {.file = scene_, .field = "inputs on another rank"});
+      }
+    }
+    scene_request.ranks = fit_request.ranks = comm.get();
+    // The forward runs, dealt over the ranks (collective): an error on one
+    // rank ends the job, since the others would wait for its results.
+    std::optional<campaign::DesignResult> scene_result;
+    std::optional<campaign::FitDesignResult> fit_result;
+    try {
+      if (from_fit) fit_result = campaign::RunFitDesign(fit_request);
+      else scene_result = campaign::RunDesign(scene_request);
+    } catch (const Error& e) {
+      if (comm->size() == 1 || e.kind() == ErrorKind::kInterrupted) throw;
+      std::cerr << "bridgefit design: error on MPI rank " << comm->rank() << " of "
+                << comm->size() << ": " << e.what() << "\n  the job is ended; no output written.\n";
+      comm->Abort(1);
+    }
+    if (!comm->root()) return 0;  // rank 0 alone prints and writes
+    if (comm->size() > 1 && !common.quiet)
+      std::cerr << fmt::format("design: {} forward runs dealt over {} MPI ranks\n",
+                               from_fit ? fit_result->sizes.size() * (1 + fit_result->region.size())
+                                        : scene_result->sizes.size(),
+                               comm->size());
+    if (from_fit) return PrintFit(common, *fit_result);
+    PrintScene(common, *scene_result);
+    return 0;
+  }
+
+ private:
+  std::vector<double> Sizes() const {
+    const auto parts = Split(size_);
+    return campaign::SizeGrid(ParseOptionQuantity(parts[0], Dimension::Length(), "--size"),
+                              ParseOptionQuantity(parts[1], Dimension::Length(), "--size"),
+                              ParseOptionQuantity(parts[2], Dimension::Length(), "--size"), "--size");
+  }
+
+  // The scene route: the scene's law, or --sigma-c / --jb.
+  campaign::DesignRequest SceneRequest() const {
     if (!specimen_.empty() || !shape_scene_.empty() || !chart_.empty())
       throw Error(ErrorKind::kUsage, "--specimen, --shape-scene and --chart take a fit file",
                   {.file = scene_, .expected = "a fit file (bridgefit fit --out) or campaign.h5"});
@@ -84,7 +147,10 @@ class DesignCommand final : public Command {
     std::string why;
     if (!request.IsValid(&why))
       throw Error(ErrorKind::kInput, why, {.file = scene_, .expected = "a scene with [fracture] and [bridging]"});
-    const campaign::DesignResult result = campaign::RunDesign(request);
+    return request;
+  }
+
+  void PrintScene(const CommonOptions& common, const campaign::DesignResult& result) const {
     if (const std::string w = result.Warning(); !w.empty()) std::cerr << "warning: design: " << w << "\n";
     if (common.json) {
       nlohmann::json sizes = nlohmann::json::array();
@@ -103,19 +169,10 @@ class DesignCommand final : public Command {
       std::cout << "design for " << scene_ << " (reduced model, similar specimens):\n"
                 << result.BriefReport();
     }
-    return 0;
-  }
-
- private:
-  std::vector<double> Sizes() const {
-    const auto parts = Split(size_);
-    return campaign::SizeGrid(ParseOptionQuantity(parts[0], Dimension::Length(), "--size"),
-                              ParseOptionQuantity(parts[1], Dimension::Length(), "--size"),
-                              ParseOptionQuantity(parts[2], Dimension::Length(), "--size"), "--size");
   }
 
   // The fit-file route: the law's bound and region from the file.
-  int RunFit(const CommonOptions& common) {
+  campaign::FitDesignRequest FitRequest() const {
     if (!sigma_c_.empty() || !J_B_.empty())
       throw Error(ErrorKind::kUsage, "--sigma-c and --jb override a scene's law, not a fit's",
                   {.file = scene_, .expected = "a scene (.toml) with --sigma-c / --jb"});
@@ -133,7 +190,10 @@ class DesignCommand final : public Command {
     std::string why;
     if (!request.IsValid(&why))
       throw Error(ErrorKind::kInput, why, {.file = scene_, .expected = "a fit with sigma_c and J_B (or its bound)"});
-    const campaign::FitDesignResult result = campaign::RunFitDesign(request);
+    return request;
+  }
+
+  int PrintFit(const CommonOptions& common, const campaign::FitDesignResult& result) const {
     std::string chart;
     if (!chart_.empty())
       chart = report::WriteDesignChart(campaign::DesignChartOf(result), chart_).string();

@@ -14,6 +14,7 @@
 #include "bridgefit/core/units.hpp"
 #include "bridgefit/dic/image.hpp"
 #include "bridgefit/dic/sequence.hpp"
+#include "bridgefit/dic/settings.hpp"
 #include "bridgefit/io/hdf5.hpp"
 #include "command.hpp"
 #include "bridgefit/pipeline/dic_file.hpp"
@@ -86,7 +87,6 @@ class DicCommand final : public Command {
   }
 
   int Run(const CommonOptions& common) override {
-    dic::CrackSequenceOptions opt;
     // A scale given the other way round (px/mm) is the usual slip: say which
     // option and the inverse value that was probably meant.
     double m_per_px = NAN;
@@ -113,24 +113,32 @@ class DicCommand final : public Command {
     }
     BF_CHECK_INPUT(m_per_px > 0, "scale must be positive",
                    {.field = "--scale", .value = scale_, .expected = "e.g. '0.05mm/px'"});
-    opt.scale_m_per_px = m_per_px;
-    opt.offset_m = ParseQuantity(offset_, Dimension::Length());
-    opt.has_line = !crack_line_.empty();
-    opt.find_path = !fixed_line_;
-    if (fixed_line_ && !opt.has_line)
+    dic::DicSettings settings;
+    settings.scale_m_per_px = m_per_px;
+    settings.offset_m = ParseQuantity(offset_, Dimension::Length());
+    settings.fixed_line = fixed_line_;
+    if (fixed_line_ && crack_line_.empty())
       throw Error(ErrorKind::kUsage, "--fixed-line needs --crack-line",
                   {.field = "--fixed-line", .expected = "--crack-line x0,y0,x1,y1"});
-    if (opt.has_line) {
+    if (!crack_line_.empty()) {
       const auto line = ParseOptionNumbers(crack_line_, "--crack-line", 4);
-      opt.tip.line = {line[0], line[1], line[2], line[3]};
-      if (!(opt.tip.line.Length() > 1))
+      settings.crack_line = dic::CrackLine{line[0], line[1], line[2], line[3]};
+      if (!(settings.crack_line->Length() > 1))
         throw Error(ErrorKind::kUsage, "crack line end points coincide",
                     {.field = "--crack-line", .value = crack_line_});
     }
+    settings.subset_px = subset_;
+    settings.step_px = step_;
+    settings.tip_method = tip_method_;
+    settings.threshold_px = ParsePixelsOrLength(threshold_, m_per_px, "--threshold");
+    settings.fit_radius_px = fit_radius_;
+    settings.path_search_px = path_search_;
+    settings.min_zncc = min_zncc_;
+    settings.seed_search_px = search_;
+    settings.threads = threads_;
+    settings.show_progress = !common.quiet;
+    dic::CrackSequenceOptions opt = dic::MakeSequenceOptions(settings);
     auto& c = opt.correlation;
-    c.min_zncc = min_zncc_;
-    c.seed_search_radius = search_;
-    c.threads = threads_;
     c.incremental = !no_incremental_;
     opt.full_field = full_field_;
     if (shape_ == "second") c.shape = dic::ShapeFunction::kSecondOrder;
@@ -148,14 +156,7 @@ class DicCommand final : public Command {
       c.roi_x1 = static_cast<int>(r[2]);
       c.roi_y1 = static_cast<int>(r[3]);
     }
-    opt.method = dic::ParseTipMethod(tip_method_);
-    dic::SetGridDefaults(subset_, step_, &opt);
-    opt.tip.threshold_floor_px = ParsePixelsOrLength(threshold_, m_per_px, "--threshold");
-    if (fit_radius_ > 0) opt.tip.fit_radius_px = opt.tip.sqrt_window_px = fit_radius_;
-    opt.path.min_jump_px = opt.tip.threshold_floor_px;
-    opt.path.search_half_width_px = path_search_;
     opt.keep_fields = fields_ && !out_.empty();
-    opt.show_progress = !common.quiet;
     opt.j_integral = j_integral_.Options();
     std::string why;
     if (!opt.IsValid(&why)) throw Error(ErrorKind::kUsage, why);

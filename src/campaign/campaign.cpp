@@ -2,11 +2,13 @@
 #include "bridgefit/campaign/campaign.hpp"
 
 #include <sched.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <memory>
 #include <mutex>
 #include <thread>
@@ -14,9 +16,13 @@
 #include <fmt/format.h>
 
 #include "bridgefit/core/error.hpp"
+#include "bridgefit/core/input_limits.hpp"
+#include "bridgefit/dic/image.hpp"
+#include "bridgefit/dic/settings.hpp"
 #include "bridgefit/experiment/rcurve.hpp"
 #include "bridgefit/inverse/compliance_calibration.hpp"
 #include "bridgefit/laws/law.hpp"
+#include "bridgefit/pipeline/dic_file.hpp"
 #include "outcome_wire.hpp"
 
 namespace bridgefit::campaign {
@@ -102,10 +108,52 @@ double Median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-// One specimen through RunFit; an Error is the specimen's reason, not the campaign's.
+// A specimen's DIC: its crack lengths into the fit request, its /dic file
+// as bytes, its per-frame warnings into the specimen's notes. A failure
+// throws Error naming the images (the specimen's reason).
+void RunDic(SpecimenOutcome& out) {
+  dic::CrackSequenceOptions options = out.dic->options;
+  options.correlation.threads = out.request.fit.threads;  // the specimen's share of the cores
+  const std::string source = "DIC of " + out.dic->folder.string();
+  dic::CrackSequenceResult result;
+  try {
+    result = dic::AnalyzeCrackSequence(out.dic->images, options);
+  } catch (const Error& e) {
+    if (e.kind() == ErrorKind::kInterrupted) throw;
+    throw Error(e.kind(), "the DIC of the specimen's images failed: " + e.message(), e.context())
+        .WithContext({.file = out.dic->folder.string()});
+  }
+  pipeline::FitRequest::FrameCrackLengths frames;
+  frames.source = source;
+  for (std::size_t k = 0; k < result.frames.size(); ++k) {
+    const dic::FrameResult& f = result.frames[k];
+    frames.image.push_back(f.image);
+    frames.crack_length.push_back(f.has_length ? f.crack_length_m : NAN);
+    const std::string file = std::filesystem::path(f.image).filename().string();
+    if (k > 0 && !f.has_length) out.notes.push_back(fmt::format("DIC {}: no crack length", file));
+    else if (f.flagged) out.notes.push_back(fmt::format("DIC {}: flagged {}", file, f.Flags()));
+  }
+  out.request.frame_crack_lengths = std::move(frames);
+  // The dic file's one writer, through a temporary file of this process
+  // (numbered: two campaigns of one process may run side by side).
+  static std::atomic<unsigned> serial{0};
+  const std::filesystem::path temporary =
+      std::filesystem::temp_directory_path() /
+      fmt::format("bf_campaign_dic_{}_{}_{}.h5", static_cast<long>(::getpid()), serial++,
+                  out.name);
+  pipeline::WriteDicH5(temporary.string(), result, options);
+  out.dic_file = ReadFileLimited(temporary, std::uint64_t{1} << 40, "",
+                                 "this specimen's DIC file");
+  std::error_code ec;
+  std::filesystem::remove(temporary, ec);
+}
+
+// One specimen through its DIC (with images) and RunFit; an Error is the
+// specimen's reason, not the campaign's.
 void RunOne(SpecimenOutcome& out) {
   const auto t0 = std::chrono::steady_clock::now();
   try {
+    if (out.dic) RunDic(out);
     out.run = pipeline::RunFit(out.request);
   } catch (const Error& e) {
     if (e.kind() == ErrorKind::kInterrupted) throw;
@@ -139,6 +187,65 @@ bool CampaignOptions::IsValid(std::string* why) const {
 std::vector<pipeline::FitRequest> BuildRequests(const io::CampaignManifest& manifest) {
   std::vector<pipeline::FitRequest> requests;
   for (const io::ManifestSpecimen& sp : manifest.specimens) requests.push_back(RequestFor(manifest, sp));
+  return requests;
+}
+
+std::vector<std::optional<DicRequest>> BuildDicRequests(const io::CampaignManifest& manifest) {
+  std::vector<std::optional<DicRequest>> requests;
+  for (const io::ManifestSpecimen& sp : manifest.specimens) {
+    if (!sp.dic) {
+      requests.emplace_back();
+      continue;
+    }
+    const io::ManifestDic& d = *sp.dic;
+    // An error of the DIC settings, named by the key and line it came from.
+    const auto fail = [&](const std::string& key, const std::string& message,
+                          const std::string& value, const std::string& expected) {
+      const std::string field = key.empty() ? "dic" : "dic." + key;  // "": the whole table
+      const auto it = sp.lines.find(field);
+      throw Error(ErrorKind::kInput, message,
+                  {.file = manifest.path.string(),
+                   .line = it != sp.lines.end() ? it->second : sp.lines.at("dic"),
+                   .field = fmt::format("{} (specimen '{}')", field, sp.name), .value = value,
+                   .expected = expected});
+    };
+    DicRequest r;
+    r.folder = d.images;
+    try {
+      r.images = dic::ExpandImageArguments({d.images.string()});
+    } catch (const Error& e) {
+      fail("images", e.message(), d.images.string(),
+           "a folder of the test's images (png, tif, bmp, jpg or pgm)");
+    }
+    if (r.images.size() < 2)
+      fail("images", "need at least two images (a reference and a deformed one)",
+           d.images.string(), "a folder of the test's images, the reference first");
+    dic::DicSettings settings;
+    settings.scale_m_per_px = d.scale_m_per_px;
+    settings.offset_m = d.offset_m;
+    if (d.crack_line)
+      settings.crack_line = dic::CrackLine{(*d.crack_line)[0], (*d.crack_line)[1],
+                                           (*d.crack_line)[2], (*d.crack_line)[3]};
+    settings.fixed_line = d.fixed_line;
+    settings.subset_px = d.subset_px;
+    settings.step_px = d.step_px;
+    settings.tip_method = d.tip_method;
+    settings.threshold_px = d.threshold_px;
+    settings.path_search_px = d.path_search_px;
+    try {
+      r.options = dic::MakeSequenceOptions(settings);
+    } catch (const Error& e) {
+      std::string key = e.context().field;  // "fixed_line", "crack_line" or "--tip-method"
+      if (key.rfind("--", 0) == 0) key = key.substr(2);
+      std::replace(key.begin(), key.end(), '-', '_');
+      fail(key, e.message(), e.context().value, e.context().expected);
+    }
+    std::string why;
+    if (!r.options.IsValid(&why))
+      fail("", "the DIC settings are not valid: " + why, "",
+           "settings `bridgefit dic` would accept (docs/DIC.md)");
+    requests.push_back(std::move(r));
+  }
   return requests;
 }
 
@@ -342,6 +449,7 @@ CampaignResult RunCampaign(const io::CampaignManifest& manifest, const CampaignO
   const std::unique_ptr<parallel::Communicator> serial = parallel::MakeSerialCommunicator();
   parallel::Communicator& comm = options.communicator ? *options.communicator : *serial;
   std::vector<pipeline::FitRequest> requests = BuildRequests(manifest);  // before any work
+  std::vector<std::optional<DicRequest>> dics = BuildDicRequests(manifest);
   CampaignResult result;
   result.manifest = manifest;
   result.ranks = comm.size();
@@ -349,6 +457,7 @@ CampaignResult RunCampaign(const io::CampaignManifest& manifest, const CampaignO
     SpecimenOutcome s;
     s.name = manifest.specimens[i].name;
     s.request = std::move(requests[i]);
+    s.dic = std::move(dics[i]);
     result.specimens.push_back(std::move(s));
   }
   // Round-robin in manifest order: who runs a specimen depends only on N.

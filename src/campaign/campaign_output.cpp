@@ -52,6 +52,11 @@ std::string Cell(const inverse::ParameterEstimate& e, double scale) {
   return "-";
 }
 
+// specimens/dic/<name>.h5: a specimen's DIC file (pipeline::WriteDicH5's).
+std::filesystem::path DicFilePath(const std::filesystem::path& dir, const SpecimenOutcome& s) {
+  return dir / "specimens" / "dic" / (s.name + ".h5");
+}
+
 std::string SummaryCsv(const CampaignResult& r) {
   std::ostringstream out;
   out << "specimen,status,record,wall [s]";
@@ -60,7 +65,7 @@ std::string SummaryCsv(const CampaignResult& r) {
     out << fmt::format(",{0} [{1}],{0} kind,{0} ci95 low [{1}],{0} ci95 high [{1}],{0} interval",
                        p.parameter, u);
   }
-  out << ",outlier in,error\n";
+  out << ",outlier in,error,notes\n";
   for (const SpecimenOutcome& s : r.specimens) {
     out << Field(s.name) << "," << Status(s) << "," << Field(s.request.input_path) << ","
         << fmt::format("{:.2f}", s.wall_s);
@@ -80,7 +85,9 @@ std::string SummaryCsv(const CampaignResult& r) {
           << Number(e.ci95_low * p.scale) << "," << Number(e.ci95_high * p.scale) << ","
           << (value ? inverse::IntervalStatusName(e.interval_status) : "");
     }
-    out << "," << outlier_in << "," << Field(s.error) << "\n";
+    std::string notes;
+    for (const std::string& n : s.notes) notes += (notes.empty() ? "" : "; ") + n;
+    out << "," << outlier_in << "," << Field(s.error) << "," << Field(notes) << "\n";
   }
   return out.str();
 }
@@ -183,6 +190,8 @@ void WriteCampaignH5(const CampaignResult& result, const std::filesystem::path& 
     names.push_back(s.name);
     status.push_back(Status(s));
     if (s.ran()) file.CopyFileInto(dir / "specimens" / (s.name + ".h5"), "/specimens/" + s.name);
+    if (!s.dic_file.empty())  // its /dic beside /fit, /rcurve and /experiment
+      file.CopyFileInto(DicFilePath(dir, s), "/specimens/" + s.name);
   }
   const std::string c = "/campaign";
   file.WriteAttribute(c, "name", result.manifest.name);
@@ -314,6 +323,13 @@ void WriteCampaignOutputs(const CampaignResult& result, const std::filesystem::p
     throw Error(ErrorKind::kRuntime, "cannot create the campaign's output folder",
                 {.file = (dir / "specimens").string(), .value = ec.message()});
   for (const SpecimenOutcome& s : result.specimens) {
+    if (!s.dic_file.empty()) {  // written by the dic file's writer, kept as bytes
+      std::filesystem::create_directories(dir / "specimens" / "dic", ec);
+      if (ec)
+        throw Error(ErrorKind::kRuntime, "cannot create the campaign's DIC folder",
+                    {.file = (dir / "specimens" / "dic").string(), .value = ec.message()});
+      WriteTextFileAtomic(DicFilePath(dir, s), s.dic_file);
+    }
     if (!s.ran()) continue;
     const std::filesystem::path path = dir / "specimens" / (s.name + ".h5");
     if (s.fit_file.empty())

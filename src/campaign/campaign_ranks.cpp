@@ -99,6 +99,8 @@ void ShareOutcomes(CampaignResult& result, const std::vector<std::size_t>& mine,
     s.error = std::move(received[i].error);
     s.wall_s = received[i].wall_s;
     s.rank = received[i].rank;
+    s.notes = std::move(received[i].notes);
+    s.request.frame_crack_lengths = std::move(received[i].request.frame_crack_lengths);
   }
 }
 
@@ -114,6 +116,7 @@ std::optional<int> ReadOnEveryRank(const std::string& path, parallel::Communicat
   try {
     manifest = io::ReadCampaignManifest(path);
     BuildRequests(manifest);
+    BuildDicRequests(manifest);
   } catch (const Error& e) {
     own = e;
   }

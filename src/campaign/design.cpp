@@ -3,12 +3,14 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <sstream>
 
 #include <fmt/format.h>
 
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/models/reduced.hpp"
+#include "bridgefit/parallel/share_owned.hpp"
 
 namespace bridgefit::campaign {
 
@@ -59,41 +61,85 @@ bool DesignRequest::IsValid(std::string* why) const {
   return true;
 }
 
-DesignResult RunDesign(const DesignRequest& request) {
-  std::string why;
-  if (!request.IsValid(&why))
-    throw Error(ErrorKind::kInput, why, {.file = request.scene.source, .field = "design"});
-  DesignResult result;
-  for (double size : request.sizes) {
-    DesignSize d;
-    d.size = size;
-    d.scene = ScaledScene(request.scene, size);
-    d.scene.run.max_crack_length.reset();  // the specimen's whole window, not the test's stop
-    d.scene.run.grow = true;
-    d.notch = d.scene.specimen.notch;
-    models::ReducedOptions options;
-    const double characteristic = d.scene.specimen.type == SpecimenType::kCT
-                                      ? d.scene.specimen.width
-                                      : d.scene.specimen.height;
-    options.mesh.resolution = request.resolution_fraction * characteristic;
-    const auto t0 = std::chrono::steady_clock::now();
-    const SimulationResult run = models::SimulateReduced(d.scene, options);
-    d.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    d.status = run.status;
-    d.message = run.message;
-    d.window_end = run.points.empty() ? d.notch : run.points.back().crack_length;
-    d.reached = run.steady_state_reached && run.status == RunStatus::kOk;
-    if (d.reached) {
-      d.onset = run.steady_state_crack_length;
-      const double step = (d.window_end - d.notch) / (request.r_points - 1);
-      for (int i = 0; i < request.r_points; ++i)
-        d.points_past += d.notch + i * step >= d.onset - 1e-12 * d.window_end;
-      d.identifies = d.points_past >= request.points_past_onset;
-    }
-    if (d.identifies && result.smallest < 0) result.smallest = static_cast<int>(result.sizes.size());
-    result.sizes.push_back(std::move(d));
+namespace {
+
+constexpr std::uint32_t kDesignMagic = 0x31444642;  // "BFD1": change it when the layout changes
+
+// A size's scaled scene, before its run (every rank makes every one).
+DesignSize PrepareSize(const DesignRequest& request, double size) {
+  DesignSize d;
+  d.size = size;
+  d.scene = ScaledScene(request.scene, size);
+  d.scene.run.max_crack_length.reset();  // the specimen's whole window, not the test's stop
+  d.scene.run.grow = true;
+  d.notch = d.scene.specimen.notch;
+  return d;
+}
+
+// The reduced model's run of a prepared size, and what it says about J_B.
+void RunSize(const DesignRequest& request, DesignSize& d) {
+  models::ReducedOptions options;
+  const double characteristic = d.scene.specimen.type == SpecimenType::kCT
+                                    ? d.scene.specimen.width
+                                    : d.scene.specimen.height;
+  options.mesh.resolution = request.resolution_fraction * characteristic;
+  const auto t0 = std::chrono::steady_clock::now();
+  const SimulationResult run = models::SimulateReduced(d.scene, options);
+  d.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  d.status = run.status;
+  d.message = run.message;
+  d.window_end = run.points.empty() ? d.notch : run.points.back().crack_length;
+  d.reached = run.steady_state_reached && run.status == RunStatus::kOk;
+  if (d.reached) {
+    d.onset = run.steady_state_crack_length;
+    const double step = (d.window_end - d.notch) / (request.r_points - 1);
+    for (int i = 0; i < request.r_points; ++i)
+      d.points_past += d.notch + i * step >= d.onset - 1e-12 * d.window_end;
+    d.identifies = d.points_past >= request.points_past_onset;
   }
-  return result;
+}
+
+// What a run adds to a prepared size, as bytes between ranks.
+template <class Io, class D>
+void VisitRun(Io& io, D& d) {
+  io.Field(d.window_end), io.Field(d.reached), io.Field(d.onset), io.Field(d.points_past);
+  io.Field(d.identifies), io.Field(d.status), io.Field(d.message), io.Field(d.wall_s);
+}
+
+}  // namespace
+
+std::vector<DesignResult> RunDesigns(const std::vector<DesignRequest>& requests,
+                                     parallel::Communicator* ranks) {
+  std::string why;
+  for (const DesignRequest& request : requests)
+    if (!request.IsValid(&why))
+      throw Error(ErrorKind::kInput, why, {.file = request.scene.source, .field = "design"});
+  // One list of independent runs: request r's size k is item r * sizes + k.
+  std::vector<DesignResult> results(requests.size());
+  std::vector<DesignSize*> items;
+  for (std::size_t r = 0; r < requests.size(); ++r) {
+    for (double size : requests[r].sizes) results[r].sizes.push_back(PrepareSize(requests[r], size));
+    for (DesignSize& d : results[r].sizes) items.push_back(&d);
+  }
+  std::vector<std::size_t> request_of;
+  for (std::size_t r = 0; r < requests.size(); ++r)
+    request_of.insert(request_of.end(), requests[r].sizes.size(), r);
+  const bool shared = ranks && ranks->size() > 1;
+  for (std::size_t j = 0; j < items.size(); ++j)
+    if (!shared || ranks->OwnerOf(j) == ranks->rank()) RunSize(requests[request_of[j]], *items[j]);
+  if (shared)
+    parallel::ShareOwned(
+        *ranks, items.size(), kDesignMagic, "design runs",
+        [&](std::size_t j, parallel::ByteWriter& out) { VisitRun(out, *items[j]); },
+        [&](std::size_t j, parallel::ByteReader& in) { VisitRun(in, *items[j]); });
+  for (DesignResult& result : results)
+    for (std::size_t k = 0; k < result.sizes.size() && result.smallest < 0; ++k)
+      if (result.sizes[k].identifies) result.smallest = static_cast<int>(k);
+  return results;
+}
+
+DesignResult RunDesign(const DesignRequest& request) {
+  return RunDesigns({request}, request.ranks).front();
 }
 
 int DesignResult::UnknownBelowSmallest() const {

@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <iterator>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -189,11 +190,16 @@ FitDesignResult RunFitDesign(const FitDesignRequest& request) {
     d.resolution_fraction = request.resolution_fraction;
     d.r_points = request.r_points;
     d.points_past_onset = request.points_past_onset;
-    return RunDesign(d);
+    return d;
   };
-  result.bound_design = design(result.bound);
+  // The bound law's and the region's runs as one list over the ranks.
+  std::vector<DesignRequest> designs{design(result.bound)};
+  for (const RegionLaw& law : result.region) designs.push_back(design(law));
+  std::vector<DesignResult> done = RunDesigns(designs, request.ranks);
+  result.bound_design = std::move(done.front());
   result.specimen = result.bound_design.sizes.front().scene.specimen.type;
-  for (const RegionLaw& law : result.region) result.region_designs.push_back(design(law));
+  result.region_designs.assign(std::make_move_iterator(done.begin() + 1),
+                               std::make_move_iterator(done.end()));
   for (std::size_t k = 0; k < request.sizes.size(); ++k) {
     result.sizes.push_back(Combine(result, k));
     const FitDesignSize& s = result.sizes.back();

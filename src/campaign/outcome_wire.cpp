@@ -17,7 +17,7 @@
 namespace bridgefit::campaign::wire {
 namespace {
 
-constexpr std::uint32_t kMagic = 0x33574642;  // "BFW3": change it when the layout changes
+constexpr std::uint32_t kMagic = 0x34574642;  // "BFW4": change it when the layout changes
 
 using Writer = parallel::ByteWriter;
 using Reader = parallel::ByteReader;
@@ -35,6 +35,35 @@ void Visit(Io& io, R& run) requires std::is_same_v<std::remove_const_t<R>, pipel
   io.Field(run.model_note);
 }
 
+// What a specimen's DIC gave: the frames' crack lengths (into the request,
+// so another rank's fit of it reads the same record), the notes and, with
+// the fit files, its dic file.
+void WriteDic(Writer& out, const SpecimenOutcome& s, bool with_files) {
+  const auto strings = [](Writer& io, const std::string& text) { io.Field(text); };
+  out.Items(s.notes, strings);
+  const auto& frames = s.request.frame_crack_lengths;
+  out.Field(frames.has_value());
+  if (frames) {
+    out.Items(frames->image, strings);
+    out.Field(frames->crack_length), out.Field(frames->source);
+  }
+  out.Field(with_files ? s.dic_file : std::string());
+}
+
+void ReadDic(Reader& in, SpecimenOutcome& s) {
+  const auto strings = [](Reader& io, std::string& text) { io.Field(text); };
+  in.Items(s.notes, strings);
+  bool has_frames = false;
+  in.Field(has_frames);
+  if (has_frames) {
+    auto& frames = s.request.frame_crack_lengths.emplace();
+    in.Items(frames.image, strings);
+    in.Field(frames.crack_length), in.Field(frames.source);
+    if (frames.crack_length.size() != frames.image.size()) in.Corrupt();
+  }
+  in.Field(s.dic_file);
+}
+
 }  // namespace
 
 std::string EncodeOutcomes(const std::vector<SpecimenOutcome>& specimens,
@@ -49,6 +78,7 @@ std::string EncodeOutcomes(const std::vector<SpecimenOutcome>& specimens,
     const SpecimenOutcome& s = specimens.at(i);
     out.Field(static_cast<std::uint64_t>(i));
     out.Field(s.name), out.Field(s.error), out.Field(s.wall_s), out.Field(s.rank);
+    WriteDic(out, s, with_fit_files);
     out.Field(s.ran());
     if (!s.ran()) continue;
     const bool load = s.run->load_data.has_value();
@@ -82,6 +112,7 @@ void DecodeOutcomes(const std::string& bytes, int from_rank,
     in.Field(name);
     if (name != s.name) in.Corrupt();  // the ranks read different manifests
     in.Field(s.error), in.Field(s.wall_s), in.Field(s.rank);
+    ReadDic(in, s);
     bool ran = false;
     in.Field(ran);
     if (!ran) continue;

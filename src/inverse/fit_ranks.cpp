@@ -11,6 +11,7 @@
 #include "bridgefit/inverse/fit_wire.hpp"
 #include "bridgefit/parallel/bytes.hpp"
 #include "bridgefit/parallel/communicator.hpp"
+#include "bridgefit/parallel/share_owned.hpp"
 #include "fit_impl.hpp"
 
 namespace bridgefit::inverse::fit_internal {
@@ -28,36 +29,6 @@ template <class Io, class L>
 void VisitLocal(Io& io, L& r) {
   io.Field(r.x), io.Field(r.chi2), io.Field(r.evaluations), io.Field(r.stop_reason);
   io.Field(r.converged);
-}
-
-// Items 0..count-1 dealt over the ranks (item j on OwnerOf(j)): each rank's
-// own items, written by `write(j, out)`, go to every rank, where `read(j, in)`
-// reads them back; a message with another magic, or an item its sender does
-// not own, is corrupt.
-template <class Write, class Read>
-void ShareOwned(parallel::Communicator& ranks, std::size_t count, std::uint32_t magic,
-                const char* what, Write&& write, Read&& read) {
-  parallel::ByteWriter out;
-  out.Field(magic);
-  for (std::size_t j = 0; j < count; ++j) {
-    if (ranks.OwnerOf(j) != ranks.rank()) continue;
-    out.Field(static_cast<std::uint64_t>(j));
-    write(j, out);
-  }
-  const std::vector<std::string> messages = ranks.AllGather(out.Take());
-  for (int from = 0; from < static_cast<int>(messages.size()); ++from) {
-    if (from == ranks.rank()) continue;
-    parallel::ByteReader in(messages[from], what, from);
-    std::uint32_t their_magic = 0;
-    in.Field(their_magic);
-    if (their_magic != magic) in.Corrupt();
-    while (!in.done()) {
-      std::uint64_t j = 0;
-      in.Field(j);
-      if (j >= count || ranks.OwnerOf(j) != from) in.Corrupt();
-      read(static_cast<std::size_t>(j), in);
-    }
-  }
 }
 
 }  // namespace
@@ -78,7 +49,7 @@ void CheckSameOptimum(parallel::Communicator& ranks, const LocalResult& best,
 }
 
 void ShareProfileRuns(parallel::Communicator& ranks, std::vector<ProfileRun>& runs) {
-  ShareOwned(
+  parallel::ShareOwned(
       ranks, runs.size(), kProfilesMagic, "fit profiles",
       [&](std::size_t q, parallel::ByteWriter& out) {
         const ProfileRun& run = runs[q];
@@ -97,7 +68,7 @@ void ShareProfileRuns(parallel::Communicator& ranks, std::vector<ProfileRun>& ru
 void ShareStartRuns(parallel::Communicator& ranks, std::vector<StartRun>& runs,
                     const Objective& objective) {
   std::vector<bool> remote(runs.size(), false);
-  ShareOwned(
+  parallel::ShareOwned(
       ranks, runs.size(), kStartsMagic, "fit starts",
       [&](std::size_t k, parallel::ByteWriter& out) {
         const StartRun& run = runs[k];

@@ -1,6 +1,8 @@
 // The campaign manifest reader (format: docs/FORMATS.md "Campaign manifest").
 #include "bridgefit/io/campaign_manifest.hpp"
 
+#include <cmath>
+#include <iterator>
 #include <set>
 
 #include <fmt/format.h>
@@ -76,9 +78,103 @@ Scene ReadSpecimenScene(const fs::path& scene_path, const Section& section) {
   return scene;
 }
 
+// A path key, relative to the manifest's folder, that must name a folder.
+fs::path ExistingFolder(const Section& section, const char* key, const fs::path& base,
+                        const std::string& expected) {
+  const std::string text = section.String(key, "", /*required=*/true);
+  const fs::path path = fs::path(text).is_absolute() ? fs::path(text) : base / text;
+  std::error_code ec;
+  if (!fs::is_directory(path, ec)) {
+    ErrorContext context = section.Context(key, expected);
+    context.value = path.string();
+    throw Error(ErrorKind::kInput, "folder not found", context);
+  }
+  return path;
+}
+
+ErrorContext WithValue(ErrorContext context, const std::string& value) {
+  context.value = value;
+  return context;
+}
+
+// A whole number of pixels, e.g. "31 px".
+int WholePixels(const Section& section, const char* key, int fallback) {
+  if (!section.has(key)) return fallback;
+  const double v = section.Quantity(key, Dimension::Pixel());
+  if (!(v >= 1 && v <= 10000 && v == std::floor(v)))
+    throw Error(ErrorKind::kInput, "must be a whole number of pixels",
+                WithValue(section.Context(key, "e.g. \"31 px\""), fmt::format("{:g} px", v)));
+  return static_cast<int>(v);
+}
+
+// [specimen.dic]: the images and `bridgefit dic`'s settings.
+ManifestDic ReadDic(const toml::node& node, const Section& specimen, const fs::path& base,
+                    std::map<std::string, int>* lines) {
+  static const char* const kKeys[] = {"images", "scale",  "offset",     "crack_line", "fixed_line",
+                                      "subset", "step",   "tip_method", "threshold",  "path_search"};
+  const toml::table* table = node.as_table();
+  if (!table)
+    throw Error(ErrorKind::kInput, "must be a [specimen.dic] table",
+                specimen.Context("dic", "a table of the specimen's DIC settings"));
+  const Section section(table, specimen.file(), specimen.name() + ".dic",
+                        std::set<std::string>(std::begin(kKeys), std::end(kKeys)));
+  ManifestDic d;
+  d.images = ExistingFolder(section, "images", base,
+                            "the folder of the specimen's images, relative to the manifest");
+  d.scale_m_per_px = section.Quantity("scale", Dimension::LengthPerPixel());
+  if (!(d.scale_m_per_px > 0))
+    throw Error(ErrorKind::kInput, "the image scale must be positive",
+                section.Context("scale", "a length per pixel, e.g. \"0.15 mm/px\""));
+  d.offset_m = section.OptionalQuantity("offset", Dimension::Length()).value_or(0.0);
+  if (section.has("crack_line")) {
+    const toml::node* line = table->get("crack_line");
+    const toml::array* array = line->as_array();
+    const std::string expected = "four pixel positions x0, y0, x1, y1, e.g. "
+                                 "[\"0 px\", \"150 px\", \"399 px\", \"150 px\"]";
+    if (!array || array->size() != 4)
+      throw Error(ErrorKind::kInput, "wrong value", section.Context("crack_line", expected));
+    std::array<double, 4> xy{};
+    for (std::size_t k = 0; k < 4; ++k) {
+      const auto text = (*array)[k].value<std::string>();
+      if (!text)
+        throw Error(ErrorKind::kInput, "each position needs its unit (px)",
+                    section.Context("crack_line", expected));
+      try {
+        xy[k] = ParseQuantity(*text, Dimension::Pixel());
+      } catch (const Error& e) {
+        throw e.WithContext(section.Context("crack_line", expected));
+      }
+    }
+    d.crack_line = xy;
+  }
+  d.fixed_line = section.Bool("fixed_line", false);
+  d.subset_px = WholePixels(section, "subset", d.subset_px);
+  d.step_px = WholePixels(section, "step", d.step_px);
+  d.tip_method = section.String("tip_method", d.tip_method);
+  if (section.has("threshold")) {
+    const std::string text = section.String("threshold", "");
+    try {
+      d.threshold_px = ParseQuantity(text, Dimension::Pixel());
+    } catch (const Error&) {
+      try {
+        d.threshold_px = ParseQuantity(text, Dimension::Length()) / d.scale_m_per_px;
+      } catch (const Error&) {
+        throw Error(ErrorKind::kInput, "expected pixels or a length",
+                    WithValue(section.Context("threshold", "e.g. \"0.02 px\" or \"0.003 mm\""),
+                              text));
+      }
+    }
+  }
+  d.path_search_px = section.OptionalQuantity("path_search", Dimension::Pixel()).value_or(40.0);
+  (*lines)["dic"] = section.line();
+  for (const char* key : kKeys)
+    if (section.has(key)) (*lines)[std::string("dic.") + key] = section.Context(key).line;
+  return d;
+}
+
 ManifestSpecimen ReadSpecimen(const toml::table& table, const std::string& file, int index,
                               const fs::path& base, const CampaignManifest& campaign) {
-  std::set<std::string> allowed = {"name", "record", "scene"};
+  std::set<std::string> allowed = {"name", "record", "scene", "dic"};
   for (const char* key : kChoiceKeys) allowed.insert(key);
   for (const char* key : kSizeKeys) allowed.insert(key);
   const Section section(&table, file, fmt::format("specimen[{}]", index + 1), allowed);
@@ -100,6 +196,7 @@ ManifestSpecimen ReadSpecimen(const toml::table& table, const std::string& file,
     section.Missing("scene", "a scene here or in [campaign] (scene = \"scene.toml\")");
   sp.scene = ReadSpecimenScene(sp.scene_path, section);
   sp.choices = ReadChoices(section, &sp.lines);
+  if (const toml::node* dic = table.get("dic")) sp.dic = ReadDic(*dic, section, base, &sp.lines);
   return sp;
 }
 

@@ -53,6 +53,11 @@ void ReadRCurveInput(const FitRequest& request, FitInput& input) {
                  .field = "--rcurve-method, --rcurve-min-increment, --rcurve-max-crack-length, "
                           "--rcurve-smooth, --rcurve-*-noise, --columns, --units",
                  .expected = "a load-displacement record as input, or none of these options"});
+  if (request.frame_crack_lengths)
+    throw Error(ErrorKind::kUsage, "crack lengths from image frames apply to a record only",
+                {.file = request.input_path.empty() ? "(in memory)" : request.input_path,
+                 .field = "crack lengths from " + request.frame_crack_lengths->source,
+                 .expected = "a load-displacement record with an image column as input"});
   if (request.input_path.empty()) {
     input.curve = *request.rcurve;
     input.record = request.record;
@@ -159,6 +164,11 @@ void ReduceRecordInput(const FitRequest& request, FitInput& input) {
   input.record = request.input_path.empty()
                      ? *request.record
                      : ReadRecordFile(request.input_path, request.columns, request.units);
+  std::vector<std::string> frame_notes;
+  if (const auto& frames = request.frame_crack_lengths)
+    input.record = experiment::CrackLengthFromFrames(*input.record, frames->image,
+                                                     frames->crack_length, frames->source,
+                                                     &frame_notes);
   if (MethodNeedsCrackLength(options.method, request.scene.specimen.type) &&
       !input.record->has_crack_length()) {
     io::RecordColumns columns;
@@ -173,6 +183,8 @@ void ReduceRecordInput(const FitRequest& request, FitInput& input) {
                              "equivalent (crack length from the compliance)"});
   }
   input.reduction = ReduceInProcess(request, input, options);
+  input.reduction->notes.insert(input.reduction->notes.begin(), frame_notes.begin(),
+                                frame_notes.end());
   input.curve = input.reduction->curve;
   input.initial_compliance = input.reduction->initiation.initial_compliance;
   input.dropped_rows = DroppedRowList(*input.record, *input.reduction);

@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "bridgefit/dic/sequence.hpp"
 #include "bridgefit/inverse/fit.hpp"
 #include "bridgefit/io/campaign_manifest.hpp"
 #include "bridgefit/parallel/communicator.hpp"
@@ -48,9 +49,27 @@ struct CampaignOptions {
   bool IsValid(std::string* why) const;
 };
 
+// A specimen's DIC on its images ([specimen.dic]), checked before any work
+// (BuildDicRequests): the images in natural order and the options of
+// `bridgefit dic` with the manifest's settings (dic::MakeSequenceOptions).
+struct DicRequest {
+  std::filesystem::path folder;
+  std::vector<std::filesystem::path> images;
+  dic::CrackSequenceOptions options;
+};
+
 struct SpecimenOutcome {
   std::string name;
+  // With `dic`, RunCampaign sets request.frame_crack_lengths from its DIC.
   pipeline::FitRequest request;
+  std::optional<DicRequest> dic;  // DIC first: its crack lengths go into the record
+  // DIC ran: its /dic file (pipeline::WriteDicH5, the dic file's writer) as
+  // bytes, written by the rank that ran it; WriteCampaignOutputs writes
+  // them as specimens/dic/NAME.h5 and into campaign.h5 under /specimens/NAME.
+  std::string dic_file;
+  // DIC's per-frame warnings (flagged frames, frames without a length) and
+  // how its frames were matched to the record's rows.
+  std::vector<std::string> notes;
   std::optional<pipeline::FitRun> run;  // empty when the specimen could not run
   std::string error;                    // why it could not run (the Error's text)
   double wall_s = 0.0;
@@ -118,6 +137,10 @@ struct CampaignResult {
 // fit (names of methods, laws and targets, the request's own IsValid). An
 // error names the manifest, the specimen and the line.
 std::vector<pipeline::FitRequest> BuildRequests(const io::CampaignManifest& manifest);
+// Per specimen (manifest order) its DIC request, or none without
+// [specimen.dic]: the folder holds at least two images and the settings
+// make valid options. An error names the manifest, the line and the key.
+std::vector<std::optional<DicRequest>> BuildDicRequests(const io::CampaignManifest& manifest);
 
 // Builds the requests (throws before any work), then runs them.
 CampaignResult RunCampaign(const io::CampaignManifest& manifest, const CampaignOptions& options);

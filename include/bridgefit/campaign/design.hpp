@@ -11,12 +11,21 @@
 // with at least `points_past_onset` R points past the onset, for R points
 // evenly spaced over the window (`r_points` of them): the fit's own rule
 // (inverse::FitBridgingLaw needs 3 data points past the onset).
+//
+// Over the ranks of an MPI job (`mpirun -n N bridgefit design`, issue 20) the
+// sizes' forward runs are dealt statically (run i on rank i mod N) and every
+// rank receives every run's result bit for bit: the result does not depend
+// on the number of ranks (docs/MPI.md).
 
 #include <string>
 #include <vector>
 
 #include "bridgefit/core/records.hpp"
 #include "bridgefit/scene/scene.hpp"
+
+namespace bridgefit::parallel {
+class Communicator;
+}
 
 namespace bridgefit::campaign {
 
@@ -28,6 +37,9 @@ struct DesignRequest {
   double resolution_fraction = 0.0;
   int r_points = 20;          // R points over the growth window of a test
   int points_past_onset = 3;  // the fit's rule
+  // Ranks of one job sharing the sizes' runs (collective: every rank makes
+  // the same design at the same time). Null or one rank: this process alone.
+  parallel::Communicator* ranks = nullptr;
   bool IsValid(std::string* why) const;
 };
 
@@ -67,5 +79,12 @@ double SceneSize(const Scene& scene);
 std::vector<double> SizeGrid(double from, double to, double step, const std::string& field);
 
 DesignResult RunDesign(const DesignRequest& request);
+
+// Several designs at once (a fit's bound law and its region): their runs
+// (size x request) are one list of independent items, dealt over `ranks`
+// (null: this process alone) as above; each request's own `ranks` is not
+// used. Validates every request first (Error kInput).
+std::vector<DesignResult> RunDesigns(const std::vector<DesignRequest>& requests,
+                                     parallel::Communicator* ranks);
 
 }  // namespace bridgefit::campaign

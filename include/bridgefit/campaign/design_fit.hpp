@@ -45,6 +45,9 @@ struct FitDesignRequest {
   double resolution_fraction = 0.0;  // as DesignRequest
   int r_points = 20;
   int points_past_onset = 3;
+  // Ranks of one job sharing the (1 + region) x sizes forward runs, as
+  // DesignRequest::ranks (collective; null: this process alone).
+  parallel::Communicator* ranks = nullptr;
   bool IsValid(std::string* why) const;
 };
 

@@ -8,6 +8,7 @@
 // the campaign module turns them into requests, naming the line they came
 // from (`lines`).
 
+#include <array>
 #include <filesystem>
 #include <map>
 #include <optional>
@@ -28,6 +29,23 @@ struct ManifestChoices {
   std::string calibrate_compliance;  // "" | initial | crack
 };
 
+// A specimen's crack lengths measured by DIC on its images ([specimen.dic]
+// table; docs/FORMATS.md): the folder and `bridgefit dic`'s settings, units
+// checked here (px or SI); defaults as `dic`'s. Whether the folder holds
+// images and the settings make valid options is checked by the campaign
+// (campaign::BuildDicRequests), before any work.
+struct ManifestDic {
+  std::filesystem::path images;  // the folder (exists; relative to the manifest)
+  double scale_m_per_px = 0;     // scale, e.g. "0.15 mm/px"
+  double offset_m = 0;           // offset, e.g. "20 mm"
+  std::optional<std::array<double, 4>> crack_line;  // x0, y0, x1, y1 [px]
+  bool fixed_line = false;
+  int subset_px = 31, step_px = 5;
+  std::string tip_method = "williams";
+  double threshold_px = 0.02;  // a length is converted with the scale
+  double path_search_px = 40;
+};
+
 struct ManifestSpecimen {
   std::string name;
   int line = 0;                      // the line of its [[specimen]] header
@@ -35,7 +53,8 @@ struct ManifestSpecimen {
   std::filesystem::path scene_path;  // its own scene, or the campaign's
   Scene scene;                       // read, the specimen's sizes applied, validated
   ManifestChoices choices;
-  std::map<std::string, int> lines;  // key -> manifest line, for later errors
+  std::optional<ManifestDic> dic;    // [specimen.dic]: DIC on its images
+  std::map<std::string, int> lines;  // key -> manifest line ("dic.scale" for [specimen.dic])
 };
 
 struct CampaignManifest {

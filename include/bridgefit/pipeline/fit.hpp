@@ -52,6 +52,17 @@ struct FitRequest {
   std::optional<RCurve> rcurve;
   std::optional<ExperimentRecord> record;
   double record_initial_compliance = NAN;  // in-memory R curve: its record's C0 [m/N]
+  // A record input's crack lengths measured on its images (a campaign
+  // specimen's DIC): put into the record by experiment::CrackLengthFromFrames
+  // (frames matched to rows by the record's image column) before the
+  // reduction, as `rcurve --crack-length-from DIC.csv` does; what was done
+  // goes into the reduction's notes. Empty: the record's own crack lengths.
+  struct FrameCrackLengths {
+    std::vector<std::string> image;   // each frame's image (file name)
+    std::vector<double> crack_length;  // [m]; NaN: no length (the reference)
+    std::string source;                // names them in notes and errors
+  };
+  std::optional<FrameCrackLengths> frame_crack_lengths;
 
   Scene scene;
   std::string scene_path;  // provenance in the fit file and errors
