@@ -53,7 +53,11 @@ void FitRequest::Check() const {
                              "or --model auto with --fit-to r-curve"});
   if (std::string why; !fit.IsValid(&why))
     throw Error(ErrorKind::kUsage, "invalid fit options: " + why);
-  if (std::string why; compare_laws && !shape_fit.IsValid(&why))
+  if (shape_law && compare_laws)
+    throw Error(ErrorKind::kUsage, "a fitted-shape family alone and the comparison of every family",
+                {.field = "--law", .value = inverse::ShapeFamilyName(*shape_law),
+                 .expected = "one law, or compare (its shape families: --shape-families)"});
+  if (std::string why; (compare_laws || shape_law) && !shape_fit.IsValid(&why))
     throw Error(ErrorKind::kUsage, "invalid shape-fit options: " + why,
                 {.field = "--table-knots", .expected = "knot counts in 2 .. 20, e.g. 3,4,5,6"});
   if (!std::isnan(resolution) && !(resolution > 0.0))
@@ -74,6 +78,33 @@ bool FitRequest::IsValid(std::string* why) const {
   } catch (const Error& e) {
     if (why) *why = e.what();
     return false;
+  }
+}
+
+void SetFitLaw(const std::string& text, FitRequest& request) {
+  if (text == "compare") {
+    request.compare_laws = true;
+    request.shape_law.reset();
+    return;
+  }
+  for (inverse::ShapeFamily family : {inverse::ShapeFamily::kBilinear,
+                                      inverse::ShapeFamily::kTrilinear, inverse::ShapeFamily::kTable})
+    if (text == inverse::ShapeFamilyName(family)) {
+      request.compare_laws = false;
+      request.shape_law = family;
+      request.law = family == inverse::ShapeFamily::kTrilinear ? laws::LawFamily::kTrilinear
+                                                                : laws::LawFamily::kTable;
+      return;
+    }
+  try {
+    request.law = laws::ParseLawFamily(text);  // the request unchanged when it throws
+    request.compare_laws = false;
+    request.shape_law.reset();
+  } catch (const Error& e) {
+    throw Error(ErrorKind::kUsage, e.message(),
+                {.field = "--law", .value = text,
+                 .expected = "linear, cubic, triangular or exponential (shape held); bilinear, "
+                             "trilinear or table (shape fitted too); or compare (AICc)"});
   }
 }
 
@@ -174,6 +205,33 @@ inverse::FitSummary StartFromRCurveFit(const inverse::ForwardModel& model,
 
 namespace {
 
+// `--law bilinear|trilinear|table`: the family's shape fitted with the scale
+// parameters (the table's N by AICc); data too few for every N it may try
+// are an input error naming the way out.
+void FitShapeAlone(const FitRequest& request, const inverse::ForwardModel& model,
+                   const inverse::FitData& fit_data, const inverse::FitOptions& options,
+                   FitRun& run) {
+  const inverse::ShapeFamily family = *request.shape_law;
+  inverse::ShapeFit f =
+      family == inverse::ShapeFamily::kTable
+          ? inverse::FitTableLaw(model, fit_data, options, request.shape_fit)
+          : inverse::FitShapeFamily(model, family, fit_data, options, request.shape_fit);
+  if (!f.fitted)
+    throw Error(ErrorKind::kInput, "the data are too few for this law's shape: " + f.skip_reason,
+                {.file = run.input.label, .field = "--law", .value = f.law,
+                 .expected = family == inverse::ShapeFamily::kTable
+                                 ? "more points, fewer knots (e.g. --table-knots 2,3), or a law "
+                                   "whose shape is held (--law linear|cubic)"
+                                 : "more points, or a law whose shape is held (--law linear|cubic)"});
+  run.summary = std::move(f.summary);
+  run.summary.wall_s = f.wall_s;  // with the seed fits and every N tried
+  run.shape = std::move(f.shape);
+  run.fitted_shape.family = f.law;
+  run.fitted_shape.parameters = std::move(f.shape_parameters);
+  run.fitted_shape.knots = f.knots;
+  run.fitted_shape.note = std::move(f.note);
+}
+
 // The fit itself: one law, or every family ranked by AICc (the best one
 // kept); --model auto: the reduced fit checked (and corrected) by MPM.
 void FitLaw(const FitRequest& request, const FitModels& models, const inverse::FitData& fit_data,
@@ -193,6 +251,15 @@ void FitLaw(const FitRequest& request, const FitModels& models, const inverse::F
     // Issue 15: the time of the whole comparison, not of the best family.
     run.summary.wall_s = compare_s;
     run.shape = best->shape;
+    if (!best->shape_parameters.empty()) {  // a fitted-shape family won
+      run.fitted_shape.family = best->law;
+      run.fitted_shape.parameters = best->shape_parameters;
+      run.fitted_shape.knots =
+          best->law == "table" ? static_cast<int>(best->shape.d_points.size()) - 1 : 0;
+      run.fitted_shape.note = best->note;
+    }
+  } else if (request.shape_law) {
+    FitShapeAlone(request, models.model(), fit_data, options, run);
   }
   if (models.accurate()) {
     run.model_checked = true;
@@ -201,7 +268,9 @@ void FitLaw(const FitRequest& request, const FitModels& models, const inverse::F
     run.model_note = "auto: " + run.model_check.outcome;
     run.mpm_cell = models.mpm_cell();
     CheckModelAuto(request, models, fit_data, options, run);
-  } else if (!request.compare_laws) {
+    // The check holds the fitted shape; the law keeps its family's name.
+    if (run.fitted_shape.fitted()) run.summary.law = run.fitted_shape.family;
+  } else if (!request.compare_laws && !request.shape_law) {
     run.summary = inverse::FitBridgingLaw(models.model(), run.shape, fit_data, options);
   }
 }
@@ -354,7 +423,7 @@ namespace {
 void StartFromChosenSize(const FitRequest& request, const FitRun& run, double h,
                          const std::array<double, inverse::kParameterCount>* from,
                          inverse::FitOptions& options) {
-  if (run.load_data || request.compare_laws || !run.resolution_choice) return;
+  if (run.load_data || request.compare_laws || request.shape_law || !run.resolution_choice) return;
   for (double v : request.fit.initial)
     if (std::isfinite(v)) return;
   std::array<double, inverse::kParameterCount> start = {NAN, NAN, NAN};
@@ -427,8 +496,9 @@ FitRun RunFit(const FitRequest& given) {
   run.data = inverse::FitData::FromRCurve(run.input.curve, run.r_kind);
   if (request.target == inverse::FitTarget::kLoad)
     run.load_data = LoadFitData(request, run.input);
-  // Comparing: the start fit and the calibration use the linear law.
-  run.shape = request.compare_laws ? laws::MakeLinearShape() : ShapeForRequest(request);
+  // Comparing or fitting a shape: the start fit and the calibration use the linear law.
+  run.shape = request.compare_laws || request.shape_law ? laws::MakeLinearShape()
+                                                        : ShapeForRequest(request);
   run.check.tolerance = request.model_tolerance;
   ChooseAutoResolution(request, run.shape, run);
   const FitRun chosen = run;
@@ -486,6 +556,36 @@ FitRun RunFit(const FitRequest& given) {
   return run;
 }
 
+namespace {
+
+// The fitted shape's parameters as the summary prints them: each with its
+// Wald 95% interval (1.96 se, the scale parameters free), said as such.
+std::string FittedShapeText(const FittedShape& f, const inverse::FitSummary& s) {
+  std::string out = fmt::format("  {} shape (d = delta / delta_c, s = sigma / sigma_c){}:\n",
+                                f.family, f.knots > 0 ? fmt::format(", N = {} knots", f.knots) : "");
+  const double sigma_c = s.sigma_c.value, delta_c = s.delta_c.value;
+  for (const inverse::ShapeParameter& p : f.parameters) {
+    const bool position = p.name.rfind('d', 0) == 0;
+    out += fmt::format("    {:<9} {:.4f}", p.name, p.value);
+    if (p.pinned)
+      out += "  (the peak: sigma_c by definition)";
+    else if (std::isfinite(p.standard_error))
+      out += fmt::format("  95% Wald [{:.4f}, {:.4f}]", p.value - 1.96 * p.standard_error,
+                         p.value + 1.96 * p.standard_error);
+    else
+      out += "  (Wald interval: singular information)";
+    if (position && std::isfinite(delta_c))
+      out += fmt::format("  delta {:.4g} mm", p.value * delta_c * 1e3);
+    else if (!position && std::isfinite(sigma_c))
+      out += fmt::format("  sigma {:.4g} MPa", p.value * sigma_c * 1e-6);
+    out += "\n";
+  }
+  if (!f.note.empty()) out += "    " + f.note + "\n";
+  return out;
+}
+
+}  // namespace
+
 double FitRun::RResidualRms() const { return load_data ? load_fit_R_rms : summary.rms_residual; }
 
 std::string FitRun::BriefReport() const {
@@ -528,6 +628,7 @@ std::string FitRun::BriefReport() const {
         c.modulus_factor, c.initial_slope_factor, c.model_initial_compliance,
         input.initial_compliance, c.fits);
   out << summary.BriefReport();
+  if (fitted_shape.fitted()) out << FittedShapeText(fitted_shape, summary);
   if (resolution_choice)
     out << fmt::format("  resolution auto: {} (chosen in {:.2f} s)\n", resolution_choice->reason,
                        resolution_choice->wall_s);
