@@ -81,33 +81,6 @@ bool FitRequest::IsValid(std::string* why) const {
   }
 }
 
-void SetFitLaw(const std::string& text, FitRequest& request) {
-  if (text == "compare") {
-    request.compare_laws = true;
-    request.shape_law.reset();
-    return;
-  }
-  for (inverse::ShapeFamily family : {inverse::ShapeFamily::kBilinear,
-                                      inverse::ShapeFamily::kTrilinear, inverse::ShapeFamily::kTable})
-    if (text == inverse::ShapeFamilyName(family)) {
-      request.compare_laws = false;
-      request.shape_law = family;
-      request.law = family == inverse::ShapeFamily::kTrilinear ? laws::LawFamily::kTrilinear
-                                                                : laws::LawFamily::kTable;
-      return;
-    }
-  try {
-    request.law = laws::ParseLawFamily(text);  // the request unchanged when it throws
-    request.compare_laws = false;
-    request.shape_law.reset();
-  } catch (const Error& e) {
-    throw Error(ErrorKind::kUsage, e.message(),
-                {.field = "--law", .value = text,
-                 .expected = "linear, cubic, triangular or exponential (shape held); bilinear, "
-                             "trilinear or table (shape fitted too); or compare (AICc)"});
-  }
-}
-
 namespace {
 
 // Like with like: a record's reduction says what its R is; as-data (the
@@ -205,33 +178,6 @@ inverse::FitSummary StartFromRCurveFit(const inverse::ForwardModel& model,
 
 namespace {
 
-// `--law bilinear|trilinear|table`: the family's shape fitted with the scale
-// parameters (the table's N by AICc); data too few for every N it may try
-// are an input error naming the way out.
-void FitShapeAlone(const FitRequest& request, const inverse::ForwardModel& model,
-                   const inverse::FitData& fit_data, const inverse::FitOptions& options,
-                   FitRun& run) {
-  const inverse::ShapeFamily family = *request.shape_law;
-  inverse::ShapeFit f =
-      family == inverse::ShapeFamily::kTable
-          ? inverse::FitTableLaw(model, fit_data, options, request.shape_fit)
-          : inverse::FitShapeFamily(model, family, fit_data, options, request.shape_fit);
-  if (!f.fitted)
-    throw Error(ErrorKind::kInput, "the data are too few for this law's shape: " + f.skip_reason,
-                {.file = run.input.label, .field = "--law", .value = f.law,
-                 .expected = family == inverse::ShapeFamily::kTable
-                                 ? "more points, fewer knots (e.g. --table-knots 2,3), or a law "
-                                   "whose shape is held (--law linear|cubic)"
-                                 : "more points, or a law whose shape is held (--law linear|cubic)"});
-  run.summary = std::move(f.summary);
-  run.summary.wall_s = f.wall_s;  // with the seed fits and every N tried
-  run.shape = std::move(f.shape);
-  run.fitted_shape.family = f.law;
-  run.fitted_shape.parameters = std::move(f.shape_parameters);
-  run.fitted_shape.knots = f.knots;
-  run.fitted_shape.note = std::move(f.note);
-}
-
 // The fit itself: one law, or every family ranked by AICc (the best one
 // kept); --model auto: the reduced fit checked (and corrected) by MPM.
 void FitLaw(const FitRequest& request, const FitModels& models, const inverse::FitData& fit_data,
@@ -251,13 +197,7 @@ void FitLaw(const FitRequest& request, const FitModels& models, const inverse::F
     // Issue 15: the time of the whole comparison, not of the best family.
     run.summary.wall_s = compare_s;
     run.shape = best->shape;
-    if (!best->shape_parameters.empty()) {  // a fitted-shape family won
-      run.fitted_shape.family = best->law;
-      run.fitted_shape.parameters = best->shape_parameters;
-      run.fitted_shape.knots =
-          best->law == "table" ? static_cast<int>(best->shape.d_points.size()) - 1 : 0;
-      run.fitted_shape.note = best->note;
-    }
+    run.fitted_shape = FittedShapeOf(*best);
   } else if (request.shape_law) {
     FitShapeAlone(request, models.model(), fit_data, options, run);
   }
@@ -555,36 +495,6 @@ FitRun RunFit(const FitRequest& given) {
   }
   return run;
 }
-
-namespace {
-
-// The fitted shape's parameters as the summary prints them: each with its
-// Wald 95% interval (1.96 se, the scale parameters free), said as such.
-std::string FittedShapeText(const FittedShape& f, const inverse::FitSummary& s) {
-  std::string out = fmt::format("  {} shape (d = delta / delta_c, s = sigma / sigma_c){}:\n",
-                                f.family, f.knots > 0 ? fmt::format(", N = {} knots", f.knots) : "");
-  const double sigma_c = s.sigma_c.value, delta_c = s.delta_c.value;
-  for (const inverse::ShapeParameter& p : f.parameters) {
-    const bool position = p.name.rfind('d', 0) == 0;
-    out += fmt::format("    {:<9} {:.4f}", p.name, p.value);
-    if (p.pinned)
-      out += "  (the peak: sigma_c by definition)";
-    else if (std::isfinite(p.standard_error))
-      out += fmt::format("  95% Wald [{:.4f}, {:.4f}]", p.value - 1.96 * p.standard_error,
-                         p.value + 1.96 * p.standard_error);
-    else
-      out += "  (Wald interval: singular information)";
-    if (position && std::isfinite(delta_c))
-      out += fmt::format("  delta {:.4g} mm", p.value * delta_c * 1e3);
-    else if (!position && std::isfinite(sigma_c))
-      out += fmt::format("  sigma {:.4g} MPa", p.value * sigma_c * 1e-6);
-    out += "\n";
-  }
-  if (!f.note.empty()) out += "    " + f.note + "\n";
-  return out;
-}
-
-}  // namespace
 
 double FitRun::RResidualRms() const { return load_data ? load_fit_R_rms : summary.rms_residual; }
 
