@@ -188,6 +188,41 @@ TEST(PipelineShapeLaw, BilinearAloneRecoversItsKink) {
   }
 }
 
+// `--law compare` on the same bilinear data (the fixed families and the
+// bilinear one): the bilinear law wins by AICc, and the run's law is its
+// row's shape with its parameters, written to the fit file and read back
+// as the report's view (not a linear stand-in).
+TEST(PipelineShapeLaw, CompareWinnerCarriesItsFittedShape) {
+  const WorkDir work;
+  laws::LawShape bilinear{.family = laws::LawFamily::kTable};
+  bilinear.d_points = {0.0, 0.25, 1.0};
+  bilinear.s_points = {1.0, 0.3, 0.0};
+  FitRequest request = ShapeRequest("compare", bilinear, {2.0e6, 500.0, 2210.0}, 100, 41);
+  request.shape_families = {inverse::ShapeFamily::kBilinear};
+  const FitRun run = RunFit(request);
+  ASSERT_EQ(run.comparison.size(), 5u);
+  const inverse::LawComparison& row = run.comparison.back();
+  ASSERT_EQ(row.law, "bilinear");
+  EXPECT_EQ(row.delta_aicc, 0.0) << "bilinear not chosen";
+  EXPECT_EQ(run.summary.law, "bilinear");
+  EXPECT_EQ(run.fitted_shape.family, "bilinear");
+  EXPECT_EQ(run.shape.d_points, row.shape.d_points);
+  EXPECT_EQ(run.shape.s_points, row.shape.s_points);
+  ASSERT_EQ(run.fitted_shape.parameters.size(), 2u);
+  EXPECT_EQ(run.fitted_shape.parameters[0].value, row.shape_parameters[0].value);
+
+  const fs::path fit_h5 = work.path / "compare.h5";
+  WriteFitFile(fit_h5.string(), request, run);
+  const report::FitView view = ReadFitView(fit_h5);
+  EXPECT_EQ(view.law, "bilinear");
+  EXPECT_EQ(view.fitted_shape, "bilinear");
+  ASSERT_TRUE(view.shape);
+  EXPECT_EQ(view.shape->d_points, run.shape.d_points);
+  EXPECT_EQ(view.shape->s_points, run.shape.s_points);
+  ASSERT_EQ(view.shape_parameters.size(), 2u);
+  EXPECT_EQ(view.shape_parameters[0].name, "d1");
+}
+
 // Each shape the fit can hold (the four fixed families, bilinear,
 // trilinear, the PCHIP table) with a fitted shape's parameters: written by
 // WriteFitFile, read by ReadFittedLaw and ReadFitView, bit for bit.
