@@ -93,14 +93,17 @@ class FitCommand final : public Command {
                    "--model auto: largest relative R difference between the reduced and MPM "
                    "models accepted without correction")
         ->default_val(0.03);
-    sub.add_option("--law", law_, "Law family: linear|cubic|triangular|exponential|compare (AICc)")
+    sub.add_option("--law", law_,
+                   "Law family: linear|cubic|triangular|exponential (shape held), "
+                   "bilinear|trilinear|table (shape fitted too), or compare (every family by AICc)")
         ->default_val("linear");
     sub.add_option("--shape-families", shape_families_,
                    "--law compare: families whose shape is fitted too, comma-separated "
                    "bilinear,trilinear,table, or none")
         ->default_val("bilinear,trilinear,table");
     sub.add_option("--table-knots", table_knots_,
-                   "--law compare: knot counts N the tabulated law tries (AICc chooses), e.g. 3,4,5,6")
+                   "--law table|compare: knot counts N the tabulated law tries (AICc chooses), "
+                   "e.g. 3,4,5,6 or one count, 5")
         ->default_val("3,4,5,6");
     sub.add_option("--optimizer", optimizer_, "ceres-lm|bobyqa|neldermead|cobyla|direct|crs2")
         ->default_val("bobyqa");
@@ -216,15 +219,7 @@ class FitCommand final : public Command {
     request.model_tolerance = model_tolerance_;
     if (!resolution_.empty() && resolution_ != "auto")
       request.resolution = ParseOptionQuantity(resolution_, Dimension::Length(), "--resolution");
-    request.compare_laws = law_ == "compare";
-    if (!request.compare_laws) {
-      try {
-        request.law = laws::ParseLawFamily(law_);
-      } catch (const Error& e) {
-        throw Error(ErrorKind::kUsage, e.message(),
-                    {.field = "--law", .value = law_, .expected = e.context().expected + " or compare"});
-      }
-    }
+    pipeline::SetFitLaw(law_, request);
     request.shape_families = ParseShapeFamilies(shape_families_);
     request.shape_fit.table_knots.clear();
     for (const std::string& item : SplitList(table_knots_)) {

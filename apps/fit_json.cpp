@@ -170,6 +170,41 @@ void AddSearchJson(const pipeline::FitRun& run, nlohmann::json& out) {
   out["law_comparison"] = std::move(families);
 }
 
+// The law's shape (what /fit/law_shape holds): points in units of delta_c
+// and sigma_c and at the fitted scales, a fitted shape's parameters with
+// their Wald intervals (1.96 se, the scale parameters free).
+nlohmann::json LawShapeJson(const pipeline::FitRun& run) {
+  const laws::LawShape& shape = run.shape;
+  nlohmann::json out = {{"family", std::string(laws::LawFamilyName(shape.family))},
+                        {"fitted_family", run.fitted_shape.family},
+                        {"interpolation", std::string(laws::TableInterpolationName(shape.interpolation))}};
+  if (shape.family == laws::LawFamily::kTriangular) out["peak_ratio"] = shape.peak_ratio;
+  if (shape.family == laws::LawFamily::kExponential) out["alpha"] = shape.alpha;
+  if (!shape.d_points.empty()) {
+    const double sigma_c = run.summary.sigma_c.value, delta_c = run.summary.delta_c.value;
+    nlohmann::json points = nlohmann::json::array();
+    for (size_t k = 0; k < shape.d_points.size(); ++k)
+      points.push_back({{"d", shape.d_points[k]}, {"s", shape.s_points[k]},
+                        {"delta_m", NumberOrNull(shape.d_points[k] * delta_c)},
+                        {"sigma_Pa", NumberOrNull(shape.s_points[k] * sigma_c)}});
+    out["points"] = std::move(points);
+  }
+  if (!run.fitted_shape.fitted()) return out;
+  out["knots"] = run.fitted_shape.knots;
+  out["note"] = run.fitted_shape.note;
+  nlohmann::json parameters = nlohmann::json::array();
+  for (const inverse::ShapeParameter& p : run.fitted_shape.parameters) {
+    const double half = 1.96 * p.standard_error;
+    parameters.push_back({{"name", p.name}, {"value", NumberOrNull(p.value)},
+                          {"standard_error", NumberOrNull(p.standard_error)},
+                          {"wald_ci95_low", NumberOrNull(p.value - half)},
+                          {"wald_ci95_high", NumberOrNull(p.value + half)},
+                          {"pinned", p.pinned}});
+  }
+  out["shape_parameters"] = std::move(parameters);
+  return out;
+}
+
 }  // namespace
 
 nlohmann::json FitRunJson(const pipeline::FitRun& run, const std::string& input_path) {
@@ -180,6 +215,7 @@ nlohmann::json FitRunJson(const pipeline::FitRun& run, const std::string& input_
   if (run.model_checked) out["model_check"] = ModelCheckJson(run);
   out["optimizer"] = s.optimizer;
   out["law"] = s.law;
+  out["law_shape"] = LawShapeJson(run);
   out["r_kind"] = inverse::RKindName(run.r_kind);
   out["data"] = DataJson(run.input, input_path);
   out["evaluations"] = s.evaluations;

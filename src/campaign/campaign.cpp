@@ -81,11 +81,8 @@ pipeline::FitRequest RequestFor(const io::CampaignManifest& m, const io::Manifes
   r.model = Parsed([](const std::string& t) { return pipeline::ParseModelChoice(t); }, m, sp,
                    "model", model);
   if (m.resolution) r.resolution = *m.resolution;
-  r.compare_laws = m.law == "compare";
-  if (!r.compare_laws) {
-    const Choice law{m.law, m.lines.count("law") ? m.lines.at("law") : 0};
-    r.law = Parsed([](const std::string& t) { return laws::ParseLawFamily(t); }, m, sp, "law", law);
-  }
+  const Choice law{m.law, m.lines.count("law") ? m.lines.at("law") : 0};
+  Parsed([&r](const std::string& t) { return pipeline::SetFitLaw(t, r); }, m, sp, "law", law);
   r.target = Parsed([](const std::string& t) { return inverse::ParseFitTarget(t); }, m, sp,
                     "fit_to", pick(a.fit_to, b.fit_to, "fit_to", "r-curve"));
   r.calibration = Parsed(

@@ -61,6 +61,18 @@ LawFamily ParseLawFamily(std::string_view name) {
                .expected = "one of linear, cubic, triangular, trilinear, exponential, table"});
 }
 
+std::string_view TableInterpolationName(TableInterpolation interpolation) {
+  return interpolation == TableInterpolation::kMonotoneCubic ? "monotone-cubic" : "linear";
+}
+
+TableInterpolation ParseTableInterpolation(std::string_view name) {
+  for (TableInterpolation i : {TableInterpolation::kLinear, TableInterpolation::kMonotoneCubic})
+    if (TableInterpolationName(i) == name) return i;
+  throw Error(ErrorKind::kInput, "unknown table interpolation",
+              {.field = "interpolation", .value = std::string(name),
+               .expected = "linear or monotone-cubic"});
+}
+
 void LawShape::Validate() const {
   switch (family) {
     case LawFamily::kLinear:

@@ -53,7 +53,11 @@ void FitRequest::Check() const {
                              "or --model auto with --fit-to r-curve"});
   if (std::string why; !fit.IsValid(&why))
     throw Error(ErrorKind::kUsage, "invalid fit options: " + why);
-  if (std::string why; compare_laws && !shape_fit.IsValid(&why))
+  if (shape_law && compare_laws)
+    throw Error(ErrorKind::kUsage, "a fitted-shape family alone and the comparison of every family",
+                {.field = "--law", .value = inverse::ShapeFamilyName(*shape_law),
+                 .expected = "one law, or compare (its shape families: --shape-families)"});
+  if (std::string why; (compare_laws || shape_law) && !shape_fit.IsValid(&why))
     throw Error(ErrorKind::kUsage, "invalid shape-fit options: " + why,
                 {.field = "--table-knots", .expected = "knot counts in 2 .. 20, e.g. 3,4,5,6"});
   if (!std::isnan(resolution) && !(resolution > 0.0))
@@ -193,12 +197,17 @@ void FitLaw(const FitRequest& request, FitModels& models, const inverse::FitData
     // Issue 15: the time of the whole comparison, not of the best family.
     run.summary.wall_s = compare_s;
     run.shape = best->shape;
+    run.fitted_shape = FittedShapeOf(*best);
+  } else if (request.shape_law) {
+    FitShapeAlone(request, models.model(), fit_data, options, run);
   }
   if (models.accurate()) {
     run.model_checked = true;
     FitCheckedByMpm(request, models, fit_data, options, run);
     CheckModelAuto(request, models, fit_data, options, run);
-  } else if (!request.compare_laws) {
+    // The check holds the fitted shape; the law keeps its family's name.
+    if (run.fitted_shape.fitted()) run.summary.law = run.fitted_shape.family;
+  } else if (!request.compare_laws && !request.shape_law) {
     run.summary = inverse::FitBridgingLaw(models.model(), run.shape, fit_data, options);
   }
 }
@@ -351,7 +360,7 @@ namespace {
 void StartFromChosenSize(const FitRequest& request, const FitRun& run, double h,
                          const std::array<double, inverse::kParameterCount>* from,
                          inverse::FitOptions& options) {
-  if (run.load_data || request.compare_laws || !run.resolution_choice) return;
+  if (run.load_data || request.compare_laws || request.shape_law || !run.resolution_choice) return;
   for (double v : request.fit.initial)
     if (std::isfinite(v)) return;
   std::array<double, inverse::kParameterCount> start = {NAN, NAN, NAN};
@@ -424,8 +433,9 @@ FitRun RunFit(const FitRequest& given) {
   run.data = inverse::FitData::FromRCurve(run.input.curve, run.r_kind);
   if (request.target == inverse::FitTarget::kLoad)
     run.load_data = LoadFitData(request, run.input);
-  // Comparing: the start fit and the calibration use the linear law.
-  run.shape = request.compare_laws ? laws::MakeLinearShape() : ShapeForRequest(request);
+  // Comparing or fitting a shape: the start fit and the calibration use the linear law.
+  run.shape = request.compare_laws || request.shape_law ? laws::MakeLinearShape()
+                                                        : ShapeForRequest(request);
   run.check.tolerance = request.model_tolerance;
   ChooseAutoResolution(request, run.shape, run);
   const FitRun chosen = run;
@@ -525,6 +535,7 @@ std::string FitRun::BriefReport() const {
         c.modulus_factor, c.initial_slope_factor, c.model_initial_compliance,
         input.initial_compliance, c.fits);
   out << summary.BriefReport();
+  if (fitted_shape.fitted()) out << FittedShapeText(fitted_shape, summary);
   if (resolution_choice)
     out << fmt::format("  resolution auto: {} (chosen in {:.2f} s)\n", resolution_choice->reason,
                        resolution_choice->wall_s);

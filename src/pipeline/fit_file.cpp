@@ -221,16 +221,51 @@ void WriteFitScene(io::H5Writer& file, const std::string& g, const Scene& scene)
   file.WriteAttribute(sg, "density_kg_per_m3", m.density);
 }
 
-// The normalized shape s(d) of the law fitted (laws::LawShape).
-void WriteLawShape(io::H5Writer& file, const std::string& g, const laws::LawShape& shape) {
+// The law fitted (/fit/law_shape, docs/FORMATS.md): its normalized shape
+// s(d) as laws::LawShape holds it (family, parameters, break points and the
+// interpolation between them), the break points at the fitted scales, and
+// a fitted shape's own parameters with their Wald standard errors.
+void WriteLawShape(io::H5Writer& file, const std::string& g, const FitRun& run) {
+  const laws::LawShape& shape = run.shape;
   const std::string lg = g + "/law_shape";
   file.WriteAttribute(lg, "family", std::string(laws::LawFamilyName(shape.family)));
   file.WriteAttribute(lg, "peak_ratio", shape.peak_ratio);
   file.WriteAttribute(lg, "alpha", shape.alpha);
+  file.WriteAttribute(lg, "interpolation",
+                      std::string(laws::TableInterpolationName(shape.interpolation)));
   if (!shape.d_points.empty()) {
     file.WriteVector(lg + "/d_points", shape.d_points, "1", "delta / delta_c of the break points");
     file.WriteVector(lg + "/s_points", shape.s_points, "1", "sigma / sigma_c at the break points");
+    const double sigma_c = run.summary.sigma_c.value, delta_c = run.summary.delta_c.value;
+    if (std::isfinite(sigma_c) && std::isfinite(delta_c)) {
+      std::vector<double> delta, sigma;
+      for (size_t k = 0; k < shape.d_points.size(); ++k) {
+        delta.push_back(shape.d_points[k] * delta_c);
+        sigma.push_back(shape.s_points[k] * sigma_c);
+      }
+      file.WriteVector(lg + "/delta_points", delta, "m", "break points' opening at the fitted delta_c");
+      file.WriteVector(lg + "/sigma_points", sigma, "Pa", "break points' stress at the fitted sigma_c");
+    }
   }
+  const FittedShape& f = run.fitted_shape;
+  file.WriteAttribute(lg, "fitted_family", f.family);
+  if (!f.fitted()) return;
+  file.WriteAttribute(lg, "knots", static_cast<double>(f.knots));
+  file.WriteAttribute(lg, "note", f.note);
+  std::vector<std::string> names;
+  std::vector<double> values, errors, pinned;
+  for (const inverse::ShapeParameter& p : f.parameters) {
+    names.push_back(p.name);
+    values.push_back(p.value);
+    errors.push_back(p.standard_error);
+    pinned.push_back(p.pinned ? 1.0 : 0.0);
+  }
+  file.WriteStrings(lg + "/parameter_names", names);
+  file.WriteVector(lg + "/parameter_values", values, "1",
+                   "d: delta / delta_c; s: sigma / sigma_c");
+  file.WriteVector(lg + "/parameter_standard_errors", errors, "1",
+                   "Wald standard errors, the scale parameters free (NaN: pinned or singular)");
+  file.WriteVector(lg + "/parameter_pinned", pinned, "1", "1: the peak knot, sigma_c by definition");
 }
 
 }  // namespace
@@ -259,7 +294,7 @@ void WriteFitFile(const std::string& path, const FitRequest& request, const FitR
   WriteFitScene(file, g, run.calibration.calibrated()
                              ? ScaledModuli(request.scene, run.calibration.modulus_factor)
                              : request.scene);
-  WriteLawShape(file, g, run.shape);
+  WriteLawShape(file, g, run);
   WriteModelCheck(file, g, run);
   WriteModelError(file, g, run);
   WriteProfiles(file, g, run.summary);
@@ -272,6 +307,9 @@ using detail::StringAttr;
 using detail::VectorOrEmpty;
 
 namespace {
+
+const char* const kFitFileExpected =
+    "a fit file from 'bridgefit fit --out FIT.h5' (or a campaign.h5 from 'bridgefit campaign')";
 
 // One estimate as WriteEstimate wrote it (the report's and the design's
 // reader); absent attributes stay NaN.
@@ -292,6 +330,72 @@ inverse::ParameterEstimate ReadEstimate(const io::H5Reader& r, const std::string
   e.decided_by = StringAttr(r, pg, "decided_by");
   e.note = StringAttr(r, pg, "note");
   return e;
+}
+
+// /fit/law_shape as WriteLawShape wrote it; a file without it: the family's
+// default shape (said in `note`), or an Error for a family whose shape is
+// data. A table without its interpolation (written before it was stored)
+// is read with straight segments, said in `note`.
+laws::LawShape ReadLawShape(const io::H5Reader& r, const std::string& g, const std::string& file,
+                            std::string* note) {
+  const std::string lg = g + "/law_shape";
+  const std::string family_name = r.Exists(lg) ? StringAttr(r, lg, "family") : StringAttr(r, g, "law");
+  laws::LawFamily family;
+  try {
+    family = laws::ParseLawFamily(family_name);
+  } catch (const Error&) {
+    throw Error(ErrorKind::kInput, "the fit file names no law family this program knows",
+                {.file = file, .field = g + "/law", .value = family_name, .expected = kFitFileExpected});
+  }
+  laws::LawShape shape;
+  shape.family = family;
+  if (r.Exists(lg)) {
+    shape.peak_ratio = NumberAttr(r, lg, "peak_ratio");
+    shape.alpha = NumberAttr(r, lg, "alpha");
+    shape.d_points = VectorOrEmpty(r, lg + "/d_points");
+    shape.s_points = VectorOrEmpty(r, lg + "/s_points");
+    const std::string interpolation = StringAttr(r, lg, "interpolation");
+    if (!interpolation.empty()) {
+      try {
+        shape.interpolation = laws::ParseTableInterpolation(interpolation);
+      } catch (const Error& e) {
+        throw Error(ErrorKind::kInput, e.message(),
+                    {.file = file, .field = lg + " interpolation", .value = interpolation,
+                     .expected = e.context().expected});
+      }
+    } else if (family == laws::LawFamily::kTable) {
+      *note += "; the table law's interpolation is not in the file (written before it was "
+               "stored): drawn with straight segments between its points";
+    }
+  } else if (std::optional<laws::LawShape> d = laws::DefaultShape(family)) {
+    shape = *d;
+    *note += "; the law's shape: the family's default (the file predates /fit/law_shape)";
+  } else {
+    throw Error(ErrorKind::kInput, "the fit file does not hold the shape of its law",
+                {.file = file, .field = lg, .value = family_name,
+                 .expected = "a fit file written with /fit/law_shape (refit it)"});
+  }
+  shape.Validate();
+  return shape;
+}
+
+// A fitted shape's own parameters (/fit/law_shape, fitted_family set).
+void ReadFittedShape(const io::H5Reader& r, const std::string& lg, report::FitView& f) {
+  if (!r.Exists(lg)) return;
+  f.fitted_shape = StringAttr(r, lg, "fitted_family");
+  if (f.fitted_shape.empty()) return;
+  f.shape_knots = static_cast<int>(NumberAttr(r, lg, "knots"));
+  f.fitted_shape_note = StringAttr(r, lg, "note");
+  if (!r.Exists(lg + "/parameter_names")) return;
+  const std::vector<std::string> names = r.ReadStrings(lg + "/parameter_names");
+  const std::vector<double> values = VectorOrEmpty(r, lg + "/parameter_values");
+  const std::vector<double> errors = VectorOrEmpty(r, lg + "/parameter_standard_errors");
+  const std::vector<double> pinned = VectorOrEmpty(r, lg + "/parameter_pinned");
+  if (values.size() != names.size() || errors.size() != names.size() ||
+      pinned.size() != names.size())
+    return;
+  for (size_t k = 0; k < names.size(); ++k)
+    f.shape_parameters.push_back({names[k], values[k], errors[k], pinned[k] == 1.0});
 }
 
 }  // namespace
@@ -333,6 +437,13 @@ report::FitView ReadFitView(const std::filesystem::path& path) {
   }
   f.wall_s = NumberAttr(r, g, "wall_s");
   f.evaluations = NumberAttr(r, g, "evaluations");
+  try {
+    f.shape = ReadLawShape(r, g, path.string(), &f.shape_note);
+  } catch (const Error& e) {  // the report still draws the rest, and says why not the law
+    f.shape_note += std::string("; ") + e.what();
+  }
+  if (!f.shape_note.empty()) f.shape_note.erase(0, 2);  // the leading "; "
+  ReadFittedShape(r, g + "/law_shape", f);
   f.a = VectorOrEmpty(r, g + "/crack_length");
   f.R = VectorOrEmpty(r, g + "/R");
   if (f.a.empty() && r.Exists("/rcurve/crack_length")) {
@@ -381,8 +492,6 @@ report::FitView ReadFitView(const std::filesystem::path& path) {
 // ---- the fitted law for `bridgefit design` (ReadFittedLaw) ----
 namespace {
 
-const char* const kFitFileExpected =
-    "a fit file from 'bridgefit fit --out FIT.h5' (or a campaign.h5 from 'bridgefit campaign')";
 
 
 // /fit/scene (written since issue 19's design): specimen and material.
@@ -421,36 +530,6 @@ std::filesystem::path FindSceneFile(const std::string& named, const std::filesys
   if (std::filesystem::exists(given)) return given;
   const std::filesystem::path beside = file.parent_path() / given.filename();
   return std::filesystem::exists(beside) ? beside : std::filesystem::path();
-}
-
-laws::LawShape ReadLawShape(const io::H5Reader& r, const std::string& g, const std::string& file,
-                            std::string* note) {
-  const std::string lg = g + "/law_shape";
-  const std::string family_name = r.Exists(lg) ? StringAttr(r, lg, "family") : StringAttr(r, g, "law");
-  laws::LawFamily family;
-  try {
-    family = laws::ParseLawFamily(family_name);
-  } catch (const Error&) {
-    throw Error(ErrorKind::kInput, "the fit file names no law family this program knows",
-                {.file = file, .field = g + "/law", .value = family_name, .expected = kFitFileExpected});
-  }
-  laws::LawShape shape;
-  shape.family = family;
-  if (r.Exists(lg)) {
-    shape.peak_ratio = NumberAttr(r, lg, "peak_ratio");
-    shape.alpha = NumberAttr(r, lg, "alpha");
-    shape.d_points = VectorOrEmpty(r, lg + "/d_points");
-    shape.s_points = VectorOrEmpty(r, lg + "/s_points");
-  } else if (std::optional<laws::LawShape> d = laws::DefaultShape(family)) {
-    shape = *d;
-    *note += "; the law's shape: the family's default (the file predates /fit/law_shape)";
-  } else {
-    throw Error(ErrorKind::kInput, "the fit file does not hold the shape of its law",
-                {.file = file, .field = lg, .value = family_name,
-                 .expected = "a fit file written with /fit/law_shape (refit it)"});
-  }
-  shape.Validate();
-  return shape;
 }
 
 }  // namespace

@@ -87,6 +87,19 @@ inverse::FitSummary StartFromRCurveFit(const inverse::ForwardModel& model,
                                        const laws::LawShape& shape, const inverse::FitData& data,
                                        inverse::FitOptions& options);
 
+// `--law bilinear|trilinear|table` (fit_law.cpp): the family's shape fitted
+// with the scale parameters (the table's N by AICc) into run.summary,
+// run.shape and run.fitted_shape; data too few for every N it may try are
+// an input error naming --law and the way out.
+void FitShapeAlone(const FitRequest& request, const inverse::ForwardModel& model,
+                   const inverse::FitData& fit_data, const inverse::FitOptions& options,
+                   FitRun& run);
+// A comparison row's fitted shape (empty for a fixed-shape family).
+FittedShape FittedShapeOf(const inverse::LawComparison& c);
+// The fitted shape's parameters as the summary prints them: each with its
+// Wald 95% interval (1.96 se, the scale parameters free), said as such.
+std::string FittedShapeText(const FittedShape& f, const inverse::FitSummary& s);
+
 // --resolution auto (issue 17; fit_resolution.cpp): for the reduced model
 // without a given element size, chooses one (inverse::ChooseResolution from
 // a pilot fit at the coarsest valid size) and sets request.resolution and

@@ -35,11 +35,71 @@ std::vector<double> Residuals(const FitView& f) {
   return res;
 }
 
-laws::LawShape ShapeOf(const std::string& law, std::vector<std::string>* notes) {
-  if (law == "cubic") return laws::MakeCubicShape();
-  if (law != "linear" && notes)
-    notes->push_back("law '" + law + "': drawn with the linear shape (its shape parameter is not in the fit file)");
+// The law's shape as the fit file holds it; without one (a family whose
+// shape is data, in a file that predates /fit/law_shape) the linear law, said.
+laws::LawShape ShapeOf(const FitView& f, std::vector<std::string>* notes) {
+  if (f.shape) {
+    if (!f.shape_note.empty()) notes->push_back("law shape: " + f.shape_note);
+    return *f.shape;
+  }
+  notes->push_back("law '" + f.law + "': drawn with the linear shape (its shape is not in the fit file" +
+                   (f.shape_note.empty() ? std::string(")") : ": " + f.shape_note + ")"));
   return laws::MakeLinearShape();
+}
+
+// A shape given as points (bilinear, trilinear, table): its break points at
+// the drawn scales as law_points.dat (d, s, delta [mm], sigma [MPa]) and as
+// the page's table, with a fitted shape's parameters and their Wald
+// intervals; "" for a shape without points. Returns the plot clause.
+std::string LawPoints(const FitView& f, const laws::BridgingLaw& drawn, bool at_bound,
+                      FigureSet& set) {
+  const laws::LawShape& shape = *drawn.shape;
+  if (shape.d_points.empty()) return "";
+  std::string dat = "# d[1] s[1] delta[mm] sigma[MPa]\n";
+  std::string h = fmt::format(
+      "<table id=\"law_shape\">\n<caption>Law shape: {}{}, {} between the points; at {}&sigma;<sub>c</sub> "
+      "and {}&delta;<sub>c</sub></caption>\n"
+      "<tr><th>d = &delta;/&delta;<sub>c</sub></th><th>s = &sigma;/&sigma;<sub>c</sub></th>"
+      "<th>&delta; [mm]</th><th>&sigma; [MPa]</th></tr>\n",
+      f.fitted_shape.empty() ? std::string(laws::LawFamilyName(shape.family)) : f.fitted_shape,
+      f.shape_knots > 0 ? fmt::format(", N = {} knots", f.shape_knots) : "",
+      shape.family == laws::LawFamily::kTable &&
+              shape.interpolation == laws::TableInterpolation::kMonotoneCubic
+          ? "monotone cubic (PCHIP)"
+          : "straight segments",
+      "the best ", at_bound ? "the lower bound of " : "the best ");
+  for (size_t k = 0; k < shape.d_points.size(); ++k) {
+    const double delta = shape.d_points[k] * drawn.delta_c;
+    const double sigma = drawn.Traction(delta);
+    dat += fmt::format("{:.8g} {:.8g} {:.8g} {:.8g}\n", shape.d_points[k], shape.s_points[k],
+                       delta * 1e3, sigma * 1e-6);
+    h += "<tr><td>" + Num(shape.d_points[k]) + "</td><td>" + Num(shape.s_points[k]) + "</td><td>" +
+         Num(delta, 1e3) + "</td><td>" + Num(sigma, 1e-6) + "</td></tr>\n";
+  }
+  h += "</table>\n";
+  WriteFile(set.dir / "law_points.dat", dat);
+  if (!f.shape_parameters.empty()) {
+    h += "<table id=\"shape_parameters\">\n<caption>Shape parameters fitted with "
+         "&sigma;<sub>c</sub>, J<sub>B</sub>, J<sub>tip,c</sub>: 95% intervals are Wald "
+         "(1.96 standard errors, the scale parameters free), not profiles</caption>\n"
+         "<tr><th>parameter</th><th>value</th><th>95% Wald interval</th><th>at the best fit</th></tr>\n";
+    for (const FitView::ShapeParameter& p : f.shape_parameters) {
+      const bool position = p.name.rfind('d', 0) == 0;
+      const double scale = position ? drawn.delta_c * 1e3 : drawn.sigma_c * 1e-6;
+      const std::string interval =
+          p.pinned ? "the peak: &sigma;<sub>c</sub> by definition"
+          : std::isfinite(p.standard_error)
+              ? "[" + Num(p.value - 1.96 * p.standard_error) + ", " +
+                    Num(p.value + 1.96 * p.standard_error) + "]"
+              : "&ndash; (singular)";
+      h += "<tr><td>" + Escape(p.name) + "</td><td>" + Num(p.value) + "</td><td>" + interval +
+           "</td><td>" + Num(p.value * scale) + (position ? " mm" : " MPa") + "</td></tr>\n";
+    }
+    h += "</table>\n";
+    if (!f.fitted_shape_note.empty()) h += "<p>" + Escape(f.fitted_shape_note) + "</p>\n";
+  }
+  set.law_shape_html = h;
+  return ", 'law_points.dat' u 3:4 w p pt 7 ps 1.0 lc rgb '#ff7f0e' t 'break points'";
 }
 
 // Which printed interval ends come from the profile likelihood, read from
@@ -146,7 +206,7 @@ void AddLawFigure(const ReportInput& in, FigureSet& set) {
     set.notes.push_back("no bridging detected: no bridging-law figure");
     return;
   }
-  const laws::LawShape shape = ShapeOf(f.law, &set.notes);
+  const laws::LawShape shape = ShapeOf(f, &set.notes);
   std::optional<laws::BridgingLaw> truth_law;
   if (in.truth.shape) truth_law = laws::BridgingLaw{&*in.truth.shape, in.truth.sigma_c, in.truth.delta_c};
   auto pick = [](double a, double b) { return std::isfinite(a) ? a : b; };
@@ -162,10 +222,17 @@ void AddLawFigure(const ReportInput& in, FigureSet& set) {
   const std::string law_free_plot = LawFreeCurves(in, set, &x_max);
   const laws::BridgingLaw best{&shape, sc->value, d_best};
   const laws::BridgingLaw low{&shape, s_lo, d_lo};
-  std::string dat = "# delta[mm] lower[MPa] upper[MPa] best[MPa] truth[MPa]\n";
+  const std::string points_plot = LawPoints(f, best, at_bound, set);
+  // 300 even steps and the break points (the curve passes through each kink).
+  std::vector<double> openings;
   const int n = 300;
-  for (int i = 0; i <= n; ++i) {
-    const double d = x_max * i / n;
+  for (int i = 0; i <= n; ++i) openings.push_back(x_max * i / n);
+  for (double d : shape.d_points)
+    if (d * d_best <= x_max) openings.push_back(d * d_best);
+  std::sort(openings.begin(), openings.end());
+  openings.erase(std::unique(openings.begin(), openings.end()), openings.end());
+  std::string dat = "# delta[mm] lower[MPa] upper[MPa] best[MPa] truth[MPa]\n";
+  for (double d : openings) {
     const double upper = std::isfinite(d_hi) ? laws::BridgingLaw{&shape, s_hi, d_hi}.Traction(d)
                                              : s_hi * laws::ShapeValue(shape, 0.0);
     const double t = truth_law ? truth_law->Traction(d) : NAN;
@@ -185,7 +252,7 @@ void AddLawFigure(const ReportInput& in, FigureSet& set) {
         "', '' u 1:4 w l lw 2 lc rgb '#ff7f0e' t '" +
         (at_bound ? "best {/Symbol s}_c with {/Symbol d}_c at its lower bound" : "best fit") + "'";
   if (truth_law) gp += ", '' u 1:5 w l lw 2 dt 2 lc rgb 'black' t 'true law (synthetic test)'";
-  gp += law_free_plot + "\n";
+  gp += points_plot + law_free_plot + "\n";
   set.Add("law.png", "fit",
           "Bridging law: best fit and the shaded region of laws consistent with the 95% CIs; "
           "where &delta;<sub>c</sub> and J<sub>B</sub> are only bounded below the region is open to the right.");

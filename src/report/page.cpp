@@ -136,7 +136,7 @@ std::string PageHtml(const ReportInput& in, const FigureSet& set, const std::str
   h += "<p class=\"verdict\"><b>Identifiability verdict:</b> " + Escape(in.fit.verdict) + "</p>\n";
   h += ResultsTable(in);
   h += RunTable(in.fit, fit_h5);
-  h += "<h2>Fit</h2>\n" + Figures(set, "fit");
+  h += "<h2>Fit</h2>\n" + Figures(set, "fit") + set.law_shape_html;
   if (!set.profile_html.empty()) h += "<h3>Profiles</h3>\n" + set.profile_html;
   const std::string record = Figures(set, "record");
   if (!record.empty()) h += "<h2>Record</h2>\n" + record + set.reference_html;

@@ -54,6 +54,9 @@ struct FigureSet {
   std::vector<std::string> notes;
   // Extra page content: DIC frame table rows, reference deviation rows (HTML).
   std::string dic_table_html, reference_html, profile_html;
+  // The fitted law's break points and a fitted shape's parameters (HTML,
+  // after the law figure; figures_fit.cpp).
+  std::string law_shape_html;
   void Add(const std::string& file, const std::string& section, const std::string& caption) {
     figures.push_back({file, section, caption});
   }

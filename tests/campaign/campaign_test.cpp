@@ -82,6 +82,34 @@ TEST(CampaignManifest, ReadsSharedChoicesAndSpecimenSizes) {
   EXPECT_FALSE(requests[1].fit.profile_likelihood);
 }
 
+// The manifest's `law` goes through fit's one rule (pipeline::SetFitLaw):
+// a fitted-shape family alone, compare, a fixed family; an unknown law is
+// found before any fit, naming the manifest's line and the values.
+TEST(CampaignManifest, LawKeyIsFitsLawRule) {
+  WorkDir dir;
+  auto law = [&](const std::string& text) {
+    std::string head = kHead;
+    head.replace(head.find("\"linear\""), 8, "\"" + text + "\"");
+    return dir.Write("law.toml", head);
+  };
+  pipeline::FitRequest r = BuildRequests(io::ReadCampaignManifest(law("table")))[0];
+  ASSERT_TRUE(r.shape_law);
+  EXPECT_EQ(*r.shape_law, inverse::ShapeFamily::kTable);
+  EXPECT_FALSE(r.compare_laws);
+  r = BuildRequests(io::ReadCampaignManifest(law("bilinear")))[0];
+  ASSERT_TRUE(r.shape_law);
+  EXPECT_EQ(*r.shape_law, inverse::ShapeFamily::kBilinear);
+  r = BuildRequests(io::ReadCampaignManifest(law("compare")))[0];
+  EXPECT_TRUE(r.compare_laws);
+  EXPECT_FALSE(r.shape_law);
+  r = BuildRequests(io::ReadCampaignManifest(law("cubic")))[0];
+  EXPECT_FALSE(r.compare_laws || r.shape_law);
+  EXPECT_EQ(r.law, laws::LawFamily::kCubic);
+  const std::string m = ErrorOf(law("quadratic"));
+  EXPECT_NE(m.find("law.toml:3"), std::string::npos) << m;
+  EXPECT_NE(m.find("bilinear, trilinear or table"), std::string::npos) << m;
+}
+
 TEST(CampaignManifest, EachFaultIsFoundBeforeAnyFitNamingTheLine) {
   WorkDir dir;
   struct Case {

@@ -11,6 +11,7 @@
 #include <random>
 
 #include "bridgefit/core/error.hpp"
+#include "shape_data.hpp"
 
 namespace bridgefit::inverse {
 namespace {
@@ -18,26 +19,11 @@ namespace {
 constexpr double kModulus = 1e9;  // E' of the analytic model [Pa]
 constexpr double kA0 = 0.03;      // [m]
 
-// n R points of the analytic model from a0 to a_max, relative Gaussian noise
-// `noise`, each with the uncertainty noise x R. The growth Delta a_i is
-// spaced as i^2 (the notch-root opening, ~ sqrt(Delta a), about evenly):
-// evenly spaced crack lengths leave the law below the first point's opening
-// unseen (docs/FIT.md "Law families with a fitted shape").
+// The analytic model's R (tests/inverse/shape_data.hpp).
 FitData MakeData(const laws::LawShape& shape, const LawParameters& truth, double a_max, int n,
                  double noise, unsigned seed) {
   const AnalyticForwardModel model(kModulus, kA0);
-  FitData data;
-  for (int i = 0; i < n; ++i)
-    data.crack_length.push_back(kA0 + (a_max - kA0) * std::pow((i + 1.0) / n, 2));
-  const ForwardPrediction p = model.Predict(shape, truth, data.crack_length, RKind::kEnergy);
-  EXPECT_TRUE(p.ok()) << p.message;
-  std::mt19937 rng(seed);
-  std::normal_distribution<double> gauss(0.0, 1.0);
-  for (double r : p.R) {
-    data.R.push_back(r * (1.0 + noise * gauss(rng)));
-    data.R_uncertainty.push_back(noise * r);
-  }
-  return data;
+  return testing::MakeShapeData(model, kA0, shape, truth, a_max, n, noise, seed);
 }
 
 FitOptions FastOptions() {

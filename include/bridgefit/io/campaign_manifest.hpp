@@ -61,7 +61,7 @@ struct CampaignManifest {
   std::filesystem::path path;
   std::string name;                  // [campaign] name (default: the file's stem)
   std::filesystem::path scene_path;  // the shared scene
-  std::string law = "linear";        // a law family or "compare"
+  std::string law = "linear";        // as `fit --law` (pipeline::SetFitLaw): a family or "compare"
   std::string model = "reduced";     // reduced | analytic
   std::optional<double> resolution;  // reduced model element size [m]
   bool profile = true;               // profile-likelihood intervals

@@ -26,6 +26,10 @@ enum class LawFamily { kLinear, kCubic, kTriangular, kTrilinear, kExponential, k
 // >= 0 and its peak is the largest point; it reproduces a straight line
 // exactly and a smooth law with an O(h^3) error instead of O(h^2).
 enum class TableInterpolation { kLinear, kMonotoneCubic };
+// "linear", "monotone-cubic" (fit files: /fit/law_shape interpolation).
+std::string_view TableInterpolationName(TableInterpolation interpolation);
+// Parses those names. Throws Error naming the accepted values.
+TableInterpolation ParseTableInterpolation(std::string_view name);
 
 std::string_view LawFamilyName(LawFamily family);
 // Parses "linear", "cubic", ... Throws Error naming the accepted values.

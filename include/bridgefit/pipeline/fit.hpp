@@ -90,6 +90,11 @@ struct FitRequest {
   std::vector<inverse::ShapeFamily> shape_families = {
       inverse::ShapeFamily::kBilinear, inverse::ShapeFamily::kTrilinear, inverse::ShapeFamily::kTable};
   inverse::ShapeFitOptions shape_fit;
+  // A fitted-shape family alone (`--law bilinear|trilinear|table`, not with
+  // compare_laws): its shape fitted with sigma_c, J_B and J_tip,c
+  // (inverse/fit_shape.hpp; the table's N by AICc among
+  // shape_fit.table_knots). Unset: the fixed-shape family `law`.
+  std::optional<inverse::ShapeFamily> shape_law;
   laws::LawFamily law = laws::LawFamily::kLinear;
   // What the data's R is; nullopt: energy for an R curve, what its
   // reduction gives for a record. kAsData needs a record.
@@ -106,6 +111,14 @@ struct FitRequest {
   void Check() const;
   bool IsValid(std::string* why) const;
 };
+
+// `--law` and a campaign manifest's `law` (the one home of the rule): compare
+// (every family by AICc), a fitted-shape family (bilinear, trilinear, table:
+// shape_law), or a fixed-shape family (linear, cubic, triangular,
+// exponential: `law`). Sets compare_laws, shape_law and law. Throws
+// Error(kUsage, field --law) naming the values. (A trilinear or table law
+// held at the scene's points is FitRequest::law without shape_law.)
+void SetFitLaw(const std::string& text, FitRequest& request);
 
 // What the fit was given.
 struct FitInput {
@@ -128,6 +141,19 @@ struct FitInput {
 
 class ReducedModelCache;  // src/pipeline/fit_models.hpp
 
+// The fitted shape's own parameters: a fitted-shape family fitted alone, or
+// the comparison's winner when it is one (empty family: a fixed shape).
+struct FittedShape {
+  std::string family;  // "bilinear", "trilinear" or "table"; empty: none
+  // d1, s1 / d1, d2, s0, s1, s2 / s(j/N), each with its Wald standard error
+  // (the scale parameters free; inverse/fit_shape.hpp), in units of delta_c
+  // (positions) and sigma_c (values).
+  std::vector<inverse::ShapeParameter> parameters;
+  int knots = 0;     // table: N (chosen by AICc among those tried)
+  std::string note;  // how N was chosen, what was skipped
+  bool fitted() const { return !family.empty(); }
+};
+
 struct FitRun {
   FitInput input;
   inverse::RKind r_kind = inverse::RKind::kEnergy;
@@ -135,6 +161,7 @@ struct FitRun {
   std::optional<inverse::FitData> load_data;  // a load-displacement fit's rows
   inverse::FitSummary summary;                // the fit (start fit and calibration counted in)
   laws::LawShape shape;                       // the law fitted (AICc's choice when comparing)
+  FittedShape fitted_shape;                   // when that shape was fitted too
   std::vector<inverse::LawComparison> comparison;  // when comparing
   std::optional<inverse::FitSummary> start_fit;    // load-displacement fit: the R-curve fit
   inverse::ComplianceCalibrationResult calibration;

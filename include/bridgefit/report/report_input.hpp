@@ -46,6 +46,23 @@ struct FitView {
   std::vector<double> fit_d, fit_P, data_P, out_d, out_P;
   std::vector<Estimate> estimates;  // sigma_c, J_B, delta_c, J_tip_c
   std::vector<Profile> profiles;
+  // The law's shape (/fit/law_shape; a file without it: the family's
+  // default); nullopt when the file holds none for a family whose shape is
+  // data (the report then draws no law, said in shape_note).
+  std::optional<laws::LawShape> shape;
+  std::string shape_note;  // a fallback taken reading the shape
+  // A fitted shape's own parameters (bilinear, trilinear, table; empty
+  // fitted_shape: a fixed shape): d in delta_c, s in sigma_c, with their
+  // Wald standard errors (NaN: the pinned peak, or singular).
+  struct ShapeParameter {
+    std::string name;
+    double value = NAN, standard_error = NAN;
+    bool pinned = false;
+  };
+  std::string fitted_shape;
+  int shape_knots = 0;  // table: N
+  std::string fitted_shape_note;
+  std::vector<ShapeParameter> shape_parameters;
   const Estimate* Find(const std::string& name) const {
     for (const Estimate& e : estimates)
       if (e.name == name && e.present) return &e;
