@@ -36,7 +36,12 @@ struct CrackTipOptions {
   int mode1_terms = 4;              // Williams mode I terms n = 1..N
   int mode2_terms = 2;              // Williams mode II terms n = 1, 3, ..
   double kappa = (3.0 - 0.3) / 1.3; // Kolosov constant (plane stress, nu = 0.3)
-  double fit_radius_px = 80;        // Williams fit: points within this radius
+  double fit_radius_px = 80;        // Williams fit: points within this radius (at most)
+  // Williams window from the data: it ends at the nearest failed grid point
+  // of an 8-connected cluster of at least this many failed points.
+  int min_failed_cluster = 3;
+  // A window cut below this fraction of fit_radius_px gives no Williams tip.
+  double min_fit_radius_fraction = 0.5;
   double sqrt_window_px = 60;       // sqrt COD fit: window behind the jump tip
   bool IsValid(std::string* why) const;
 };
@@ -69,6 +74,17 @@ struct CrackTipResult {
   // fit reads the valid points within fit_radius_px of it.
   bool williams_window = false;
   double williams_centre_s_px = 0;
+  // The window reads only the continuum: ok points none of whose grid
+  // neighbours failed, closer than williams_radius_px (<= fit_radius_px:
+  // the nearest failed point of a cluster of min_failed_cluster or more -
+  // a hole, a grip, the notch, the image's edge).
+  double williams_radius_px = 0;
+  bool williams_window_short = false;  // radius below the minimum: no Williams tip
+  // The tip found with the radius one station smaller, minus the tip; more
+  // than twice its uncertainty (at least one station / sqrt(12)) apart: the
+  // tip is unstable, reported but never the length (the fallback is).
+  double williams_shift_px = 0;
+  bool williams_unstable = false;
   TipMethod method = TipMethod::kWilliams;  // the method that gave `tip`
   TipEstimate tip;
   // The found tips differ by more than their stated uncertainties allow
