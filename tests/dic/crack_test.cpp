@@ -1,5 +1,6 @@
 // Crack tip location: exact LEFM fields (no images) and synthetic cracked
 // speckle images with known tips.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <gtest/gtest.h>
@@ -74,6 +75,95 @@ TEST(CrackTip, WilliamsFitRecoversExactLefmTipAndK) {
   // The jump threshold runs ahead of the tip (documented bias), never behind
   // by more than one station.
   EXPECT_GT(r.jump.s_px, 123.3 - 4);
+}
+
+// The Williams window reads the continuum only (crack_williams.cpp): a hole
+// (a cluster of failed points) 50 px above the tip ends the window at its
+// nearest point, and the ok points beside a failed pair (a cluster too small
+// to cut the window), given a wrong motion, are left out: the exact field's
+// tip is still found exactly.
+TEST(CrackTip, WilliamsWindowReadsTheContinuumOnly) {
+  ModeICrackField motion;
+  motion.tip_x = 143.3;
+  motion.tip_y = 100;
+  motion.k_over_2mu = 0.05;
+  DisplacementField f = SampleField(motion, 300, 200, 4, 12);
+  CrackTipOptions o;
+  o.line = {20, 100, 290, 100};
+  o.station_spacing_px = 4;
+  o.band_half_width_px = 12;
+  o.side_depth_px = 10;
+  const double hole_x = 132, hole_y = 40;
+  for (size_t i = 0; i < f.size(); ++i)
+    if (std::hypot(f.x[i] - hole_x, f.y[i] - hole_y) <= 10) f.status[i] = PointStatus::kLowCorrelation;
+  // Its grid neighbours correlated to something else.
+  for (size_t i = 0; i < f.size(); ++i) {
+    const int ix = static_cast<int>(i % f.nx), iy = static_cast<int>(i / f.nx);
+    bool beside = false;
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const int jx = ix + dx, jy = iy + dy;
+        if (jx >= 0 && jy >= 0 && jx < f.nx && jy < f.ny &&
+            f.status[static_cast<size_t>(jy) * f.nx + jx] == PointStatus::kLowCorrelation)
+          beside = true;
+      }
+    if (beside && f.ok(i)) f.u[i] += 3;
+  }
+  // A failed pair 30 px below the tip, its neighbours moved by 2 px.
+  for (size_t i = 0; i < f.size(); ++i) {
+    const double dx = f.x[i] - 148, dy = f.y[i] - 132;
+    if ((dx == 0 || dx == 4) && dy == 0) f.status[i] = PointStatus::kNoConvergence;
+    else if (dx >= -4 && dx <= 8 && std::abs(dy) <= 4) f.v[i] += 2;
+  }
+  const CrackTipResult r = LocateCrackTip(f, o, TipMethod::kWilliams);
+  ASSERT_TRUE(r.williams.found);
+  double cx, cy;
+  o.line.FromLocal(r.williams_centre_s_px, 0, &cx, &cy);
+  double nearest = 1e300;
+  for (size_t i = 0; i < f.size(); ++i)
+    if (f.status[i] == PointStatus::kLowCorrelation)
+      nearest = std::min(nearest, std::hypot(f.x[i] - cx, f.y[i] - cy));
+  EXPECT_NEAR(r.williams_radius_px, nearest, 1e-9);
+  EXPECT_LT(r.williams_radius_px, o.fit_radius_px);
+  EXPECT_EQ(r.method, TipMethod::kWilliams);
+  EXPECT_FALSE(r.williams_unstable);
+  EXPECT_NEAR(r.williams.s_px, 123.3, 0.05);
+  EXPECT_LT(r.williams_residual_px, 1e-4);  // no moved point was read
+}
+
+// A Williams tip that moves when the window shrinks by one station is
+// flagged and not used: points in the window's outer ring (one station
+// wide, above the crack) carry a wrong motion, so the tip depends on
+// whether they are read.
+TEST(CrackTip, WilliamsTipSensitiveToTheWindowIsNotTheLength) {
+  ModeICrackField motion;
+  motion.tip_x = 143.3;
+  motion.tip_y = 100;
+  motion.k_over_2mu = 0.05;
+  DisplacementField f = SampleField(motion, 300, 200, 4, 12);
+  CrackTipOptions o;
+  o.line = {20, 100, 290, 100};
+  o.station_spacing_px = 4;
+  o.band_half_width_px = 12;
+  o.side_depth_px = 10;
+  const CrackTipResult clean = LocateCrackTip(f, o, TipMethod::kWilliams);
+  ASSERT_TRUE(clean.williams.found);
+  EXPECT_FALSE(clean.williams_unstable);
+  EXPECT_LT(std::abs(clean.williams_shift_px), 0.05);
+  double cx, cy;
+  o.line.FromLocal(clean.williams_centre_s_px, 0, &cx, &cy);
+  for (size_t i = 0; i < f.size(); ++i) {
+    const double d = std::hypot(f.x[i] - cx, f.y[i] - cy);
+    if (d >= o.fit_radius_px - o.station_spacing_px && d < o.fit_radius_px && f.y[i] < 100 &&
+        f.x[i] < cx)
+      f.v[i] += 3;
+  }
+  const CrackTipResult r = LocateCrackTip(f, o, TipMethod::kWilliams);
+  std::printf("Williams %.2f (shift %.2f, +- %.2f), sqrt %.2f, method %s\n", r.williams.s_px,
+              r.williams_shift_px, r.williams.uncertainty_px, r.sqrt_cod.s_px,
+              TipMethodName(r.method));
+  EXPECT_TRUE(r.williams_unstable);
+  EXPECT_NE(r.method, TipMethod::kWilliams);
 }
 
 TEST(CrackTip, NoOpeningGivesNoTip) {
