@@ -147,6 +147,13 @@ void AddSearchJson(const pipeline::FitRun& run, nlohmann::json& out) {
                                  : nlohmann::json{{"crack_length_m", s.outlier_crack_lengths[i]},
                                                   {"R_J_per_m2", s.outlier_R[i]}});
   out["outliers_removed"] = std::move(outliers);
+  if (s.misfit.points > 0)
+    out["misfit"] = {{"points", s.misfit.points},
+                     {"crack_length_from_m", s.misfit.crack_length_from},
+                     {"crack_length_to_m", s.misfit.crack_length_to},
+                     {"largest_robust_sd", s.misfit.largest_sd},
+                     {"side", s.misfit.side > 0 ? "above" : s.misfit.side < 0 ? "below" : "both"},
+                     {"message", s.misfit.Describe()}};
   nlohmann::json families = nlohmann::json::array();
   for (const auto& c : run.comparison) {
     nlohmann::json shape = nlohmann::json::array();

@@ -328,4 +328,67 @@ void WriteCampaignOutputs(const CampaignResult& result, const std::filesystem::p
   report::WriteCampaignReport(CampaignReportView(result), dir / "report");
 }
 
+namespace {
+
+// The specimen whose fit stands for the campaign when there is no joint fit.
+std::string DesignSpecimen(const io::H5Reader& r, std::string* why) {
+  const std::string from = r.HasAttribute("/campaign/statistics/J_B", "bound_from")
+                               ? r.ReadStringAttribute("/campaign/statistics/J_B", "bound_from")
+                               : std::string();
+  if (!from.empty() && r.Exists("/specimens/" + from + "/fit")) {
+    *why = "it gives the campaign's lower bound of J_B";
+    return from;
+  }
+  if (r.Exists("/campaign/specimen_names"))
+    for (const std::string& name : r.ReadStrings("/campaign/specimen_names"))
+      if (r.Exists("/specimens/" + name + "/fit")) {
+        *why = "the first specimen with a fit";
+        return name;
+      }
+  return "";
+}
+
+}  // namespace
+
+pipeline::FittedLaw ReadCampaignLaw(const io::H5Reader& r, const std::filesystem::path& file) {
+  const std::string j = "/campaign/joint";
+  std::vector<std::string> joint;
+  if (r.Exists(j + "/specimens")) joint = r.ReadStrings(j + "/specimens");
+  if (!joint.empty() && r.Exists("/specimens/" + joint[0] + "/fit")) {
+    pipeline::FittedLaw law = pipeline::ReadFittedLaw(r, file, "/specimens/" + joint[0]);
+    // The joint fit's estimates replace the specimen's (SI, as written).
+    const auto read = [&](const char* name, inverse::ParameterEstimate& e) {
+      const std::string pg = j + "/parameters/" + name;
+      if (!r.Exists(pg)) return;
+      e = inverse::ParameterEstimate();
+      e.value = r.ReadNumberAttribute(pg, "value");
+      e.ci95_low = r.ReadNumberAttribute(pg, "ci95_low");
+      e.ci95_high = r.ReadNumberAttribute(pg, "ci95_high");
+      e.lower_bound = r.ReadNumberAttribute(pg, "lower_bound");
+      e.identified = r.ReadNumberAttribute(pg, "identified") == 1.0;
+      e.decided_by = "joint fit";
+    };
+    read("sigma_c", law.sigma_c);
+    read("J_B", law.J_B);
+    read("delta_c", law.delta_c);
+    read("J_tip_c", law.J_tip_c);
+    std::string names;
+    for (const std::string& n : joint) names += (names.empty() ? "" : ", ") + n;
+    law.group = j;
+    law.note = fmt::format("the joint fit of {} specimen(s) ({}); {} (specimen {})", joint.size(),
+                           names, law.note, joint[0]);
+    return law;
+  }
+  std::string why;
+  const std::string name = DesignSpecimen(r, &why);
+  if (name.empty())
+    throw Error(ErrorKind::kInput, "the campaign file holds no fitted specimen",
+                {.file = file.string(), .field = "/specimens/NAME/fit",
+                 .expected = "a campaign.h5 with at least one fitted specimen"});
+  pipeline::FittedLaw law = pipeline::ReadFittedLaw(r, file, "/specimens/" + name);
+  law.note = fmt::format("no joint fit in the campaign: specimen {}'s fit ({}); {}", name, why,
+                         law.note);
+  return law;
+}
+
 }  // namespace bridgefit::campaign

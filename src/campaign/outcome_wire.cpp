@@ -17,7 +17,7 @@
 namespace bridgefit::campaign::wire {
 namespace {
 
-constexpr std::uint32_t kMagic = 0x31574642;  // "BFW1": change it when the layout changes
+constexpr std::uint32_t kMagic = 0x33574642;  // "BFW3": change it when the layout changes
 
 using Writer = parallel::ByteWriter;
 using Reader = parallel::ByteReader;
@@ -30,7 +30,7 @@ void Visit(Io& io, R& run) requires std::is_same_v<std::remove_const_t<R>, pipel
   Visit(io, run.data);
   Visit(io, run.summary);
   io.Field(run.shape.family), io.Field(run.shape.peak_ratio), io.Field(run.shape.alpha);
-  io.Field(run.shape.d_points), io.Field(run.shape.s_points);
+  io.Field(run.shape.d_points), io.Field(run.shape.s_points), io.Field(run.shape.interpolation);
   io.Field(run.resolution);
   io.Field(run.model_note);
 }

@@ -122,9 +122,12 @@ LocalResult MultiStartSearch(const FitContext& c, FitSummary& s) {
 
 // Stage 2: residuals beyond the threshold in robust standard deviations are
 // outliers; with at most a fifth of the points among them, the fit is re-run
-// without them (its summary lists them). nullopt: no refit.
+// without them (its summary lists them). In an R-curve fit, outliers two or
+// more in a row on the same side of the model are a misfit, not gross
+// errors: they stay, and `misfit` describes them. nullopt: no refit.
 std::optional<FitSummary> RefitWithoutOutliers(const FitContext& c, const std::vector<double>& residuals,
-                                               const Stopwatch& clock) {
+                                               const Stopwatch& clock, MisfitRun& misfit) {
+  if (!(c.options.outlier_threshold > 0.0)) return std::nullopt;  // the check is off
   const ForwardModel& model = c.model;
   const laws::LawShape& shape = c.shape;
   const FitData& data = c.data;
@@ -139,10 +142,22 @@ std::optional<FitSummary> RefitWithoutOutliers(const FitContext& c, const std::v
   std::nth_element(sorted.begin(), sorted.begin() + m / 2, sorted.end());
   const double robust_sd = 1.4826 * sorted[m / 2];
   const double limit = options.outlier_threshold * std::max(robust_sd, weighted ? 1.0 : 1e-300);
+  const auto beyond = [&](int i) { return i >= 0 && i < m && magnitude[i] > limit; };
+  const auto same_side = [&](int i, int j) { return (residuals[i] > 0) == (residuals[j] > 0); };
   std::vector<int> keep;
   std::vector<double> removed_a, removed_R;
   for (int i = 0; i < m; ++i) {
-    if (magnitude[i] <= limit) {
+    const bool in_run = !load_fit && beyond(i) &&
+                        ((beyond(i - 1) && same_side(i - 1, i)) || (beyond(i + 1) && same_side(i, i + 1)));
+    if (in_run) {
+      const int side = residuals[i] > 0 ? -1 : +1;  // r = model - data
+      misfit.side = misfit.points == 0 || misfit.side == side ? side : 0;
+      ++misfit.points;
+      misfit.crack_length_from = std::fmin(misfit.crack_length_from, data.crack_length[i]);
+      misfit.crack_length_to = std::fmax(misfit.crack_length_to, data.crack_length[i]);
+      misfit.largest_sd = std::fmax(misfit.largest_sd, magnitude[i] / std::max(robust_sd, 1e-300));
+    }
+    if (magnitude[i] <= limit || in_run) {
       keep.push_back(i);
     } else if (load_fit) {
       removed_a.push_back(data.displacement[i]);
@@ -166,6 +181,22 @@ std::optional<FitSummary> RefitWithoutOutliers(const FitContext& c, const std::v
     return refit;
   }
   return std::nullopt;
+}
+
+// A run of misfit points (stage 2) into the summary: the verdict says so and
+// every estimated interval is marked unreliable with the reason.
+void MarkMisfit(const MisfitRun& misfit, FitSummary& s) {
+  if (misfit.points == 0) return;
+  s.misfit = misfit;
+  const std::string why = misfit.Describe();
+  s.verdict += "; " + why;
+  for (ParameterEstimate* e : {&s.sigma_c, &s.J_B, &s.delta_c, &s.J_tip_c}) {
+    if (e->fixed || !std::isfinite(e->value) || e->interval_status != IntervalStatus::kReliable) continue;
+    e->interval_status = IntervalStatus::kUnreliableMisfit;
+    e->interval_reason = why;
+    e->note += (e->note.empty() ? "" : "; ") + std::string("interval unreliable (") +
+               IntervalStatusName(e->interval_status) + ")";
+  }
 }
 
 // sum r_i r_(i+1) / sum r_i^2; NaN for fewer than 3 values or all zero.
@@ -459,13 +490,18 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
   ForwardPrediction prediction;
   objective.Residuals(full, residuals.data(), &prediction);
 
-  if (std::optional<FitSummary> refit = RefitWithoutOutliers(c, residuals, clock)) return *refit;
+  MisfitRun misfit;
+  if (std::optional<FitSummary> refit = RefitWithoutOutliers(c, residuals, clock, misfit)) {
+    MarkMisfit(misfit, *refit);
+    return *refit;
+  }
   const double scale2 = RecordOptimum(c, best, prediction, s);
   const Eigen::MatrixXd covariance = JacobianIntervals(c, full, scale2, s);
   const double threshold = 3.84 * scale2;
   ProfileIntervals(c, best, full, threshold, covariance, s);
-  if (RecordNoBridging(c, best, full, prediction, scale2, s)) return finish();
-  SteadyStateAndBounds(c, best, full, prediction, threshold, covariance, s);
+  if (!RecordNoBridging(c, best, full, prediction, scale2, s))
+    SteadyStateAndBounds(c, best, full, prediction, threshold, covariance, s);
+  MarkMisfit(misfit, s);
   return finish();
 }
 

@@ -96,8 +96,19 @@ const char* IntervalStatusName(IntervalStatus status) {
     case IntervalStatus::kEndsOnBound: return "ends_on_bound";
     case IntervalStatus::kUnreliableZeroWidth: return "unreliable_zero_width";
     case IntervalStatus::kUnreliableNonSmooth: return "unreliable_non_smooth";
+    case IntervalStatus::kUnreliableMisfit: return "unreliable_misfit";
   }
   return "reliable";
+}
+
+std::string MisfitRun::Describe() const {
+  if (points == 0) return "";
+  return fmt::format(
+      "{} R points in runs at a = {:.4g}-{:.4g} mm lie up to {:.3g} robust SD {} the model: the "
+      "model does not follow the data there (kept, not removed as outliers; a rise shorter than "
+      "the elements, or a law that does not fit): every interval is unreliable",
+      points, crack_length_from * 1e3, crack_length_to * 1e3, largest_sd,
+      side > 0 ? "above" : side < 0 ? "below" : "on both sides of");
 }
 
 const char* FitTargetName(FitTarget target) {

@@ -38,6 +38,7 @@ int Severity(IntervalStatus s) {
     case IntervalStatus::kEndsOnBound: return 2;
     case IntervalStatus::kUnreliableNonSmooth: return 3;
     case IntervalStatus::kUnreliableZeroWidth: return 4;
+    case IntervalStatus::kUnreliableMisfit: return 5;
   }
   return 0;
 }

@@ -104,7 +104,8 @@ ShapeFit FitShapeFamily(const ForwardModel& model, ShapeFamily family, const Fit
                  "a table law needs 2 to 20 knots",
                  {.field = "knots", .value = std::to_string(knots)});
   const Stopwatch clock;
-  const ShapeLayout layout{family, family == ShapeFamily::kTable ? knots : 0};
+  const ShapeLayout layout{family, family == ShapeFamily::kTable ? knots : 0,
+                           shape_options.table_interpolation};
   const int k = static_cast<int>(FreeScaleParameters(options).size()) + layout.counted();
   const std::string name =
       family == ShapeFamily::kTable ? fmt::format("table N = {}", knots) : ShapeFamilyName(family);
@@ -143,7 +144,7 @@ ShapeFit FitTableLaw(const ForwardModel& model, const FitData& data, const FitOp
   double best_aicc = INFINITY;
   int evaluations = 0;
   for (int knots : shape_options.table_knots) {
-    const ShapeLayout layout{ShapeFamily::kTable, knots};
+    const ShapeLayout layout{ShapeFamily::kTable, knots, shape_options.table_interpolation};
     out.knots_tried.push_back(knots);
     out.knots_aicc.push_back(NAN);
     const std::string why =

@@ -17,6 +17,7 @@ namespace bridgefit::inverse::shape_internal {
 struct ShapeLayout {
   ShapeFamily family = ShapeFamily::kTable;
   int knots = 0;  // table
+  laws::TableInterpolation interpolation = laws::TableInterpolation::kMonotoneCubic;  // table
 
   int positions() const;    // free break points d
   int values() const;       // knot values s

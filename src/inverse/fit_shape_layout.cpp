@@ -86,6 +86,7 @@ bool ShapeLayout::Build(const std::vector<double>& d, const std::vector<double>&
     shape.d_points.push_back(1.0);
     for (double value : v) shape.s_points.push_back(value / peak);
     shape.s_points.push_back(0.0);
+    if (family == ShapeFamily::kTable) shape.interpolation = interpolation;
   }
   *out = std::move(shape);
   return true;

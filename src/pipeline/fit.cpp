@@ -435,17 +435,31 @@ FitRun RunFit(const FitRequest& given) {
   FitAtResolution(request, run);
   // --resolution auto chose the size at the pilot's parameters; where the
   // answer's own model error is visible in the data (the warning), the fit
-  // is repeated at half the size while the ladder's finest allows.
+  // is repeated at half the size while the ladder's finest allows; where
+  // the model does not follow a run of R points (FitSummary::misfit: a rise
+  // shorter than its elements), one rung further, down to half the finest.
+  // The reason for the next halving, empty for none.
+  const auto why_refine = [&]() -> std::string {
+    const double h = request.resolution, finest = run.resolution_choice->finest;
+    const bool biased = !run.model_error.warning.empty();
+    const bool misfit = run.summary.misfit.points > 0;
+    const double floor = misfit ? 0.5 * finest : finest;
+    if ((!biased && !misfit) || 0.5 * h < floor * (1.0 - 1e-9)) return "";
+    return misfit ? fmt::format("{:.3g} mm ({} R points in runs off the model)", h * 1e3,
+                                run.summary.misfit.points)
+                  : fmt::format("{:.3g} mm (predicted data bias {:.2g} noise sd rms)", h * 1e3,
+                                run.model_error.output_bias_noise_rms);
+  };
   double spent_s = 0.0;
   int spent_runs = 0;
   std::string refined, failed;
-  while (run.resolution_choice && !run.model_error.warning.empty() &&
-         request.resolution / 2.0 >= run.resolution_choice->finest * (1.0 - 1e-9)) {
+  while (run.resolution_choice) {
+    const std::string why = why_refine();
+    if (why.empty()) break;
     // Each attempt's summary holds the choice's own time once.
     spent_s += run.summary.wall_s - run.resolution_choice->wall_s;
     spent_runs += run.summary.evaluations - run.resolution_choice->runs;
-    refined += fmt::format("{}{:.3g} mm ({:.2g} noise sd rms)", refined.empty() ? "" : ", ",
-                           request.resolution * 1e3, run.model_error.output_bias_noise_rms);
+    refined += (refined.empty() ? "" : ", ") + why;
     FitRequest finer = request;
     finer.resolution /= 2.0;
     FitRun attempt = chosen;
@@ -464,8 +478,7 @@ FitRun RunFit(const FitRequest& given) {
   }
   if (!refined.empty()) {
     run.resolution_choice->reason +=
-        fmt::format("; after the fit the answer's predicted data bias exceeded the noise at {}",
-                    refined) +
+        fmt::format("; after the fit the model's error showed in the data at {}", refined) +
         (failed.empty() ? fmt::format(": refined to {:.3g} mm", request.resolution * 1e3) : failed);
     run.summary.wall_s += spent_s;
     run.summary.evaluations += spent_runs;

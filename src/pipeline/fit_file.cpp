@@ -1,10 +1,13 @@
 #include "bridgefit/pipeline/fit_file.hpp"
 
 #include <cmath>
+#include <fstream>
 
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/io/hdf5.hpp"
+#include "bridgefit/io/scene_file.hpp"
 #include "bridgefit/pipeline/rcurve_file.hpp"
+#include "fit_models.hpp"
 #include "h5_read.hpp"
 
 namespace bridgefit::pipeline {
@@ -132,6 +135,13 @@ void WriteFittedData(io::H5Writer& file, const std::string& g, const FitRun& run
     file.WriteAttribute(g, "rms_residual_J_per_m2", s.rms_residual);
     file.WriteVector(g + "/outlier_crack_length", s.outlier_crack_lengths, "m", "removed points");
     file.WriteVector(g + "/outlier_R", s.outlier_R, "J/m^2", "removed points");
+    file.WriteAttribute(g, "misfit_points", static_cast<double>(s.misfit.points));
+    if (s.misfit.points > 0) {
+      file.WriteAttribute(g, "misfit_crack_length_from_m", s.misfit.crack_length_from);
+      file.WriteAttribute(g, "misfit_crack_length_to_m", s.misfit.crack_length_to);
+      file.WriteAttribute(g, "misfit_largest_robust_sd", s.misfit.largest_sd);
+      file.WriteAttribute(g, "misfit", s.misfit.Describe());
+    }
     file.WriteVector(g + "/fitted_crack_length", s.fitted_crack_length, "m", "points used");
     if (!s.fitted_R.empty()) file.WriteVector(g + "/fitted_R", s.fitted_R, "J/m^2", "model R");
   }
@@ -184,6 +194,44 @@ void WriteProfiles(io::H5Writer& file, const std::string& g, const inverse::FitS
   }
 }
 
+// The specimen and material the fit's model used (the scene after a
+// campaign's per-specimen sizes and the compliance calibration), so that
+// `bridgefit design` needs no scene file.
+void WriteFitScene(io::H5Writer& file, const std::string& g, const Scene& scene) {
+  const std::string sg = g + "/scene";
+  const SpecimenSpec& s = scene.specimen;
+  file.WriteAttribute(sg, "specimen", s.type == SpecimenType::kCT ? "ct" : "dcb");
+  file.WriteAttribute(sg, "width_m", s.width);
+  file.WriteAttribute(sg, "height_m", s.height);
+  file.WriteAttribute(sg, "thickness_m", s.thickness);
+  file.WriteAttribute(sg, "length_m", s.length);
+  file.WriteAttribute(sg, "notch_m", s.notch);
+  file.WriteAttribute(sg, "plane", s.plane == PlaneCondition::kPlaneStrain ? "strain" : "stress");
+  const MaterialSpec& m = scene.material;
+  file.WriteAttribute(sg, "orthotropic", m.orthotropic ? 1.0 : 0.0);
+  file.WriteAttribute(sg, "E_Pa", m.E);
+  file.WriteAttribute(sg, "nu", m.nu);
+  file.WriteAttribute(sg, "E1_Pa", m.E1);
+  file.WriteAttribute(sg, "E2_Pa", m.E2);
+  file.WriteAttribute(sg, "G12_Pa", m.G12);
+  file.WriteAttribute(sg, "nu12", m.nu12);
+  file.WriteAttribute(sg, "G13_Pa", m.G13);
+  file.WriteAttribute(sg, "angle_rad", m.angle);
+  file.WriteAttribute(sg, "density_kg_per_m3", m.density);
+}
+
+// The normalized shape s(d) of the law fitted (laws::LawShape).
+void WriteLawShape(io::H5Writer& file, const std::string& g, const laws::LawShape& shape) {
+  const std::string lg = g + "/law_shape";
+  file.WriteAttribute(lg, "family", std::string(laws::LawFamilyName(shape.family)));
+  file.WriteAttribute(lg, "peak_ratio", shape.peak_ratio);
+  file.WriteAttribute(lg, "alpha", shape.alpha);
+  if (!shape.d_points.empty()) {
+    file.WriteVector(lg + "/d_points", shape.d_points, "1", "delta / delta_c of the break points");
+    file.WriteVector(lg + "/s_points", shape.s_points, "1", "sigma / sigma_c at the break points");
+  }
+}
+
 }  // namespace
 
 void WriteFitFile(const std::string& path, const FitRequest& request, const FitRun& run) {
@@ -206,6 +254,11 @@ void WriteFitFile(const std::string& path, const FitRequest& request, const FitR
   WriteEstimate(file, g + "/parameters/J_B", run.summary.J_B, "J/m^2");
   WriteEstimate(file, g + "/parameters/delta_c", run.summary.delta_c, "m");
   WriteEstimate(file, g + "/parameters/J_tip_c", run.summary.J_tip_c, "J/m^2");
+  // The moduli as the fit's model used them (calibrated: times modulus_factor).
+  WriteFitScene(file, g, run.calibration.calibrated()
+                             ? ScaledModuli(request.scene, run.calibration.modulus_factor)
+                             : request.scene);
+  WriteLawShape(file, g, run.shape);
   WriteModelCheck(file, g, run);
   WriteModelError(file, g, run);
   WriteProfiles(file, g, run.summary);
@@ -216,6 +269,31 @@ void WriteFitFile(const std::string& path, const FitRequest& request, const FitR
 using detail::NumberAttr;
 using detail::StringAttr;
 using detail::VectorOrEmpty;
+
+namespace {
+
+// One estimate as WriteEstimate wrote it (the report's and the design's
+// reader); absent attributes stay NaN.
+inverse::ParameterEstimate ReadEstimate(const io::H5Reader& r, const std::string& pg) {
+  inverse::ParameterEstimate e;
+  if (!r.Exists(pg)) return e;
+  e.value = NumberAttr(r, pg, "value");
+  e.ci95_low = NumberAttr(r, pg, "ci95_low");
+  e.ci95_high = NumberAttr(r, pg, "ci95_high");
+  e.lower_bound = NumberAttr(r, pg, "lower_bound");
+  if (r.HasAttribute(pg, "model_bias")) {
+    e.statistical_ci95_low = NumberAttr(r, pg, "statistical_ci95_low");
+    e.statistical_ci95_high = NumberAttr(r, pg, "statistical_ci95_high");
+    e.model_bias = NumberAttr(r, pg, "model_bias");
+  }
+  e.identified = NumberAttr(r, pg, "identified") == 1.0;
+  e.fixed = NumberAttr(r, pg, "fixed") == 1.0;
+  e.decided_by = StringAttr(r, pg, "decided_by");
+  e.note = StringAttr(r, pg, "note");
+  return e;
+}
+
+}  // namespace
 
 report::FitView ReadFitView(const std::filesystem::path& path) {
   if (!std::filesystem::exists(path))
@@ -273,21 +351,20 @@ report::FitView ReadFitView(const std::filesystem::path& path) {
     e.name = name;
     const std::string pg = g + "/parameters/" + name;
     if (r.Exists(pg)) {
+      const inverse::ParameterEstimate read = ReadEstimate(r, pg);
       e.present = true;
       e.units = StringAttr(r, pg, "units");
-      e.value = NumberAttr(r, pg, "value");
-      e.ci_low = NumberAttr(r, pg, "ci95_low");
-      e.ci_high = NumberAttr(r, pg, "ci95_high");
-      e.lower_bound = NumberAttr(r, pg, "lower_bound");
-      if (r.HasAttribute(pg, "model_bias")) {
-        e.statistical_low = NumberAttr(r, pg, "statistical_ci95_low");
-        e.statistical_high = NumberAttr(r, pg, "statistical_ci95_high");
-        e.model_bias = NumberAttr(r, pg, "model_bias");
-      }
-      e.identified = NumberAttr(r, pg, "identified") == 1.0;
-      e.fixed = NumberAttr(r, pg, "fixed") == 1.0;
-      e.decided_by = StringAttr(r, pg, "decided_by");
-      e.note = StringAttr(r, pg, "note");
+      e.value = read.value;
+      e.ci_low = read.ci95_low;
+      e.ci_high = read.ci95_high;
+      e.lower_bound = read.lower_bound;
+      e.statistical_low = read.statistical_ci95_low;
+      e.statistical_high = read.statistical_ci95_high;
+      e.model_bias = read.model_bias;
+      e.identified = read.identified;
+      e.fixed = read.fixed;
+      e.decided_by = read.decided_by;
+      e.note = read.note;
     }
     f.estimates.push_back(e);
     const std::string prof = g + "/profiles/" + name;
@@ -298,6 +375,148 @@ report::FitView ReadFitView(const std::filesystem::path& path) {
     }
   }
   return f;
+}
+
+// ---- the fitted law for `bridgefit design` (ReadFittedLaw) ----
+namespace {
+
+const char* const kFitFileExpected =
+    "a fit file from 'bridgefit fit --out FIT.h5' (or a campaign.h5 from 'bridgefit campaign')";
+
+
+// /fit/scene (written since issue 19's design): specimen and material.
+Scene ReadFitScene(const io::H5Reader& r, const std::string& sg, const std::string& file) {
+  Scene scene;
+  scene.source = file + ":" + sg;
+  SpecimenSpec& s = scene.specimen;
+  s.type = StringAttr(r, sg, "specimen") == "dcb" ? SpecimenType::kDCB : SpecimenType::kCT;
+  s.width = NumberAttr(r, sg, "width_m");
+  s.height = NumberAttr(r, sg, "height_m");
+  s.thickness = NumberAttr(r, sg, "thickness_m");
+  s.length = NumberAttr(r, sg, "length_m");
+  s.notch = NumberAttr(r, sg, "notch_m");
+  s.plane = StringAttr(r, sg, "plane") == "strain" ? PlaneCondition::kPlaneStrain
+                                                   : PlaneCondition::kPlaneStress;
+  MaterialSpec& m = scene.material;
+  m.orthotropic = NumberAttr(r, sg, "orthotropic") == 1.0;
+  m.E = NumberAttr(r, sg, "E_Pa");
+  m.nu = NumberAttr(r, sg, "nu");
+  m.E1 = NumberAttr(r, sg, "E1_Pa");
+  m.E2 = NumberAttr(r, sg, "E2_Pa");
+  m.G12 = NumberAttr(r, sg, "G12_Pa");
+  m.nu12 = NumberAttr(r, sg, "nu12");
+  m.G13 = NumberAttr(r, sg, "G13_Pa");
+  m.angle = NumberAttr(r, sg, "angle_rad");
+  m.density = NumberAttr(r, sg, "density_kg_per_m3");
+  scene.Validate();
+  return scene;
+}
+
+// A file written before /fit/scene: the scene file its `scene` attribute
+// names, as given, then next to the fit file. Empty path: not found.
+std::filesystem::path FindSceneFile(const std::string& named, const std::filesystem::path& file) {
+  if (named.empty()) return {};
+  const std::filesystem::path given(named);
+  if (std::filesystem::exists(given)) return given;
+  const std::filesystem::path beside = file.parent_path() / given.filename();
+  return std::filesystem::exists(beside) ? beside : std::filesystem::path();
+}
+
+laws::LawShape ReadLawShape(const io::H5Reader& r, const std::string& g, const std::string& file,
+                            std::string* note) {
+  const std::string lg = g + "/law_shape";
+  const std::string family_name = r.Exists(lg) ? StringAttr(r, lg, "family") : StringAttr(r, g, "law");
+  laws::LawFamily family;
+  try {
+    family = laws::ParseLawFamily(family_name);
+  } catch (const Error&) {
+    throw Error(ErrorKind::kInput, "the fit file names no law family this program knows",
+                {.file = file, .field = g + "/law", .value = family_name, .expected = kFitFileExpected});
+  }
+  laws::LawShape shape;
+  shape.family = family;
+  if (r.Exists(lg)) {
+    shape.peak_ratio = NumberAttr(r, lg, "peak_ratio");
+    shape.alpha = NumberAttr(r, lg, "alpha");
+    shape.d_points = VectorOrEmpty(r, lg + "/d_points");
+    shape.s_points = VectorOrEmpty(r, lg + "/s_points");
+  } else if (std::optional<laws::LawShape> d = laws::DefaultShape(family)) {
+    shape = *d;
+    *note += "; the law's shape: the family's default (the file predates /fit/law_shape)";
+  } else {
+    throw Error(ErrorKind::kInput, "the fit file does not hold the shape of its law",
+                {.file = file, .field = lg, .value = family_name,
+                 .expected = "a fit file written with /fit/law_shape (refit it)"});
+  }
+  shape.Validate();
+  return shape;
+}
+
+}  // namespace
+
+bool IsHdf5File(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  char head[8] = {};
+  in.read(head, 8);
+  return in.gcount() == 8 && std::string(head, 8) == std::string("\x89HDF\r\n\x1a\n", 8);
+}
+
+FittedLaw ReadFittedLaw(const io::H5Reader& r, const std::filesystem::path& file,
+                        const std::string& root) {
+  const std::string g = root + "/fit", name = file.string();
+  if (!r.Exists(g)) {
+    const bool rcurve = r.Exists(root + "/rcurve") || r.Exists(root + "/experiment");
+    throw Error(ErrorKind::kInput,
+                rcurve ? "the file holds an R curve or a record but no fit: fit it first "
+                         "('bridgefit fit FILE --out FIT.h5')"
+                       : "the file has no fit",
+                {.file = name, .field = g, .expected = kFitFileExpected});
+  }
+  FittedLaw law;
+  law.source = name;
+  law.group = g;
+  const std::string pg = g + "/parameters/";
+  law.sigma_c = ReadEstimate(r, pg + "sigma_c");
+  law.J_B = ReadEstimate(r, pg + "J_B");
+  law.delta_c = ReadEstimate(r, pg + "delta_c");
+  law.J_tip_c = ReadEstimate(r, pg + "J_tip_c");
+  const double jb = law.J_B.identified ? law.J_B.value : law.J_B.lower_bound;
+  if (!(law.sigma_c.value > 0) || !(jb > 0) || !(law.J_tip_c.value > 0))
+    throw Error(ErrorKind::kInput,
+                "the fit file holds no fitted bridging law (sigma_c, J_B or its lower bound, "
+                "J_tip,c)",
+                {.file = name, .field = pg + "sigma_c, J_B, J_tip_c",
+                 .value = StringAttr(r, g, "verdict"), .expected = kFitFileExpected});
+  if (r.Exists(g + "/scene")) {
+    law.scene = ReadFitScene(r, g + "/scene", name);
+    law.note = "specimen and material from " + g + "/scene";
+  } else {
+    const std::string named = StringAttr(r, g, "scene");
+    const std::filesystem::path scene_file = FindSceneFile(named, file);
+    if (scene_file.empty())
+      throw Error(ErrorKind::kInput,
+                  "the fit file holds no specimen (/fit/scene) and its scene file is not found",
+                  {.file = name, .field = g + "/scene", .value = named,
+                   .expected = "a fit file written with /fit/scene, or its scene file in place"});
+    law.scene = io::ReadSceneFile(scene_file);
+    law.scene.bridging.reset();
+    law.scene.fracture.reset();
+    law.note = "specimen and material from the scene file " + scene_file.string() +
+               " (the fit file predates /fit/scene)";
+  }
+  law.shape = ReadLawShape(r, g, name, &law.note);
+  return law;
+}
+
+FittedLaw ReadFittedLaw(const std::filesystem::path& path) {
+  if (!std::filesystem::exists(path))
+    throw Error(ErrorKind::kInput, "the fit file does not exist",
+                {.file = path.string(), .expected = kFitFileExpected});
+  if (!IsHdf5File(path))
+    throw Error(ErrorKind::kInput, "not an HDF5 file",
+                {.file = path.string(), .expected = kFitFileExpected});
+  const io::H5Reader r(path);
+  return ReadFittedLaw(r, path);
 }
 
 }  // namespace bridgefit::pipeline

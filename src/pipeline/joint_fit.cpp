@@ -31,7 +31,8 @@ std::string CannotJoin(const FitRequest& request, const FitRun& run, const FitRu
   // A fitted shape (--law compare's bilinear, trilinear, table) is its points.
   if (run.shape.family != first.shape.family || run.shape.alpha != first.shape.alpha ||
       run.shape.peak_ratio != first.shape.peak_ratio || run.shape.d_points != first.shape.d_points ||
-      run.shape.s_points != first.shape.s_points)
+      run.shape.s_points != first.shape.s_points ||
+      run.shape.interpolation != first.shape.interpolation)
     return "its law shape differs from the first specimen's (give every specimen the same law)";
   return "";
 }

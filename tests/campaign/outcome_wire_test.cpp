@@ -25,6 +25,7 @@ SpecimenOutcome Ran() {
   run.resolution = 1e-3;
   run.shape = laws::MakeLinearShape();
   run.shape.d_points = {0.0, 0.5, 1.0};
+  run.shape.interpolation = laws::TableInterpolation::kMonotoneCubic;
   run.model_note = "a note";
   inverse::FitSummary& f = run.summary;
   f.law = "linear";
@@ -80,6 +81,7 @@ TEST(OutcomeWire, ADecodedOutcomeEncodesToTheSameBytes) {
   EXPECT_EQ(run.summary.profiles[0].points[0].parameters[2], 351.0);
   EXPECT_EQ(run.summary.starts[0].stop_reason, "xtol");
   EXPECT_EQ(run.shape.d_points, (std::vector<double>{0.0, 0.5, 1.0}));
+  EXPECT_EQ(run.shape.interpolation, laws::TableInterpolation::kMonotoneCubic);
   ASSERT_TRUE(run.load_data.has_value());
   EXPECT_EQ(run.load_data->load, (std::vector<double>{1.0, 2.0}));
   EXPECT_FALSE(got[2].ran());

@@ -55,37 +55,27 @@ const LawComparison& Find(const std::vector<LawComparison>& c, const std::string
 }
 
 // The fitted table against the true law at each knot's opening: the largest
-// |difference| over the knots at d > 0 as a fraction of the true sigma_c,
-// and whether the true sigma at d = 0 lies in the first knot's 95% Wald
-// interval (an R curve sees sigma(0) only through delta sigma / 2 at small
-// openings: docs/FIT.md).
-struct KnotCheck {
-  double worst_inner = 0.0;
-  bool first_covered = false;
-};
-KnotCheck CheckKnots(const LawComparison& f, const laws::LawShape& true_shape,
-                     const LawParameters& truth) {
+// |difference| over the points at d in [0, 1] (the knots and the end) as a
+// fraction of the true sigma_c.
+double WorstKnotError(const LawComparison& f, const laws::LawShape& true_shape,
+                      const LawParameters& truth) {
   const FitSummary& s = f.summary;
   const double sigma_c = s.best_parameters[kSigmaC];
   const double delta_c = s.best_parameters[kJB] / (f.shape.Area() * sigma_c);
   const double true_delta_c = truth.J_B / (true_shape.Area() * truth.sigma_c);
-  KnotCheck check;
-  for (size_t k = 0; k + 1 < f.shape.d_points.size(); ++k) {
+  double worst = 0.0;
+  for (size_t k = 0; k < f.shape.d_points.size(); ++k) {
     const double delta = f.shape.d_points[k] * delta_c;
     const double fitted = sigma_c * f.shape.s_points[k];
     const double expected = truth.sigma_c * laws::ShapeValue(true_shape, delta / true_delta_c);
-    const ShapeParameter& p = f.shape_parameters[k];
+    const double se = k < f.shape_parameters.size() ? f.shape_parameters[k].standard_error : 0.0;
     std::printf("  knot d = %.3f: delta %.4f mm, sigma %.4f MPa (Wald se %.4f), truth %.4f MPa\n",
-                f.shape.d_points[k], delta * 1e3, fitted * 1e-6, p.standard_error * sigma_c * 1e-6,
+                f.shape.d_points[k], delta * 1e3, fitted * 1e-6, se * sigma_c * 1e-6,
                 expected * 1e-6);
-    if (k > 0)
-      check.worst_inner = std::max(check.worst_inner, std::abs(fitted - expected) / truth.sigma_c);
-    else if (p.pinned)  // the peak: sigma_c itself
-      check.first_covered = s.sigma_c.ci95_low <= expected && expected <= s.sigma_c.ci95_high;
-    else
-      check.first_covered = std::abs(fitted - expected) <= 1.96 * p.standard_error * sigma_c;
+    worst = std::max(worst, std::abs(fitted - expected) / truth.sigma_c);
   }
-  return check;
+  std::printf("  worst knot error: %.4f sigma_c\n", worst);
+  return worst;
 }
 
 void Print(const std::vector<LawComparison>& comparison) {
@@ -96,11 +86,12 @@ void Print(const std::vector<LawComparison>& comparison) {
 
 // Issue 21's acceptance, on an R curve of a record's size (the MDF sample's
 // exact record gives 399 points) from the cubic law with 0.5% noise: the
-// table's knots follow the cubic, and AICc prefers the cubic or the table
-// to the linear law. Knots at d > 0 within 5% of sigma_c; the knot at d = 0
-// is not resolved that well by any R curve (measured +6..+14% for N = 5-8,
-// also without noise: the chord matches the energy of the curved first
-// segment), so it is held to its own 95% interval.
+// table's knots follow the cubic within 5% of sigma_c at every d in [0, 1],
+// and AICc prefers the cubic or the table to the linear law. Measured: N = 6,
+// knots +1.3, -0.6, +1.5, +0.5, -0.7, -1.1% and (d = 1) -0.6%; AICc cubic
+// 432.0, table 438.2, linear 3104.0. With straight segments between the
+// knots the d = 0 knot was +11.2% (a bias: +7.5..+14% also without noise,
+// fit_shape.hpp), and sigma_c's interval missed 1 MPa.
 TEST(FitShape, TableFollowsTheCubicLaw) {
   const laws::LawShape cubic = laws::MakeCubicShape();
   const LawParameters truth{1.0e6, 500.0, 2210.0};
@@ -113,22 +104,19 @@ TEST(FitShape, TableFollowsTheCubicLaw) {
   ASSERT_TRUE(table.summary.converged) << table.note;
   const double best = std::min(Find(comparison, "cubic").aicc, table.aicc);
   EXPECT_LT(best, Find(comparison, "linear").aicc);
-  const KnotCheck check = CheckKnots(table, cubic, truth);
   for (const ParameterEstimate* e :
        {&table.summary.sigma_c, &table.summary.J_B, &table.summary.J_tip_c})
     std::printf("  %.6g [%.6g, %.6g] %s\n", e->value, e->ci95_low, e->ci95_high, e->note.c_str());
-  EXPECT_LE(check.worst_inner, 0.05);
-  EXPECT_TRUE(check.first_covered);
+  EXPECT_LE(WorstKnotError(table, cubic, truth), 0.05);
 }
 
 // A law the table cannot draw exactly: exponential decay (alpha = 3), cut
 // from exp(-3) = 0.05 to zero at delta_c. AICc still prefers the table or
 // the exponential law to the linear one. The knots are printed, not held
 // to 5%: the table's last segment must end at zero, so it ends early and
-// the tail knots fall short. Measured (this seed, 100 points): N = 3, knots
-// at d = 1/3 and 2/3 off by -5.1% and -5.8% of sigma_c, sigma_c 0.946 MPa
-// with an interval that misses 1 MPa; with 400 points N = 6, worst -5.3%
-// at d = 0.83 (docs/FIT.md).
+// the tail knots fall short. Measured (this seed, 100 points, N = 3): knots
+// at d = 0, 1/3, 2/3 off by -1.2, -2.6, -4.4% of sigma_c and -5.2% at d = 1
+// (straight segments: -5.1% and -5.8% at 1/3 and 2/3; docs/FIT.md).
 TEST(FitShape, TableFollowsTheExponentialLaw) {
   const laws::LawShape exponential = laws::MakeExponentialShape(3.0);
   const LawParameters truth{1.0e6, 500.0, 2210.0};
@@ -141,10 +129,7 @@ TEST(FitShape, TableFollowsTheExponentialLaw) {
   ASSERT_TRUE(table.summary.converged) << table.note;
   EXPECT_LT(std::min(Find(comparison, "exponential").aicc, table.aicc),
             Find(comparison, "linear").aicc);
-  const KnotCheck check = CheckKnots(table, exponential, truth);
-  std::printf(
-      "  worst knot error at d > 0: %.4f sigma_c; sigma at d = 0 in sigma_c's interval: %d\n",
-      check.worst_inner, check.first_covered);
+  WorstKnotError(table, exponential, truth);
 }
 
 void ExpectCovers(const ParameterEstimate& e, double truth, const char* name) {

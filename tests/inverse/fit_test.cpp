@@ -288,6 +288,7 @@ TEST(Fit, OutliersAreRemovedAndListed) {
   EXPECT_DOUBLE_EQ(s.outlier_R[1], data.R[20]);
   EXPECT_NE(s.verdict.find("3 outlier(s) removed"), std::string::npos);
   EXPECT_EQ(s.data_points, 37);
+  EXPECT_EQ(s.misfit.points, 0);
   const ParameterEstimate* e[] = {&s.sigma_c, &s.J_B, &s.J_tip_c};
   const double values[] = {truth.sigma_c, truth.J_B, truth.J_tip_c};
   for (int i = 0; i < 3; ++i) {
@@ -298,6 +299,40 @@ TEST(Fit, OutliersAreRemovedAndListed) {
   options.outlier_threshold = 0.0;
   const FitSummary raw = FitBridgingLaw(AnalyticForwardModel(kModulus, kA0), shape, data, options);
   EXPECT_GT(raw.rms_residual, 3.0 * s.rms_residual);
+}
+
+// Gross errors one at a time are outliers; points off the model several in a
+// row on one side are data the model cannot follow (a rise shorter than its
+// elements): kept, described, and every interval flagged.
+TEST(Fit, ARunOfPointsOffTheModelIsAMisfitNotOutliers) {
+  const laws::LawShape shape = laws::MakeLinearShape();
+  const LawParameters truth{1.0e6, 500.0, 2210.0};
+  FitData data = MakeData(shape, truth, kA0 + 0.08, 40, 0.01, 21);
+  // Three in a row far below a rising R curve: a dip no law can draw (a
+  // monotone R curve); two neighbours on opposite sides: outliers.
+  for (int i = 12; i < 15; ++i) data.R[i] *= 0.75;
+  data.R[28] *= 1.3;
+  data.R[29] *= 0.72;
+  const FitSummary s = FitBridgingLaw(AnalyticForwardModel(kModulus, kA0), shape, data, FastOptions());
+  ASSERT_EQ(s.outlier_crack_lengths.size(), 2u) << s.verdict;
+  EXPECT_DOUBLE_EQ(s.outlier_crack_lengths[0], data.crack_length[28]);
+  EXPECT_DOUBLE_EQ(s.outlier_crack_lengths[1], data.crack_length[29]);
+  EXPECT_EQ(s.data_points, 38);
+  ASSERT_EQ(s.misfit.points, 3) << s.verdict;
+  EXPECT_EQ(s.misfit.side, -1);
+  EXPECT_DOUBLE_EQ(s.misfit.crack_length_from, data.crack_length[12]);
+  EXPECT_DOUBLE_EQ(s.misfit.crack_length_to, data.crack_length[14]);
+  EXPECT_GT(s.misfit.largest_sd, FastOptions().outlier_threshold);
+  EXPECT_NE(s.verdict.find("below the model"), std::string::npos) << s.verdict;
+  for (const ParameterEstimate* e : {&s.sigma_c, &s.J_B, &s.J_tip_c}) {
+    if (!std::isfinite(e->value)) continue;
+    EXPECT_EQ(e->interval_status, IntervalStatus::kUnreliableMisfit) << e->note;
+    EXPECT_NE(e->interval_reason.find("does not follow"), std::string::npos);
+  }
+  // With the check off (outlier_threshold 0) nothing is removed or flagged.
+  FitOptions none = FastOptions();
+  none.outlier_threshold = 0.0;
+  EXPECT_EQ(FitBridgingLaw(AnalyticForwardModel(kModulus, kA0), shape, data, none).misfit.points, 0);
 }
 
 TEST(Fit, InformationCriterionPrefersTheTrueFamily) {

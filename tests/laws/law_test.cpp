@@ -30,12 +30,21 @@ double Integrate(const std::function<double(double)>& f, double a, double b, dou
   return Simpson(f, a, b, fa, fm, fb, (b - a) / 6.0 * (fa + 4 * fm + fb), tol, 60);
 }
 
+// A table through `s` at d = j / N (the last point 0 at d = 1), monotone cubic between.
+LawShape MonotoneCubicTable(const std::vector<double>& s) {
+  LawShape shape{.family = LawFamily::kTable, .interpolation = TableInterpolation::kMonotoneCubic};
+  for (size_t j = 0; j < s.size(); ++j) shape.d_points.push_back(double(j) / (s.size() - 1));
+  shape.s_points = s;
+  return shape;
+}
+
 std::vector<LawShape> AllShapes() {
   double sc = 0, dc = 0;
   return {MakeLinearShape(), MakeCubicShape(), MakeTriangularShape(0.1),
           MakeTriangularShape(0.37), MakeExponentialShape(3.0),
           MakeTrilinearShape(1.0, 0.2, 0.6, 0.55, 0.25),
-          MakeTableShape({0.0, 0.2e-3, 1.0e-3, 2.0e-3}, {0.0, 0.8e6, 0.3e6, 0.0}, &sc, &dc)};
+          MakeTableShape({0.0, 0.2e-3, 1.0e-3, 2.0e-3}, {0.0, 0.8e6, 0.3e6, 0.0}, &sc, &dc),
+          MonotoneCubicTable({0.1, 0.9, 1.0, 0.4, 0.3, 0.0})};
 }
 
 TEST(Laws, CubicRCurveClosedForm) {
@@ -151,6 +160,48 @@ TEST(Laws, TruncationBounds) {
   EXPECT_DOUBLE_EQ(b.J_B_lower, 440.0);
   EXPECT_DOUBLE_EQ(b.delta_c_lower, 1.9e-3);
   EXPECT_THROW(BoundsFromTruncatedCurve(NAN, 2210.0, 1e-3, 0.07), Error);
+}
+
+// The monotone cubic table (PCHIP): a straight line exactly; on each segment
+// within its end values (so >= 0, peak = the largest point); the cubic law
+// interpolated at N knots 2.3 to 6 times closer than straight segments, both
+// converging at second order (PCHIP's slope is O(h) off only where the law's
+// slope vanishes: the peak between knots and d = 1; O(h^2) elsewhere).
+TEST(Laws, MonotoneCubicTable) {
+  const LawShape line = MonotoneCubicTable({1.0, 0.75, 0.5, 0.25, 0.0});
+  for (int i = 0; i <= 100; ++i)
+    EXPECT_NEAR(ShapeValue(line, i / 100.0), i < 100 ? 1.0 - i / 100.0 : 0.0, 1e-15);
+  EXPECT_NEAR(line.Area(), 0.5, 1e-15);
+
+  const LawShape bumpy = MonotoneCubicTable({0.1, 0.9, 1.0, 0.4, 0.3, 0.0});
+  for (int i = 0; i < 1000; ++i) {
+    const double d = i / 1000.0;
+    const size_t j = static_cast<size_t>(d * 5.0);
+    const double lo = std::min(bumpy.s_points[j], bumpy.s_points[j + 1]);
+    const double hi = std::max(bumpy.s_points[j], bumpy.s_points[j + 1]);
+    EXPECT_GE(ShapeValue(bumpy, d), lo - 1e-15) << d;
+    EXPECT_LE(ShapeValue(bumpy, d), hi + 1e-15) << d;
+  }
+
+  const LawShape cubic = MakeCubicShape();
+  auto worst = [&](int knots, TableInterpolation how) {
+    std::vector<double> s;
+    for (int j = 0; j <= knots; ++j) s.push_back(ShapeValue(cubic, double(j) / knots));
+    LawShape table = MonotoneCubicTable(s);
+    table.interpolation = how;
+    double e = 0.0;
+    for (int i = 0; i < 2000; ++i)
+      e = std::max(e, std::abs(ShapeValue(table, i / 2000.0) - ShapeValue(cubic, i / 2000.0)));
+    return e;
+  };
+  // Measured max |error|, monotone cubic / straight: N = 3 0.096 / 0.28,
+  // N = 5 0.051 / 0.115, N = 6 0.019 / 0.082, N = 24 0.00094 / 0.0057, N = 48 0.00023 / 0.0014.
+  for (int knots : {3, 4, 5, 6, 12, 24})
+    EXPECT_LT(worst(knots, TableInterpolation::kMonotoneCubic),
+              worst(knots, TableInterpolation::kLinear) / 2.0)
+        << knots;
+  for (TableInterpolation how : {TableInterpolation::kMonotoneCubic, TableInterpolation::kLinear})
+    EXPECT_GT(std::log2(worst(24, how) / worst(48, how)), 1.9);
 }
 
 // Ceres Jets differentiate R(delta_root; sigma_c, delta_c) like finite differences do.

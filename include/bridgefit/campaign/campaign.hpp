@@ -24,6 +24,7 @@
 #include "bridgefit/io/campaign_manifest.hpp"
 #include "bridgefit/parallel/communicator.hpp"
 #include "bridgefit/pipeline/fit.hpp"
+#include "bridgefit/pipeline/fit_file.hpp"
 #include "bridgefit/pipeline/joint_fit.hpp"
 
 namespace bridgefit::campaign {
@@ -141,5 +142,13 @@ RankedCampaign RunCampaignOnRanks(const std::string& manifest_path, CampaignOpti
 // consistency test's figures) and DIR/specimens/<name>.h5 (each a fit file, as `bridgefit fit
 // --out` writes). Every file is written atomically; DIR is created.
 void WriteCampaignOutputs(const CampaignResult& result, const std::filesystem::path& dir);
+
+// campaign.h5 read back for `bridgefit design` (the reader beside its
+// writer): the joint fit's law (/campaign/joint) with the specimen and
+// material of its first specimen; without a joint fit, the fit of the
+// specimen that gives the campaign's lower bound of J_B, else the first
+// specimen with a fit. `note` says which. Throws Error(kInput) naming the
+// file when it holds no fitted specimen.
+pipeline::FittedLaw ReadCampaignLaw(const io::H5Reader& reader, const std::filesystem::path& file);
 
 }  // namespace bridgefit::campaign

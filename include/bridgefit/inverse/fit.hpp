@@ -48,7 +48,9 @@ struct FitOptions {
   // Points whose residual exceeds `outlier_threshold` robust standard
   // deviations (1.4826 x median |residual|) after a first fit are removed
   // (at most a fifth of the data), listed in the summary, and the fit is
-  // repeated without them. 0 disables the check.
+  // repeated without them. 0 disables the check. In an R-curve fit, two or
+  // more such points in a row on the same side of the model are not
+  // outliers but a misfit (FitSummary::misfit): they stay in the fit.
   double outlier_threshold = 5.0;
   // Bridging that adds less than this fraction of J_tip,c to R (the smaller
   // of the fitted J_B and the fitted R's rise inside the data window) is
@@ -116,8 +118,10 @@ enum class IntervalStatus {
   kEndsOnBound,          // the optimum sits on the box edge: the box, not the data, ends it
   kUnreliableZeroWidth,  // an end at the optimum even after finer bisection and re-solves
   kUnreliableNonSmooth,  // chi^2 jumps, or the profile is not monotone, or finds a lower chi^2
+  kUnreliableMisfit,     // the model does not follow a run of data points (FitSummary::misfit)
 };
-// "reliable", "open", "ends_on_bound", "unreliable_zero_width", "unreliable_non_smooth"
+// "reliable", "open", "ends_on_bound", "unreliable_zero_width", "unreliable_non_smooth",
+// "unreliable_misfit"
 const char* IntervalStatusName(IntervalStatus status);
 
 struct ParameterEstimate {
@@ -156,6 +160,20 @@ struct Profile {
   IntervalStatus status = IntervalStatus::kReliable;
   std::string status_reason;
   int resolves = 0;              // profile points re-solved with more starts
+};
+
+// R points that lie beyond the outlier threshold two or more in a row on
+// the same side of the model: not gross errors but data the model cannot
+// follow (a rise shorter than its elements, a law that does not fit). They
+// stay in the fit and every estimated interval is marked kUnreliableMisfit
+// (docs/FIT.md "A run of misfit points").
+struct MisfitRun {
+  int points = 0;                  // points in such runs; 0: none
+  double crack_length_from = NAN;  // the runs' first and last crack length [m]
+  double crack_length_to = NAN;
+  double largest_sd = NAN;         // the largest |residual| among them [robust SD]
+  int side = 0;                    // +1 the data above the model, -1 below, 0 both
+  std::string Describe() const;    // one phrase for the verdict and the warnings
 };
 
 struct StartResult {
@@ -201,6 +219,7 @@ struct FitSummary {
   // displacement [m] and load [N] of a load-displacement fit.
   std::vector<double> outlier_crack_lengths;
   std::vector<double> outlier_R;
+  MisfitRun misfit;  // R-curve fit: runs of points the model does not follow
   std::vector<Profile> profiles;
   // R-curve fit: the data points used (outliers removed) [m] and the model's
   // R there [J/m^2]. Load-displacement fit: the model's physical crack

@@ -5,10 +5,18 @@
 // and the fixed-shape families (docs/FIT.md "Law families with a fitted
 // shape").
 //
-// Shapes (d = delta / delta_c, the law module's piecewise-linear shapes):
+// Shapes (d = delta / delta_c, the law module's table and trilinear shapes):
 //   bilinear   (0, 1) - (d1, s1) - (1, 0), 0.02 <= d1 <= 0.98, 0 <= s1 <= 1
 //   trilinear  (0, s0) - (d1, s1) - (d2, s2) - (1, 0), peak rescaled to 1
-//   table N    (j / N, s_j) for j = 0 .. N-1, then (1, 0), peak rescaled to 1
+//   table N    (j / N, s_j) for j = 0 .. N-1, then (1, 0), peak rescaled to
+//              1; the monotone cubic between the knots by default (below)
+// Why the table's default is the monotone cubic: with g = R - J_tip,c,
+// PHYSICS (3) gives dg/d delta = (sigma - delta sigma') / 2, so on a straight
+// segment c + m delta the R curve sees only its intercept c / 2; a law that
+// rises from zero (the cubic: g ~ delta^3) then needs a positive intercept
+// on the first chord, and the knot at d = 0 came out +7.5..+14% of sigma_c
+// also without noise (N = 5..8). A C1 cubic carries the curvature, and the
+// bias goes (docs/FIT.md "Law families with a fitted shape").
 // The joint search (NLopt BOBYQA, multi-start) minimises
 //   chi^2 + lambda sum_j (s_(j-1) - 2 s_j + s_(j+1))^2      (table only)   (1)
 // over the box coordinates of the free scale parameters and the shape, with
@@ -42,6 +50,9 @@ struct ShapeFitOptions {
   // 1 / sqrt(2 smoothness) (weak: the cubic law's second differences at
   // N = 6 are <= 0.56).
   double smoothness = 1.0;
+  // Between the table's knots: the monotone cubic (PCHIP) by default; straight
+  // segments bias the knot at d = 0 of a law that rises from zero (docs/FIT.md).
+  laws::TableInterpolation table_interpolation = laws::TableInterpolation::kMonotoneCubic;
   int seed_starts = 2;         // starts from the fixed-shape fits with the lowest chi^2
   int random_starts = 2;       // Latin-hypercube starts besides those
   int max_evaluations = 3000;  // per local search

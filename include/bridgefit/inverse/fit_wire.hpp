@@ -46,6 +46,8 @@ void Visit(Io& io, S& s) requires std::is_same_v<std::remove_const_t<S>, inverse
     io2.Field(r.stop_reason);
   });
   io.Field(s.outlier_crack_lengths), io.Field(s.outlier_R);
+  io.Field(s.misfit.points), io.Field(s.misfit.crack_length_from), io.Field(s.misfit.crack_length_to);
+  io.Field(s.misfit.largest_sd), io.Field(s.misfit.side);
   io.Items(s.profiles, [](auto& io2, auto& p) { Visit(io2, p); });
   io.Field(s.fitted_crack_length), io.Field(s.fitted_R), io.Field(s.fitted_delta_root);
   io.Field(s.fitted_displacement), io.Field(s.fitted_record_load), io.Field(s.fitted_load);
@@ -56,12 +58,13 @@ void Visit(Io& io, S& s) requires std::is_same_v<std::remove_const_t<S>, inverse
 // sizes are x86-64 / libstdc++'s when this was written; other platforms skip
 // the check.
 #if defined(__x86_64__) && defined(__GLIBCXX__)
-static_assert(sizeof(inverse::FitSummary) == 1240, "FitSummary changed: update Visit");
+static_assert(sizeof(inverse::FitSummary) == 1280, "FitSummary changed: update Visit");
 static_assert(sizeof(inverse::ParameterEstimate) == 168, "ParameterEstimate changed: update Visit");
 static_assert(sizeof(inverse::FitData) == 160, "FitData changed: update Visit");
-static_assert(sizeof(laws::LawShape) == 72, "LawShape changed: update Visit");
+static_assert(sizeof(laws::LawShape) == 80, "LawShape changed: update Visit");
 static_assert(sizeof(inverse::Profile) == 88 && sizeof(inverse::ProfilePoint) == 48 &&
-                  sizeof(inverse::StartResult) == 96 && sizeof(laws::TruncationBounds) == 40,
+                  sizeof(inverse::StartResult) == 96 && sizeof(laws::TruncationBounds) == 40 &&
+                  sizeof(inverse::MisfitRun) == 40,
               "a part of FitSummary changed: update Visit");
 #endif
 

@@ -10,6 +10,7 @@
 // LawT<T> is templated on the scalar so Ceres Jets differentiate it with
 // respect to sigma_c and delta_c; the shape parameters stay double.
 
+#include <array>
 #include <cmath>
 #include <optional>
 #include <string>
@@ -19,6 +20,12 @@
 namespace bridgefit::laws {
 
 enum class LawFamily { kLinear, kCubic, kTriangular, kTrilinear, kExponential, kTable };
+// How a table law runs between its points: straight segments, or the
+// monotone piecewise-cubic Hermite interpolant (PCHIP, Fritsch & Carlson
+// 1980): C1, and on each segment between its two end values, so it stays
+// >= 0 and its peak is the largest point; it reproduces a straight line
+// exactly and a smooth law with an O(h^3) error instead of O(h^2).
+enum class TableInterpolation { kLinear, kMonotoneCubic };
 
 std::string_view LawFamilyName(LawFamily family);
 // Parses "linear", "cubic", ... Throws Error naming the accepted values.
@@ -33,6 +40,7 @@ struct LawShape {
   // d = 0 to d = 1, with s(1) = 0 and max s = 1.
   std::vector<double> d_points;
   std::vector<double> s_points;
+  TableInterpolation interpolation = TableInterpolation::kLinear;  // kTable only
 
   // Throws Error when the shape is impossible (e.g. peak_ratio >= 1).
   void Validate() const;
@@ -96,6 +104,66 @@ T PiecewiseIntegral(const std::vector<double>& xs, const std::vector<double>& ys
   }
   return total;
 }
+// PCHIP slope ds/dd at point k: the weighted harmonic mean of the two
+// neighbouring secants, 0 where they differ in sign; at an end the
+// three-point formula, 0 if it turns against the end secant and at most
+// three times it (Moler's pchip).
+inline double MonotoneSlope(const std::vector<double>& xs, const std::vector<double>& ys,
+                            size_t k) {
+  const size_t n = xs.size();
+  auto h = [&](size_t i) { return xs[i + 1] - xs[i]; };
+  auto secant = [&](size_t i) { return h(i) > 0.0 ? (ys[i + 1] - ys[i]) / h(i) : 0.0; };
+  if (n < 3) return n == 2 ? secant(0) : 0.0;
+  if (k == 0 || k == n - 1) {
+    const size_t end = k == 0 ? 0 : n - 2, next = k == 0 ? 1 : n - 3;
+    const double h0 = h(end), h1 = h(next), s0 = secant(end), s1 = secant(next);
+    if (!(h0 + h1 > 0.0)) return 0.0;
+    const double m = ((2.0 * h0 + h1) * s0 - h0 * s1) / (h0 + h1);
+    if (m * s0 <= 0.0) return 0.0;
+    if (s0 * s1 <= 0.0 && std::abs(m) > 3.0 * std::abs(s0)) return 3.0 * s0;
+    return m;
+  }
+  const double s0 = secant(k - 1), s1 = secant(k);
+  if (s0 * s1 <= 0.0) return 0.0;
+  const double w0 = 2.0 * h(k) + h(k - 1), w1 = h(k) + 2.0 * h(k - 1);
+  return (w0 + w1) / (w0 / s0 + w1 / s1);
+}
+// The cubic Hermite segment i (from point i-1 to i) in t = (d - x_(i-1)) / h:
+// y(t) = c0 + c1 t + c2 t^2 + c3 t^3.
+inline std::array<double, 4> HermiteSegment(const std::vector<double>& xs,
+                                            const std::vector<double>& ys, size_t i) {
+  const double h = xs[i] - xs[i - 1];
+  const double m0 = h * MonotoneSlope(xs, ys, i - 1), m1 = h * MonotoneSlope(xs, ys, i);
+  const double y0 = ys[i - 1], y1 = ys[i];
+  return {y0, m0, 3.0 * (y1 - y0) - 2.0 * m0 - m1, 2.0 * (y0 - y1) + m0 + m1};
+}
+template <class T>
+T MonotoneCubicValue(const std::vector<double>& xs, const std::vector<double>& ys, const T& d) {
+  for (size_t i = 1; i < xs.size(); ++i) {
+    if (d <= T(xs[i])) {
+      const double h = xs[i] - xs[i - 1];
+      if (h <= 0.0) return T(ys[i]);
+      const std::array<double, 4> c = HermiteSegment(xs, ys, i);
+      const T t = (d - T(xs[i - 1])) / h;
+      return T(c[0]) + t * (T(c[1]) + t * (T(c[2]) + t * T(c[3])));
+    }
+  }
+  return T(0.0);
+}
+// int_0^d of MonotoneCubicValue, exact: h (c0 t + c1 t^2/2 + c2 t^3/3 + c3 t^4/4) per segment.
+template <class T>
+T MonotoneCubicIntegral(const std::vector<double>& xs, const std::vector<double>& ys, const T& d) {
+  T total(0.0);
+  for (size_t i = 1; i < xs.size(); ++i) {
+    const double h = xs[i] - xs[i - 1];
+    if (d <= T(xs[i - 1])) break;
+    if (h <= 0.0) continue;
+    const std::array<double, 4> c = HermiteSegment(xs, ys, i);
+    const T t = d >= T(xs[i]) ? T(1.0) : (d - T(xs[i - 1])) / h;
+    total += T(h) * t * (T(c[0]) + t * (T(c[1] / 2.0) + t * (T(c[2] / 3.0) + t * T(c[3] / 4.0))));
+  }
+  return total;
+}
 }  // namespace detail
 
 // s(d): 0 outside [0, 1).
@@ -115,8 +183,11 @@ T ShapeValue(const LawShape& shape, const T& d) {
       return (T(1.0) - d) / T(1.0 - shape.peak_ratio);
     case LawFamily::kExponential:
       return exp(T(-shape.alpha) * d);
-    case LawFamily::kTrilinear:
     case LawFamily::kTable:
+      if (shape.interpolation == TableInterpolation::kMonotoneCubic)
+        return detail::MonotoneCubicValue(shape.d_points, shape.s_points, d);
+      return detail::PiecewiseValue(shape.d_points, shape.s_points, d);
+    case LawFamily::kTrilinear:
       return detail::PiecewiseValue(shape.d_points, shape.s_points, d);
   }
   return T(0.0);
@@ -144,8 +215,11 @@ T ShapeIntegral(const LawShape& shape, const T& d_in) {
     case LawFamily::kExponential:
       if (shape.alpha == 0.0) return d;
       return (T(1.0) - exp(T(-shape.alpha) * d)) / T(shape.alpha);
-    case LawFamily::kTrilinear:
     case LawFamily::kTable:
+      if (shape.interpolation == TableInterpolation::kMonotoneCubic)
+        return detail::MonotoneCubicIntegral(shape.d_points, shape.s_points, d);
+      return detail::PiecewiseIntegral(shape.d_points, shape.s_points, d);
+    case LawFamily::kTrilinear:
       return detail::PiecewiseIntegral(shape.d_points, shape.s_points, d);
   }
   return T(0.0);
