@@ -145,29 +145,93 @@ std::vector<int> FailedClusterSizes(const DisplacementField& f, const std::vecto
   return size;
 }
 
-// Window radius from the data: the distance from the centre to the nearest
-// failed point of a cluster of at least min_failed_cluster points (a hole,
-// a grip, the notch, the image's edge), at most the fit radius. Smaller
-// clusters only take their neighbours out of the fit (Continuum).
-double ContinuumRadius(const DisplacementField& f, const std::vector<PointKind>& kind, double xc,
-                       double yc, const CrackTipOptions& o) {
-  const std::vector<int> cluster = FailedClusterSizes(f, kind);
-  double radius = o.fit_radius_px;
-  for (size_t i = 0; i < f.size(); ++i)
-    if (cluster[i] >= o.min_failed_cluster)
-      radius = std::min(radius, std::hypot(f.x[i] - xc, f.y[i] - yc));
-  return radius;
-}
+// The distance from the centre to the nearest failed point of a cluster of
+// at least min_failed_cluster points (a hole, a grip, the notch, the image's
+// edge; 8-connected), per direction seen from the centre: a point farther
+// than that in its direction lies behind the cluster (in its shadow) and is
+// not read. Each failed point hides the directions within its grid cell's
+// half diagonal (8-connected neighbours leave no gap between their
+// shadows); a failed point within that half diagonal of the centre hides
+// every direction. Smaller clusters only take their neighbours out of the
+// fit (Continuum). Fields that are not a grid: no clusters, no shadow.
+class Shadow {
+ public:
+  static constexpr int kBins = 2048;
+  Shadow(const DisplacementField& f, const std::vector<PointKind>& kind, double xc, double yc,
+         const CrackTipOptions& o)
+      : xc_(xc), yc_(yc), nearest_(kBins, std::numeric_limits<double>::infinity()) {
+    clear_radius_ = o.fit_radius_px;
+    const bool grid = f.ny > 1 && f.nx > 1 && static_cast<size_t>(f.nx) * f.ny == f.size();
+    if (!grid) return;
+    const double half_diagonal =
+        0.5 * std::hypot(f.x[1] - f.x[0], f.y[static_cast<size_t>(f.nx)] - f.y[0]);
+    const double reach = o.fit_radius_px + half_diagonal;
+    const std::vector<int> cluster = FailedClusterSizes(f, kind);
+    const double bin = 2.0 * std::numbers::pi / kBins;
+    for (size_t i = 0; i < f.size(); ++i) {
+      if (cluster[i] < o.min_failed_cluster) continue;
+      const double dx = f.x[i] - xc, dy = f.y[i] - yc, r = std::hypot(dx, dy);
+      if (r >= reach) continue;
+      clear_radius_ = std::min(clear_radius_, r);
+      // 5% more than the half diagonal: no gap at a bin's edge.
+      const double half = r <= 1.05 * half_diagonal ? std::numbers::pi
+                                                    : std::asin(1.05 * half_diagonal / r);
+      const int b0 = Bin(dx, dy), span = static_cast<int>(std::ceil(half / bin));
+      for (int k = -std::min(span, kBins / 2); k <= std::min(span, kBins / 2); ++k) {
+        double& near = nearest_[static_cast<size_t>(((b0 + k) % kBins + kBins) % kBins)];
+        near = std::min(near, r);
+      }
+    }
+  }
+  bool Hides(double x, double y) const {
+    const double dx = x - xc_, dy = y - yc_;
+    return std::hypot(dx, dy) > nearest_[static_cast<size_t>(Bin(dx, dy))];
+  }
+  // Within this distance of the centre nothing is hidden (<= fit radius).
+  double ClearRadius() const { return clear_radius_; }
 
+ private:
+  static int Bin(double dx, double dy) {
+    const double t = std::atan2(dy, dx) + std::numbers::pi;  // [0, 2 pi]
+    return std::min(kBins - 1, static_cast<int>(t / (2.0 * std::numbers::pi) * kBins));
+  }
+  double xc_, yc_, clear_radius_ = 0;
+  std::vector<double> nearest_;
+};
+
+// The points the window reads: continuum, not hidden, within `radius` of
+// the centre and outside the band about the line.
 std::vector<const LocalPoint*> WindowPoints(const std::vector<LocalPoint>& pts,
-                                            const std::vector<char>& continuum, double xc,
+                                            const std::vector<char>& readable, double xc,
                                             double yc, double radius, const CrackTipOptions& o) {
   std::vector<const LocalPoint*> set;
   for (const LocalPoint& p : pts)
-    if (continuum[p.index] && std::hypot(p.x - xc, p.y - yc) < radius &&
+    if (readable[p.index] && std::hypot(p.x - xc, p.y - yc) < radius &&
         std::abs(p.n) >= o.band_half_width_px)
       set.push_back(&p);
   return set;
+}
+
+// Too small or too one-sided for the Williams fit: ahead of the centre,
+// above and below the line each, the window keeps fewer points than that
+// quadrant of the disk of min_fit_radius_fraction x fit radius holds grid
+// positions (any status, outside the band). A disk cut all round at radius
+// r is short exactly when r < that fraction of the fit radius (the old rule);
+// a cluster that hides one sector leaves the rest of the disk.
+bool WindowShort(const DisplacementField& f, const std::vector<const LocalPoint*>& set,
+                 double s_centre, const CrackTipOptions& o) {
+  const double r_min = o.min_fit_radius_fraction * o.fit_radius_px;
+  int need_above = 0, need_below = 0, kept_above = 0, kept_below = 0;
+  for (size_t i = 0; i < f.size(); ++i) {
+    double s, n;
+    o.line.ToLocal(f.x[i], f.y[i], &s, &n);
+    if (s <= s_centre || std::abs(n) < o.band_half_width_px || std::hypot(s - s_centre, n) >= r_min)
+      continue;
+    ++(n > 0 ? need_above : need_below);
+  }
+  for (const LocalPoint* p : set)
+    if (p->s > s_centre) ++(p->n > 0 ? kept_above : kept_below);
+  return kept_above < need_above || kept_below < need_below;
 }
 
 struct TipScan {
@@ -219,9 +283,11 @@ TipScan ScanTip(const std::vector<const LocalPoint*>& set, double lo, double hi,
 
 }  // namespace
 
-// Stages: window centre -> continuum and its radius -> tip scan -> the scan
-// again one station inside: a tip that moves by more than twice its
-// uncertainty (at least one station / sqrt(12)) is unstable, not used.
+// Stages: window centre -> continuum not hidden by a failed cluster ->
+// enough of it ahead of the centre on both sides of the line? -> tip scan ->
+// the scan again with the radius one station smaller: a tip that moves by
+// more than twice its uncertainty (at least one station / sqrt(12)) is
+// unstable, not used.
 void WilliamsTip(const DisplacementField& field, const std::vector<LocalPoint>& pts,
                  const CrackTipOptions& o, CrackTipResult& res) {
   const double ds = o.station_spacing_px;
@@ -232,16 +298,26 @@ void WilliamsTip(const DisplacementField& field, const std::vector<LocalPoint>& 
   res.williams_window = true;
   res.williams_centre_s_px = s_start;
   const std::vector<PointKind> kind = Kinds(field, o);
-  std::vector<char> continuum(field.size(), 0);
-  for (const LocalPoint& p : pts) continuum[p.index] = Continuum(field, kind, p.index) ? 1 : 0;
-  const double radius = ContinuumRadius(field, kind, xs, ys, o);
-  res.williams_radius_px = radius;
-  if (radius < o.min_fit_radius_fraction * o.fit_radius_px) {
-    res.williams_window_short = true;  // no continuum about the tip: no Williams tip
+  const Shadow shadow(field, kind, xs, ys, o);
+  res.williams_clear_radius_px = shadow.ClearRadius();
+  std::vector<char> readable(field.size(), 0);
+  int hidden = 0;
+  for (const LocalPoint& p : pts) {
+    if (!Continuum(field, kind, p.index)) continue;
+    const bool behind = shadow.Hides(p.x, p.y);
+    if (behind && std::hypot(p.x - xs, p.y - ys) < o.fit_radius_px &&
+        std::abs(p.n) >= o.band_half_width_px)
+      ++hidden;
+    readable[p.index] = behind ? 0 : 1;
+  }
+  res.williams_hidden_points = hidden;
+  const std::vector<const LocalPoint*> set =
+      WindowPoints(pts, readable, xs, ys, o.fit_radius_px, o);
+  res.williams_points = static_cast<int>(set.size());
+  if (WindowShort(field, set, s_start, o)) {
+    res.williams_window_short = true;  // too little continuum ahead: no Williams tip
     return;
   }
-  const std::vector<const LocalPoint*> set = WindowPoints(pts, continuum, xs, ys, radius, o);
-  res.williams_points = static_cast<int>(set.size());
   const double lo = std::max(0.0, s_start - 0.5 * o.fit_radius_px);
   const double hi = std::min(o.line.Length(), s_start + 0.5 * o.fit_radius_px);
   const TipScan scan = ScanTip(set, lo, hi, o);
@@ -255,7 +331,8 @@ void WilliamsTip(const DisplacementField& field, const std::vector<LocalPoint>& 
   if (!scan.interior_hi || scan.s > res.last_station_px) res.tip_at_edge = true;
   SetPosition(o.line, &t);
   if (!t.found) return;
-  const TipScan inner = ScanTip(WindowPoints(pts, continuum, xs, ys, radius - ds, o), lo, hi, o);
+  const TipScan inner =
+      ScanTip(WindowPoints(pts, readable, xs, ys, o.fit_radius_px - ds, o), lo, hi, o);
   const double tol = 2.0 * std::max(scan.sigma, ds / std::sqrt(12.0));
   res.williams_shift_px = inner.found ? inner.s - scan.s : std::numeric_limits<double>::infinity();
   res.williams_unstable = !(std::abs(res.williams_shift_px) <= tol);

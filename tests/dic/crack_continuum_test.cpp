@@ -99,19 +99,21 @@ TEST(CrackContinuum, WilliamsWindowStopsAtAGripAndBandEqualsFullField) {
     a.line_used.FromLocal(a.tip.williams_centre_s_px, 0, &cx, &cy);
     const double to_block = block.Distance(cx, cy);
     std::printf(
-        "  frame %zu: truth %.1f, band %.2f, full %.2f +- %.2f (%s, %s), window %.1f px (block "
-        "%.1f px away, %d points), Williams %.2f; uncut window: Williams %.2f\n",
+        "  frame %zu: truth %.1f, band %.2f, full %.2f +- %.2f (%s, %s), clear radius %.1f px (block "
+        "%.1f px away, %d points, %d hidden), Williams %.2f; uncut window: Williams %.2f\n",
         k, truth[k], b.crack_length_raw_m * px, a.crack_length_raw_m * px, a.uncertainty_m * px,
-        TipMethodName(a.tip.method), a.Flags().c_str(), a.tip.williams_radius_px, to_block,
-        a.tip.williams_points, a.tip.williams.s_px, u.tip.williams.s_px);
+        TipMethodName(a.tip.method), a.Flags().c_str(), a.tip.williams_clear_radius_px, to_block,
+        a.tip.williams_points, a.tip.williams_hidden_points, a.tip.williams.s_px, u.tip.williams.s_px);
     // Band and full field read the same continuum: the same length.
     EXPECT_NEAR(b.crack_length_raw_m * px, a.crack_length_raw_m * px, 0.1) << b.image;
     EXPECT_EQ(b.Flags(), a.Flags()) << b.image;
-    // The window never reaches into the block: it ends at the nearest failed
-    // point, at most half a subset outside the block's edge.
-    EXPECT_LE(a.tip.williams_radius_px, to_block + 10.5 + 1e-9) << a.image;
-    if (to_block + 10.5 < o.tip.fit_radius_px) {
-      EXPECT_LT(a.tip.williams_radius_px, o.tip.fit_radius_px) << a.image;
+    // The window never reads the block: its failed edge (at most half a
+    // subset outside the block) hides the block from the centre.
+    EXPECT_LE(a.tip.williams_clear_radius_px, to_block + 10.5 + 1e-9) << a.image;
+    // Where the block pulls the uncut window's tip off the truth, the
+    // window hides part of it (frame 1: 5 continuum points of its interior).
+    if (std::abs(u.tip.williams.s_px - truth[k]) > 2 * a.uncertainty_m * px) {
+      EXPECT_GT(a.tip.williams_hidden_points, 0) << a.image;
     }
     // The block matters: read whole (the old window), it pulls the tip off
     // the truth on some frame where the window cut at it does not.
@@ -125,7 +127,7 @@ TEST(CrackContinuum, WilliamsWindowStopsAtAGripAndBandEqualsFullField) {
           << r->image << ": error " << err << " px, flags " << r->Flags();
     }
   }
-  EXPECT_GE(rescued, 1);  // frame 1: 149.83 px against 134.90 px uncut (truth 150)
+  EXPECT_GE(rescued, 1);  // frame 1: 150.04 px against 134.90 px uncut (truth 150)
   fs::remove_all(dir);
 }
 
