@@ -216,8 +216,10 @@ std::vector<const LocalPoint*> WindowPoints(const std::vector<LocalPoint>& pts,
 // above and below the line each, the window keeps fewer points than that
 // quadrant of the disk of min_fit_radius_fraction x fit radius holds grid
 // positions (any status, outside the band). A disk cut all round at radius
-// r is short exactly when r < that fraction of the fit radius (the old rule);
-// a cluster that hides one sector leaves the rest of the disk.
+// r is short when r < that fraction of the fit radius (the earlier rule, to
+// about one grid step: the cut's inner neighbours are no continuum); a
+// cluster that hides one sector leaves the rest of the disk. Nothing is
+// required behind the centre (an ROI may end there).
 bool WindowShort(const DisplacementField& f, const std::vector<const LocalPoint*>& set,
                  double s_centre, const CrackTipOptions& o) {
   const double r_min = o.min_fit_radius_fraction * o.fit_radius_px;
