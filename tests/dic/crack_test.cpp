@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
+#include <random>
 #include <gtest/gtest.h>
 
 #include "bridgefit/dic/crack.hpp"
@@ -224,6 +226,51 @@ TEST(CrackTip, SmallFailedClusterHidesOnlyItsShadow) {
   ASSERT_EQ(r.method, TipMethod::kWilliams);
   EXPECT_NEAR(r.williams.s_px, 123.3, 0.5);
   EXPECT_LT(r.williams_residual_px, 1e-4);  // no moved neighbour read
+}
+
+// The same on a crack tilted by 10 degrees, with noise (0.01 px, fixed seed)
+// on every displacement: the shadow and the quadrants are taken in the
+// line's frame, the tip stays within 0.5 px.
+TEST(CrackTip, SmallFailedClusterOnATiltedNoisyCrack) {
+  ModeICrackField motion;
+  const double a = 10.0 * std::numbers::pi / 180.0;
+  motion.direction_x = std::cos(a);
+  motion.direction_y = std::sin(a);
+  motion.tip_x = 150;
+  motion.tip_y = 110;
+  motion.k_over_2mu = 0.05;
+  DisplacementField f = SampleField(motion, 300, 220, 4, -1);  // no band yet
+  CrackTipOptions o;
+  const double back = 130;  // the line starts 130 px behind the tip
+  o.line = {motion.tip_x - back * std::cos(a), motion.tip_y - back * std::sin(a),
+            motion.tip_x + 140 * std::cos(a), motion.tip_y + 140 * std::sin(a)};
+  o.station_spacing_px = 4;
+  o.band_half_width_px = 12;
+  o.side_depth_px = 10;
+  std::mt19937 rng(7);
+  std::normal_distribution<double> noise(0.0, 0.01);
+  for (size_t i = 0; i < f.size(); ++i) {
+    double s, n;
+    o.line.ToLocal(f.x[i], f.y[i], &s, &n);
+    if (std::abs(n) <= 12) f.status[i] = PointStatus::kCrackBand;
+    f.u[i] += noise(rng);
+    f.v[i] += noise(rng);
+  }
+  // 3 x 3 failed points centred 28 px ahead of the tip, 22 px off the line.
+  double cx, cy;
+  o.line.FromLocal(back + 28, 22, &cx, &cy);
+  for (size_t i = 0; i < f.size(); ++i)
+    if (std::abs(f.x[i] - cx) <= 4.01 && std::abs(f.y[i] - cy) <= 4.01 && f.ok(i))
+      f.status[i] = PointStatus::kLowCorrelation;
+  const CrackTipResult r = LocateCrackTip(f, o, TipMethod::kWilliams);
+  std::printf("Williams %.3f +- %.3f (truth %.1f), clear radius %.1f, %d points, %d hidden\n",
+              r.williams.s_px, r.williams.uncertainty_px, back, r.williams_clear_radius_px,
+              r.williams_points, r.williams_hidden_points);
+  EXPECT_LT(r.williams_clear_radius_px, o.min_fit_radius_fraction * o.fit_radius_px);
+  EXPECT_GT(r.williams_hidden_points, 0);
+  EXPECT_FALSE(r.williams_window_short);
+  ASSERT_EQ(r.method, TipMethod::kWilliams);
+  EXPECT_NEAR(r.williams.s_px, back, 0.5);
 }
 
 // A grip: a block above the crack behind the tip moves rigidly by (4, -5) px,
