@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "bridgefit/core/error.hpp"
+#include "crack_impl.hpp"
 
 namespace bridgefit::dic {
 
@@ -44,17 +45,16 @@ bool CrackTipOptions::IsValid(std::string* why) const {
     return fail("Williams terms: mode I 1..8, mode II 0..4");
   if (!(kappa > 1 && kappa <= 3)) return fail("kappa must lie in (1, 3]");
   if (!(fit_radius_px > 0) || !(sqrt_window_px > 0)) return fail("fit windows must be > 0");
+  if (min_failed_cluster < 1 || !(min_fit_radius_fraction >= 0 && min_fit_radius_fraction <= 1))
+    return fail("failed cluster size must be >= 1, minimum radius fraction in [0, 1]");
   return true;
 }
 
 namespace {
 
-struct LocalPoint {
-  double s, n;    // along / normal to the line, px
-  double us, un;  // displacement components along / normal, px
-  double x, y;    // image position
-  double u, v;    // displacement, image axes
-};
+using detail::LocalPoint;
+using detail::SetPosition;
+
 
 std::vector<LocalPoint> ValidPoints(const DisplacementField& f, const CrackLine& line) {
   std::vector<LocalPoint> pts;
@@ -70,6 +70,7 @@ std::vector<LocalPoint> ValidPoints(const DisplacementField& f, const CrackLine&
     p.y = f.y[i];
     p.u = f.u[i];
     p.v = f.v[i];
+    p.index = i;
     pts.push_back(p);
   }
   return pts;
@@ -135,74 +136,6 @@ CodProfile BuildCodProfile(const std::vector<LocalPoint>& pts, const CrackTipOpt
   return cod;
 }
 
-// Williams basis (Yoneyama et al. 2006 form without 1/(2 mu)), local frame.
-void WilliamsModeI(int n, double r, double t, double kappa, double* fx, double* fy) {
-  const double h = 0.5 * n, rn = std::pow(r, h), sgn = (n % 2 == 0) ? 1.0 : -1.0;
-  *fx = rn * (kappa * std::cos(h * t) - h * std::cos((h - 2) * t) + (h + sgn) * std::cos(h * t));
-  *fy = rn * (kappa * std::sin(h * t) + h * std::sin((h - 2) * t) - (h + sgn) * std::sin(h * t));
-}
-void WilliamsModeII(int n, double r, double t, double kappa, double* fx, double* fy) {
-  const double h = 0.5 * n, rn = std::pow(r, h), sgn = (n % 2 == 0) ? 1.0 : -1.0;
-  *fx = -rn * (kappa * std::sin(h * t) - h * std::sin((h - 2) * t) + (h - sgn) * std::sin(h * t));
-  *fy = rn * (kappa * std::cos(h * t) + h * std::cos((h - 2) * t) - (h - sgn) * std::cos(h * t));
-}
-
-struct WilliamsFit {
-  double ssr = std::numeric_limits<double>::infinity();
-  double c1 = 0;  // mode I n = 1 coefficient in units of (fit radius)^-0.5 px
-  int rows = 0, cols = 0;
-};
-
-WilliamsFit FitWilliams(const std::vector<const LocalPoint*>& pts, double s_tip,
-                        const CrackTipOptions& o) {
-  WilliamsFit fit;
-  const double L = o.line.Length();
-  const double tx = (o.line.x1 - o.line.x0) / L, ty = (o.line.y1 - o.line.y0) / L;
-  const int n1 = o.mode1_terms, n2 = o.mode2_terms;
-  const int cols = 3 + n1 + n2;
-  const int rows = 2 * static_cast<int>(pts.size());
-  if (rows < 2 * cols) return fit;
-  Eigen::MatrixXd A(rows, cols);
-  Eigen::VectorXd b(rows);
-  const double R = o.fit_radius_px;  // normalizes r for conditioning
-  for (size_t k = 0; k < pts.size(); ++k) {
-    const LocalPoint& p = *pts[k];
-    const double xl = (p.s - s_tip) / R, yl = p.n / R;
-    const double r = std::hypot(xl, yl), t = std::atan2(yl, xl);
-    const int ru = 2 * static_cast<int>(k), rv = ru + 1;
-    // Rigid motion in image axes: translation, rotation about the tip.
-    A(ru, 0) = 1; A(rv, 0) = 0;
-    A(ru, 1) = 0; A(rv, 1) = 1;
-    const double dx = xl * tx - yl * ty, dy = xl * ty + yl * tx;
-    A(ru, 2) = -dy; A(rv, 2) = dx;
-    int c = 3;
-    auto put = [&](double fx, double fy) {  // local -> image axes
-      A(ru, c) = fx * tx - fy * ty;
-      A(rv, c) = fx * ty + fy * tx;
-      ++c;
-    };
-    for (int n = 1; n <= n1; ++n) {
-      double fx, fy;
-      WilliamsModeI(n, r, t, o.kappa, &fx, &fy);
-      put(fx, fy);
-    }
-    for (int m = 0; m < n2; ++m) {
-      double fx, fy;
-      WilliamsModeII(2 * m + 1, r, t, o.kappa, &fx, &fy);
-      put(fx, fy);
-    }
-    b(ru) = p.u;
-    b(rv) = p.v;
-  }
-  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(A);
-  const Eigen::VectorXd c = qr.solve(b);
-  fit.ssr = (A * c - b).squaredNorm();
-  fit.c1 = c(3);
-  fit.rows = rows;
-  fit.cols = cols;
-  return fit;
-}
-
 // Pairwise: |s_a - s_b| > 2 sqrt(sigma_a^2 + sigma_b^2), sigmas at least one
 // station / sqrt(12); the jump tip may lie ahead of the others by up to the
 // band half width (it reads the opening where it drops below a threshold).
@@ -218,10 +151,6 @@ bool MethodsDisagree(const CrackTipResult& r, const CrackTipOptions& o) {
   const TipEstimate &w = r.williams, &q = r.sqrt_cod, &j = r.jump;
   return apart(w, q, 0) || apart(j, w, o.band_half_width_px) ||
          apart(j, q, o.band_half_width_px);
-}
-
-void SetPosition(const CrackLine& line, TipEstimate* tip) {
-  line.FromLocal(tip->s_px, 0.0, &tip->x_px, &tip->y_px);
 }
 
 // Robust noise of the opening (MAD of consecutive differences, sigma =
@@ -339,74 +268,15 @@ void SqrtCodTip(const CodProfile& cod, int last, const CrackTipOptions& o, Crack
   }
 }
 
-// Williams: fixed point set around the starting tip, 1-D search in s (grid,
-// then golden section) of the least-squares fit of the Williams series.
-void WilliamsTip(const std::vector<LocalPoint>& pts, const CrackTipOptions& o, CrackTipResult& res) {
-  const double ds = o.station_spacing_px;
-  const double s_start = res.sqrt_cod.found ? std::clamp(res.sqrt_cod.s_px, res.jump.s_px - o.fit_radius_px, res.jump.s_px)
-                                            : res.jump.s_px;
-  double xs, ys;
-  o.line.FromLocal(s_start, 0, &xs, &ys);
-  std::vector<const LocalPoint*> set;
-  for (const LocalPoint& p : pts)
-    if (std::hypot(p.x - xs, p.y - ys) <= o.fit_radius_px && std::abs(p.n) >= o.band_half_width_px)
-      set.push_back(&p);
-  res.williams_points = static_cast<int>(set.size());
-  res.williams_window = true;
-  res.williams_centre_s_px = s_start;
-  const double lo = std::max(0.0, s_start - 0.5 * o.fit_radius_px);
-  const double hi = std::min(o.line.Length(), s_start + 0.5 * o.fit_radius_px);
-  const double h = std::max(0.5, 0.25 * ds);
-  std::vector<double> grid_s;
-  for (double s = lo; s <= hi + 1e-9; s += h) grid_s.push_back(s);
-  // The scan's fits are independent (about 100 QR solves of 2N x 9-12).
-  std::vector<double> grid_ssr(grid_s.size());
-#pragma omp parallel for schedule(dynamic, 2)
-  for (size_t k = 0; k < grid_s.size(); ++k) grid_ssr[k] = FitWilliams(set, grid_s[k], o).ssr;
-  size_t best = 0;
-  for (size_t k = 1; k < grid_s.size(); ++k)
-    if (grid_ssr[k] < grid_ssr[best]) best = k;
-  if (!grid_s.empty() && std::isfinite(grid_ssr[best])) {
-    // Golden-section refinement on [s_best - h, s_best + h].
-    double a = grid_s[best] - h, c = grid_s[best] + h;
-    const double g = 0.5 * (std::sqrt(5.0) - 1.0);
-    double x1 = c - g * (c - a), x2 = a + g * (c - a);
-    double f1 = FitWilliams(set, x1, o).ssr, f2 = FitWilliams(set, x2, o).ssr;
-    for (int it = 0; it < 30 && c - a > 1e-3; ++it) {
-      if (f1 < f2) {
-        c = x2; x2 = x1; f2 = f1; x1 = c - g * (c - a); f1 = FitWilliams(set, x1, o).ssr;
-      } else {
-        a = x1; x1 = x2; f1 = f2; x2 = a + g * (c - a); f2 = FitWilliams(set, x2, o).ssr;
-      }
-    }
-    const double s_tip = 0.5 * (a + c);
-    const WilliamsFit fit = FitWilliams(set, s_tip, o);
-    // Uncertainty: Delta SSR = sigma^2 (one standard deviation), SSR ~ curvature.
-    const double e = std::max(h, 1.0);
-    const double fp = FitWilliams(set, s_tip + e, o).ssr, fm = FitWilliams(set, s_tip - e, o).ssr;
-    const double curv = (fp + fm - 2 * fit.ssr) / (e * e);
-    const double sigma2 = fit.ssr / std::max(1, fit.rows - fit.cols - 1);
-    TipEstimate& t = res.williams;
-    t.s_px = s_tip;
-    t.uncertainty_px = curv > 0 ? std::sqrt(2.0 * sigma2 / curv) : ds;
-    res.k_over_2mu_sqrt_px = fit.c1 * std::sqrt(2.0 * std::numbers::pi) / std::sqrt(o.fit_radius_px);
-    res.williams_residual_px = std::sqrt(fit.ssr / std::max(1, fit.rows));
-    const bool interior = s_tip > lo + 0.5 * h || lo <= 0.0;
-    const bool interior_hi = s_tip < hi - 0.5 * h || hi >= o.line.Length();
-    t.found = std::isfinite(s_tip) && res.k_over_2mu_sqrt_px > 0 && interior && interior_hi;
-    if (!interior_hi || s_tip > res.last_station_px) res.tip_at_edge = true;
-    SetPosition(o.line, &t);
-  }
-}
-
 // Preferred method, then the fallbacks: Williams -> sqrt -> jump.
 void ChooseTip(TipMethod preferred, const CrackTipOptions& o, CrackTipResult& res) {
   const TipEstimate* chosen = nullptr;
+  const bool williams_usable = !res.williams_unstable;
   auto pick = [&](TipMethod m) {
     const TipEstimate& t = m == TipMethod::kWilliams ? res.williams
                            : m == TipMethod::kJump   ? res.jump
                                                      : res.sqrt_cod;
-    if (!chosen && t.found) {
+    if (!chosen && t.found && (m != TipMethod::kWilliams || williams_usable)) {
       chosen = &t;
       res.method = m;
     }
@@ -435,7 +305,7 @@ CrackTipResult LocateCrackTip(const DisplacementField& field, const CrackTipOpti
   if (!res.opening_detected) return res;
   JumpTip(res.cod, last, o, res);
   SqrtCodTip(res.cod, last, o, res);
-  WilliamsTip(pts, o, res);
+  detail::WilliamsTip(field, pts, o, res);
   ChooseTip(preferred, o, res);
   return res;
 }

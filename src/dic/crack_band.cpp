@@ -19,7 +19,9 @@ std::vector<char> CrackBandPoints(const DisplacementField& grid, const CrackSequ
   // points within 1.01 spacings along and band + side depth across (crack.cpp).
   const double cod_half = o.tip.band_half_width_px + o.tip.side_depth_px;
   const double cod_ds = 1.01 * o.tip.station_spacing_px;
-  const double disk = o.tip.fit_radius_px + reads.window_margin_px;
+  // Williams window: the fit radius plus one grid diagonal (the continuum
+  // test reads each window point's 8 neighbours, crack_williams.cpp).
+  const double disk = o.tip.fit_radius_px + reads.window_margin_px + 1.5 * o.correlation.step;
   const double scan_len = reads.scan ? reads.scan_line.Length() : 0;
   const double cod_len = reads.cod ? reads.cod_line.Length() : 0;
   for (size_t i = 0; i < grid.size(); ++i) {

@@ -49,6 +49,8 @@ std::string FrameResult::Flags() const {
   add(path.found && path.curved, "path_curved");
   add(tip.tip_at_edge, "tip_at_edge");
   add(tip.methods_disagree, "methods_disagree");
+  add(tip.williams_unstable, "williams_unstable");
+  add(tip.williams_window_short, "williams_window_short");
   add(tip_beyond_band, "tip_beyond_band");
   return out;
 }

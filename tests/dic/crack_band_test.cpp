@@ -35,6 +35,7 @@ TEST(CrackBand, PointsAreWhatTheLocationReads) {
   o.tip.side_depth_px = 3;  // COD: |n| <= 5
   o.tip.station_spacing_px = 4;
   o.tip.fit_radius_px = 15;
+  o.correlation.step = 2;  // the window's points' grid neighbours: 1.5 steps more
   CrackBandReads reads;
   reads.scan = true;
   reads.scan_line = {20, 50, 80, 50};
@@ -43,7 +44,7 @@ TEST(CrackBand, PointsAreWhatTheLocationReads) {
   reads.window = true;
   reads.window_x = 60;
   reads.window_y = 30;
-  reads.window_margin_px = 5;  // disk radius 20
+  reads.window_margin_px = 5;  // disk radius 15 + 5 + 3
   const std::vector<char> on = CrackBandPoints(g, o, reads);
   size_t count = 0;
   for (size_t i = 0; i < g.size(); ++i) {
@@ -53,7 +54,7 @@ TEST(CrackBand, PointsAreWhatTheLocationReads) {
     const double L = std::hypot(60, 10), tx = 60 / L, ty = 10 / L;
     const double s = (x - 20) * tx + (y - 60) * ty, n = -(x - 20) * ty + (y - 60) * tx;
     const bool cod = std::abs(n) <= 5 && s >= -4.04 && s <= L + 4.04;
-    const bool disk = std::hypot(x - 60, y - 30) <= 20;
+    const bool disk = std::hypot(x - 60, y - 30) <= 23;
     EXPECT_EQ(on[i] != 0, scan || cod || disk) << x << "," << y;
     count += on[i] ? 1 : 0;
   }

@@ -1,7 +1,10 @@
 // Crack tip location: exact LEFM fields (no images) and synthetic cracked
 // speckle images with known tips.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
+#include <random>
 #include <gtest/gtest.h>
 
 #include "bridgefit/dic/crack.hpp"
@@ -74,6 +77,281 @@ TEST(CrackTip, WilliamsFitRecoversExactLefmTipAndK) {
   // The jump threshold runs ahead of the tip (documented bias), never behind
   // by more than one station.
   EXPECT_GT(r.jump.s_px, 123.3 - 4);
+}
+
+// The Williams window reads the continuum only (crack_williams.cpp): a hole
+// (a cluster of failed points) 50 px above the tip ends the window at its
+// nearest point, and the ok points beside a failed pair (a cluster too small
+// to cut the window), given a wrong motion, are left out: the exact field's
+// tip is still found exactly.
+TEST(CrackTip, WilliamsWindowReadsTheContinuumOnly) {
+  ModeICrackField motion;
+  motion.tip_x = 143.3;
+  motion.tip_y = 100;
+  motion.k_over_2mu = 0.05;
+  DisplacementField f = SampleField(motion, 300, 200, 4, 12);
+  CrackTipOptions o;
+  o.line = {20, 100, 290, 100};
+  o.station_spacing_px = 4;
+  o.band_half_width_px = 12;
+  o.side_depth_px = 10;
+  const double hole_x = 132, hole_y = 40;
+  for (size_t i = 0; i < f.size(); ++i)
+    if (std::hypot(f.x[i] - hole_x, f.y[i] - hole_y) <= 10) f.status[i] = PointStatus::kLowCorrelation;
+  // Its grid neighbours correlated to something else.
+  for (size_t i = 0; i < f.size(); ++i) {
+    const int ix = static_cast<int>(i % f.nx), iy = static_cast<int>(i / f.nx);
+    bool beside = false;
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const int jx = ix + dx, jy = iy + dy;
+        if (jx >= 0 && jy >= 0 && jx < f.nx && jy < f.ny &&
+            f.status[static_cast<size_t>(jy) * f.nx + jx] == PointStatus::kLowCorrelation)
+          beside = true;
+      }
+    if (beside && f.ok(i)) f.u[i] += 3;
+  }
+  // A failed pair 30 px below the tip, its neighbours moved by 2 px.
+  for (size_t i = 0; i < f.size(); ++i) {
+    const double dx = f.x[i] - 148, dy = f.y[i] - 132;
+    if ((dx == 0 || dx == 4) && dy == 0) f.status[i] = PointStatus::kNoConvergence;
+    else if (dx >= -4 && dx <= 8 && std::abs(dy) <= 4) f.v[i] += 2;
+  }
+  const CrackTipResult r = LocateCrackTip(f, o, TipMethod::kWilliams);
+  ASSERT_TRUE(r.williams.found);
+  double cx, cy;
+  o.line.FromLocal(r.williams_centre_s_px, 0, &cx, &cy);
+  double nearest = 1e300;
+  for (size_t i = 0; i < f.size(); ++i)
+    if (f.status[i] == PointStatus::kLowCorrelation)
+      nearest = std::min(nearest, std::hypot(f.x[i] - cx, f.y[i] - cy));
+  EXPECT_NEAR(r.williams_clear_radius_px, nearest, 1e-9);
+  EXPECT_LT(r.williams_clear_radius_px, o.fit_radius_px);
+  EXPECT_FALSE(r.williams_window_short);
+  EXPECT_EQ(r.method, TipMethod::kWilliams);
+  EXPECT_FALSE(r.williams_unstable);
+  EXPECT_NEAR(r.williams.s_px, 123.3, 0.05);
+  EXPECT_LT(r.williams_residual_px, 1e-4);  // no moved point was read
+}
+
+// A Williams tip that moves when the window shrinks by one station is
+// flagged and not used: points in the window's outer ring (one station
+// wide, above the crack) carry a wrong motion, so the tip depends on
+// whether they are read.
+TEST(CrackTip, WilliamsTipSensitiveToTheWindowIsNotTheLength) {
+  ModeICrackField motion;
+  motion.tip_x = 143.3;
+  motion.tip_y = 100;
+  motion.k_over_2mu = 0.05;
+  DisplacementField f = SampleField(motion, 300, 200, 4, 12);
+  CrackTipOptions o;
+  o.line = {20, 100, 290, 100};
+  o.station_spacing_px = 4;
+  o.band_half_width_px = 12;
+  o.side_depth_px = 10;
+  const CrackTipResult clean = LocateCrackTip(f, o, TipMethod::kWilliams);
+  ASSERT_TRUE(clean.williams.found);
+  EXPECT_FALSE(clean.williams_unstable);
+  EXPECT_LT(std::abs(clean.williams_shift_px), 0.05);
+  double cx, cy;
+  o.line.FromLocal(clean.williams_centre_s_px, 0, &cx, &cy);
+  for (size_t i = 0; i < f.size(); ++i) {
+    const double d = std::hypot(f.x[i] - cx, f.y[i] - cy);
+    if (d >= o.fit_radius_px - o.station_spacing_px && d < o.fit_radius_px && f.y[i] < 100 &&
+        f.x[i] < cx)
+      f.v[i] += 3;
+  }
+  const CrackTipResult r = LocateCrackTip(f, o, TipMethod::kWilliams);
+  std::printf("Williams %.2f (shift %.2f, +- %.2f), sqrt %.2f, method %s\n", r.williams.s_px,
+              r.williams_shift_px, r.williams.uncertainty_px, r.sqrt_cod.s_px,
+              TipMethodName(r.method));
+  EXPECT_TRUE(r.williams_unstable);
+  EXPECT_NE(r.method, TipMethod::kWilliams);
+}
+
+// The shadow rule (crack_williams.cpp, Shadow): a failed cluster hides only
+// what lies behind it as seen from the window's centre; the rest of the disk
+// is read. The tests share the exact field of the hole test above (tip at
+// s = 123.3 px, fit radius 80 px, step 4 px).
+struct ShadowCase {
+  ModeICrackField motion;
+  DisplacementField f;
+  CrackTipOptions o;
+  ShadowCase() {
+    motion.tip_x = 143.3;
+    motion.tip_y = 100;
+    motion.k_over_2mu = 0.05;
+    f = SampleField(motion, 300, 200, 4, 12);
+    o.line = {20, 100, 290, 100};
+    o.station_spacing_px = 4;
+    o.band_half_width_px = 12;
+    o.side_depth_px = 10;
+  }
+  // Failed points where `in` holds; their ok grid neighbours moved by 2 px
+  // (as subsets straddling a failure correlate to something else).
+  template <class In>
+  void Fail(In in) {
+    for (size_t i = 0; i < f.size(); ++i)
+      if (in(f.x[i], f.y[i]) && f.status[i] == PointStatus::kOk) f.status[i] = PointStatus::kNoConvergence;
+    for (size_t i = 0; i < f.size(); ++i) {
+      if (!f.ok(i)) continue;
+      const int ix = static_cast<int>(i % f.nx), iy = static_cast<int>(i / f.nx);
+      bool beside = false;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int jx = ix + dx, jy = iy + dy;
+          if (jx >= 0 && jy >= 0 && jx < f.nx && jy < f.ny &&
+              f.status[static_cast<size_t>(jy) * f.nx + jx] == PointStatus::kNoConvergence)
+            beside = true;
+        }
+      if (beside) f.v[i] += 2;
+    }
+  }
+};
+
+// A 3 x 3 failed cluster 30 px from the tip, below the crack ahead of it:
+// the old rule cut the whole window to 30 px (< half the fit radius: no
+// Williams tip); the shadow rule hides the sector behind it and keeps the tip.
+TEST(CrackTip, SmallFailedClusterHidesOnlyItsShadow) {
+  ShadowCase c;
+  c.Fail([](double x, double y) { return x >= 152 && x <= 160 && y >= 124 && y <= 132; });
+  const CrackTipResult r = LocateCrackTip(c.f, c.o, TipMethod::kWilliams);
+  std::printf("Williams %.3f +- %.3f, clear radius %.1f, %d points, %d hidden, residual %.2g\n",
+              r.williams.s_px, r.williams.uncertainty_px, r.williams_clear_radius_px,
+              r.williams_points, r.williams_hidden_points, r.williams_residual_px);
+  EXPECT_LT(r.williams_clear_radius_px, c.o.min_fit_radius_fraction * c.o.fit_radius_px);
+  EXPECT_GT(r.williams_hidden_points, 0);
+  EXPECT_FALSE(r.williams_window_short);
+  EXPECT_FALSE(r.williams_unstable);
+  ASSERT_EQ(r.method, TipMethod::kWilliams);
+  EXPECT_NEAR(r.williams.s_px, 123.3, 0.5);
+  EXPECT_LT(r.williams_residual_px, 1e-4);  // no moved neighbour read
+}
+
+// The same on a crack tilted by 10 degrees, with noise (0.01 px, fixed seed)
+// on every displacement: the shadow and the quadrants are taken in the
+// line's frame, the tip stays within 0.5 px.
+TEST(CrackTip, SmallFailedClusterOnATiltedNoisyCrack) {
+  ModeICrackField motion;
+  const double a = 10.0 * std::numbers::pi / 180.0;
+  motion.direction_x = std::cos(a);
+  motion.direction_y = std::sin(a);
+  motion.tip_x = 150;
+  motion.tip_y = 110;
+  motion.k_over_2mu = 0.05;
+  DisplacementField f = SampleField(motion, 300, 220, 4, -1);  // no band yet
+  CrackTipOptions o;
+  const double back = 130;  // the line starts 130 px behind the tip
+  o.line = {motion.tip_x - back * std::cos(a), motion.tip_y - back * std::sin(a),
+            motion.tip_x + 140 * std::cos(a), motion.tip_y + 140 * std::sin(a)};
+  o.station_spacing_px = 4;
+  o.band_half_width_px = 12;
+  o.side_depth_px = 10;
+  std::mt19937 rng(7);
+  std::normal_distribution<double> noise(0.0, 0.01);
+  for (size_t i = 0; i < f.size(); ++i) {
+    double s, n;
+    o.line.ToLocal(f.x[i], f.y[i], &s, &n);
+    if (std::abs(n) <= 12) f.status[i] = PointStatus::kCrackBand;
+    f.u[i] += noise(rng);
+    f.v[i] += noise(rng);
+  }
+  // 3 x 3 failed points centred 28 px ahead of the tip, 22 px off the line.
+  double cx, cy;
+  o.line.FromLocal(back + 28, 22, &cx, &cy);
+  for (size_t i = 0; i < f.size(); ++i)
+    if (std::abs(f.x[i] - cx) <= 4.01 && std::abs(f.y[i] - cy) <= 4.01 && f.ok(i))
+      f.status[i] = PointStatus::kLowCorrelation;
+  const CrackTipResult r = LocateCrackTip(f, o, TipMethod::kWilliams);
+  std::printf("Williams %.3f +- %.3f (truth %.1f), clear radius %.1f, %d points, %d hidden\n",
+              r.williams.s_px, r.williams.uncertainty_px, back, r.williams_clear_radius_px,
+              r.williams_points, r.williams_hidden_points);
+  EXPECT_LT(r.williams_clear_radius_px, o.min_fit_radius_fraction * o.fit_radius_px);
+  EXPECT_GT(r.williams_hidden_points, 0);
+  EXPECT_FALSE(r.williams_window_short);
+  ASSERT_EQ(r.method, TipMethod::kWilliams);
+  EXPECT_NEAR(r.williams.s_px, back, 0.5);
+}
+
+// A grip: a block above the crack behind the tip moves rigidly by (4, -5) px,
+// its edge failed. Its interior correlates (ok points, no failed neighbour)
+// but lies behind the failed edge: hidden, not read. Read whole (no
+// clusters), it pulls the fit off the field.
+TEST(CrackTip, GripBehindItsFailedEdgeIsHidden) {
+  ShadowCase c;
+  auto inside = [](double x, double y) { return x >= 60 && x <= 112 && y >= 12 && y <= 64; };
+  for (size_t i = 0; i < c.f.size(); ++i)
+    if (inside(c.f.x[i], c.f.y[i])) {
+      c.f.u[i] += 4;
+      c.f.v[i] -= 5;
+    }
+  c.Fail([&](double x, double y) {
+    return inside(x, y) && !(x >= 68 && x <= 104 && y >= 20 && y <= 56);  // edge, 2 points wide
+  });
+  const CrackTipResult r = LocateCrackTip(c.f, c.o, TipMethod::kWilliams);
+  CrackTipOptions whole = c.o;
+  whole.min_failed_cluster = 1 << 30;
+  const CrackTipResult u = LocateCrackTip(c.f, whole, TipMethod::kWilliams);
+  std::printf("Williams %.3f (residual %.2g, %d hidden); block read: %.3f (residual %.2g)\n",
+              r.williams.s_px, r.williams_residual_px, r.williams_hidden_points, u.williams.s_px,
+              u.williams_residual_px);
+  EXPECT_GT(r.williams_hidden_points, 0);
+  EXPECT_FALSE(r.williams_window_short);
+  ASSERT_EQ(r.method, TipMethod::kWilliams);
+  EXPECT_NEAR(r.williams.s_px, 123.3, 0.05);
+  EXPECT_LT(r.williams_residual_px, 1e-4);  // no block point read
+  EXPECT_GT(u.williams_residual_px, 0.01);  // the block is in the window
+}
+
+// Too one-sided: a failed wall 16-20 px above the line from x = 96 px on
+// (behind the window's centre) hides the whole upper quadrant ahead of the
+// centre; below the line the window is whole. No Williams tip
+// (williams_window_short), the length from sqrt/jump. (A wall from x = 136
+// px on, 9 px ahead of the centre, leaves a 30 degree sector ahead above,
+// about 105 points out to the fit radius, more than the 48 of that quadrant
+// of the disk of half the radius: not short, and the tip is exact there.)
+TEST(CrackTip, WindowHiddenAboveAheadIsShort) {
+  ShadowCase c;
+  c.Fail([](double x, double y) { return x >= 96 && y >= 80 && y <= 84; });
+  const CrackTipResult r = LocateCrackTip(c.f, c.o, TipMethod::kWilliams);
+  std::printf("short %d, centre %.1f, %d points, %d hidden, method %s\n", r.williams_window_short, r.williams_centre_s_px,
+              r.williams_points, r.williams_hidden_points, TipMethodName(r.method));
+  EXPECT_TRUE(r.williams_window_short);
+  EXPECT_FALSE(r.williams.found);
+  EXPECT_NE(r.method, TipMethod::kWilliams);
+}
+
+// A failed ring all round the centre: the window is the disk inside it, short
+// exactly when the ring is closer than half the fit radius (the old rule).
+TEST(CrackTip, FailedRingAllRoundShortBelowHalfTheRadius) {
+  double cx, cy;
+  {
+    const ShadowCase clean;
+    const CrackTipResult r = LocateCrackTip(clean.f, clean.o, TipMethod::kWilliams);
+    clean.o.line.FromLocal(r.williams_centre_s_px, 0, &cx, &cy);
+  }
+  for (const double ring : {30.0, 38.0, 44.0, 52.0, 60.0}) {
+    ShadowCase c;
+    c.Fail([&](double x, double y) {
+      const double d = std::hypot(x - cx, y - cy);
+      return d >= ring && d <= ring + 6;
+    });
+    const CrackTipResult r = LocateCrackTip(c.f, c.o, TipMethod::kWilliams);
+    std::printf("ring %.0f px: short %d, clear radius %.1f, Williams %.3f\n", ring,
+                r.williams_window_short, r.williams_clear_radius_px, r.williams.s_px);
+    // The disk inside the ring, against the disk of half the fit radius
+    // (40 px): short when the ring is closer; not short when it is two grid
+    // steps farther (the ring's inner neighbours are no continuum, the
+    // lattice counts differ by a step); in between either.
+    const double half = c.o.min_fit_radius_fraction * c.o.fit_radius_px;
+    if (r.williams_clear_radius_px >= half && r.williams_clear_radius_px < half + 8) continue;
+    const bool short_expected = r.williams_clear_radius_px < half;
+    EXPECT_EQ(r.williams_window_short, short_expected) << ring;
+    if (!short_expected) {
+      ASSERT_EQ(r.method, TipMethod::kWilliams);
+      EXPECT_NEAR(r.williams.s_px, 123.3, 0.05);
+    }
+  }
 }
 
 TEST(CrackTip, NoOpeningGivesNoTip) {

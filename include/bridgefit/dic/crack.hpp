@@ -36,7 +36,14 @@ struct CrackTipOptions {
   int mode1_terms = 4;              // Williams mode I terms n = 1..N
   int mode2_terms = 2;              // Williams mode II terms n = 1, 3, ..
   double kappa = (3.0 - 0.3) / 1.3; // Kolosov constant (plane stress, nu = 0.3)
-  double fit_radius_px = 80;        // Williams fit: points within this radius
+  double fit_radius_px = 80;        // Williams fit: points within this radius (at most)
+  // Williams window from the data: a failed grid point of an 8-connected
+  // cluster of at least this many failed points hides what lies behind it.
+  int min_failed_cluster = 3;
+  // The window must keep, ahead of its centre and on each side of the line,
+  // at least the points of that quadrant of the disk of this fraction of
+  // fit_radius_px; otherwise no Williams tip.
+  double min_fit_radius_fraction = 0.5;
   double sqrt_window_px = 60;       // sqrt COD fit: window behind the jump tip
   bool IsValid(std::string* why) const;
 };
@@ -69,6 +76,24 @@ struct CrackTipResult {
   // fit reads the valid points within fit_radius_px of it.
   bool williams_window = false;
   double williams_centre_s_px = 0;
+  // The window reads only the continuum: ok points none of whose grid
+  // neighbours failed, within fit_radius_px, and not hidden - seen from the
+  // centre - behind a failed point of a cluster of min_failed_cluster or
+  // more (a hole, a grip, the notch, the image's edge).
+  // williams_clear_radius_px: the nearest such failed point (<= fit radius;
+  // nothing closer is hidden); williams_hidden_points: continuum points in
+  // the window left out as hidden.
+  double williams_clear_radius_px = 0;
+  int williams_hidden_points = 0;
+  // Too little continuum ahead of the centre, above or below the line (less
+  // than that quadrant of the disk of min_fit_radius_fraction x fit radius
+  // holds): no Williams tip.
+  bool williams_window_short = false;
+  // The tip found with the radius one station smaller, minus the tip; more
+  // than twice its uncertainty (at least one station / sqrt(12)) apart: the
+  // tip is unstable, reported but never the length (the fallback is).
+  double williams_shift_px = 0;
+  bool williams_unstable = false;
   TipMethod method = TipMethod::kWilliams;  // the method that gave `tip`
   TipEstimate tip;
   // The found tips differ by more than their stated uncertainties allow

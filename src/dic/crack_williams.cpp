@@ -1,0 +1,343 @@
+// Williams-series tip (crack.hpp, kWilliams): the window of continuum about
+// the tip, the 1-D search of the tip along the line, and the test of the
+// answer's sensitivity to the window.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include <Eigen/Dense>
+
+#include "crack_impl.hpp"
+
+namespace bridgefit::dic::detail {
+namespace {
+
+// Williams basis (Yoneyama et al. 2006 form without 1/(2 mu)), local frame.
+void WilliamsModeI(int n, double r, double t, double kappa, double* fx, double* fy) {
+  const double h = 0.5 * n, rn = std::pow(r, h), sgn = (n % 2 == 0) ? 1.0 : -1.0;
+  *fx = rn * (kappa * std::cos(h * t) - h * std::cos((h - 2) * t) + (h + sgn) * std::cos(h * t));
+  *fy = rn * (kappa * std::sin(h * t) + h * std::sin((h - 2) * t) - (h + sgn) * std::sin(h * t));
+}
+void WilliamsModeII(int n, double r, double t, double kappa, double* fx, double* fy) {
+  const double h = 0.5 * n, rn = std::pow(r, h), sgn = (n % 2 == 0) ? 1.0 : -1.0;
+  *fx = -rn * (kappa * std::sin(h * t) - h * std::sin((h - 2) * t) + (h - sgn) * std::sin(h * t));
+  *fy = rn * (kappa * std::cos(h * t) + h * std::cos((h - 2) * t) - (h - sgn) * std::cos(h * t));
+}
+
+struct WilliamsFit {
+  double ssr = std::numeric_limits<double>::infinity();
+  double c1 = 0;  // mode I n = 1 coefficient in units of (fit radius)^-0.5 px
+  int rows = 0, cols = 0;
+};
+
+WilliamsFit FitWilliams(const std::vector<const LocalPoint*>& pts, double s_tip,
+                        const CrackTipOptions& o) {
+  WilliamsFit fit;
+  const double L = o.line.Length();
+  const double tx = (o.line.x1 - o.line.x0) / L, ty = (o.line.y1 - o.line.y0) / L;
+  const int n1 = o.mode1_terms, n2 = o.mode2_terms;
+  const int cols = 3 + n1 + n2;
+  const int rows = 2 * static_cast<int>(pts.size());
+  if (rows < 2 * cols) return fit;
+  Eigen::MatrixXd A(rows, cols);
+  Eigen::VectorXd b(rows);
+  const double R = o.fit_radius_px;  // normalizes r for conditioning
+  for (size_t k = 0; k < pts.size(); ++k) {
+    const LocalPoint& p = *pts[k];
+    const double xl = (p.s - s_tip) / R, yl = p.n / R;
+    const double r = std::hypot(xl, yl), t = std::atan2(yl, xl);
+    const int ru = 2 * static_cast<int>(k), rv = ru + 1;
+    // Rigid motion in image axes: translation, rotation about the tip.
+    A(ru, 0) = 1; A(rv, 0) = 0;
+    A(ru, 1) = 0; A(rv, 1) = 1;
+    const double dx = xl * tx - yl * ty, dy = xl * ty + yl * tx;
+    A(ru, 2) = -dy; A(rv, 2) = dx;
+    int c = 3;
+    auto put = [&](double fx, double fy) {  // local -> image axes
+      A(ru, c) = fx * tx - fy * ty;
+      A(rv, c) = fx * ty + fy * tx;
+      ++c;
+    };
+    for (int n = 1; n <= n1; ++n) {
+      double fx, fy;
+      WilliamsModeI(n, r, t, o.kappa, &fx, &fy);
+      put(fx, fy);
+    }
+    for (int m = 0; m < n2; ++m) {
+      double fx, fy;
+      WilliamsModeII(2 * m + 1, r, t, o.kappa, &fx, &fy);
+      put(fx, fy);
+    }
+    b(ru) = p.u;
+    b(rv) = p.v;
+  }
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(A);
+  const Eigen::VectorXd c = qr.solve(b);
+  fit.ssr = (A * c - b).squaredNorm();
+  fit.c1 = c(3);
+  fit.rows = rows;
+  fit.cols = cols;
+  return fit;
+}
+
+// Grid points by what they say about the continuum: not read (masked, a
+// fixed crack band, or within the band half width of the line), correlated
+// and failed (out of image, no convergence, low correlation, unreached), ok.
+enum class PointKind : char { kIgnored, kFailed, kOk };
+
+std::vector<PointKind> Kinds(const DisplacementField& f, const CrackTipOptions& o) {
+  std::vector<PointKind> kind(f.size(), PointKind::kIgnored);
+  for (size_t i = 0; i < f.size(); ++i) {
+    if (f.status[i] == PointStatus::kMasked || f.status[i] == PointStatus::kCrackBand) continue;
+    double s, n;
+    o.line.ToLocal(f.x[i], f.y[i], &s, &n);
+    if (std::abs(n) < o.band_half_width_px) continue;
+    kind[i] = f.ok(i) ? PointKind::kOk : PointKind::kFailed;
+  }
+  return kind;
+}
+
+// A continuum point is ok and has no failed point among its 8 grid
+// neighbours (fields that are not a grid, ny == 1: ok alone).
+bool Continuum(const DisplacementField& f, const std::vector<PointKind>& kind, size_t i) {
+  if (kind[i] != PointKind::kOk) return false;
+  if (f.ny <= 1 || static_cast<size_t>(f.nx) * f.ny != f.size()) return true;
+  const int ix = static_cast<int>(i % f.nx), iy = static_cast<int>(i / f.nx);
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      const int jx = ix + dx, jy = iy + dy;
+      if (jx < 0 || jy < 0 || jx >= f.nx || jy >= f.ny) continue;
+      if (kind[static_cast<size_t>(jy) * f.nx + jx] == PointKind::kFailed) return false;
+    }
+  return true;
+}
+
+// Sizes of the 8-connected clusters of failed grid points (0 elsewhere;
+// fields that are not a grid: 1 per failed point).
+std::vector<int> FailedClusterSizes(const DisplacementField& f, const std::vector<PointKind>& kind) {
+  std::vector<int> size(f.size(), 0);
+  const bool grid = f.ny > 1 && static_cast<size_t>(f.nx) * f.ny == f.size();
+  std::vector<size_t> stack, members;
+  for (size_t seed = 0; seed < f.size(); ++seed) {
+    if (kind[seed] != PointKind::kFailed || size[seed] != 0) continue;
+    members.clear();
+    stack.assign(1, seed);
+    size[seed] = -1;  // visited
+    while (!stack.empty()) {
+      const size_t i = stack.back();
+      stack.pop_back();
+      members.push_back(i);
+      if (!grid) continue;
+      const int ix = static_cast<int>(i % f.nx), iy = static_cast<int>(i / f.nx);
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int jx = ix + dx, jy = iy + dy;
+          if (jx < 0 || jy < 0 || jx >= f.nx || jy >= f.ny) continue;
+          const size_t j = static_cast<size_t>(jy) * f.nx + jx;
+          if (kind[j] != PointKind::kFailed || size[j] != 0) continue;
+          size[j] = -1;
+          stack.push_back(j);
+        }
+    }
+    for (size_t i : members) size[i] = static_cast<int>(members.size());
+  }
+  return size;
+}
+
+// The distance from the centre to the nearest failed point of a cluster of
+// at least min_failed_cluster points (a hole, a grip, the notch, the image's
+// edge; 8-connected), per direction seen from the centre: a point farther
+// than that in its direction lies behind the cluster (in its shadow) and is
+// not read. Each failed point hides the directions within its grid cell's
+// half diagonal (8-connected neighbours leave no gap between their
+// shadows); a failed point within that half diagonal of the centre hides
+// every direction. Smaller clusters only take their neighbours out of the
+// fit (Continuum). Fields that are not a grid: no clusters, no shadow.
+class Shadow {
+ public:
+  static constexpr int kBins = 2048;
+  Shadow(const DisplacementField& f, const std::vector<PointKind>& kind, double xc, double yc,
+         const CrackTipOptions& o)
+      : xc_(xc), yc_(yc), nearest_(kBins, std::numeric_limits<double>::infinity()) {
+    clear_radius_ = o.fit_radius_px;
+    const bool grid = f.ny > 1 && f.nx > 1 && static_cast<size_t>(f.nx) * f.ny == f.size();
+    if (!grid) return;
+    const double half_diagonal =
+        0.5 * std::hypot(f.x[1] - f.x[0], f.y[static_cast<size_t>(f.nx)] - f.y[0]);
+    const double reach = o.fit_radius_px + half_diagonal;
+    const std::vector<int> cluster = FailedClusterSizes(f, kind);
+    const double bin = 2.0 * std::numbers::pi / kBins;
+    for (size_t i = 0; i < f.size(); ++i) {
+      if (cluster[i] < o.min_failed_cluster) continue;
+      const double dx = f.x[i] - xc, dy = f.y[i] - yc, r = std::hypot(dx, dy);
+      if (r >= reach) continue;
+      clear_radius_ = std::min(clear_radius_, r);
+      // 5% more than the half diagonal: no gap at a bin's edge.
+      const double half = r <= 1.05 * half_diagonal ? std::numbers::pi
+                                                    : std::asin(1.05 * half_diagonal / r);
+      const int b0 = Bin(dx, dy), span = static_cast<int>(std::ceil(half / bin));
+      for (int k = -std::min(span, kBins / 2); k <= std::min(span, kBins / 2); ++k) {
+        double& near = nearest_[static_cast<size_t>(((b0 + k) % kBins + kBins) % kBins)];
+        near = std::min(near, r);
+      }
+    }
+  }
+  bool Hides(double x, double y) const {
+    const double dx = x - xc_, dy = y - yc_;
+    return std::hypot(dx, dy) > nearest_[static_cast<size_t>(Bin(dx, dy))];
+  }
+  // Within this distance of the centre nothing is hidden (<= fit radius).
+  double ClearRadius() const { return clear_radius_; }
+
+ private:
+  static int Bin(double dx, double dy) {
+    const double t = std::atan2(dy, dx) + std::numbers::pi;  // [0, 2 pi]
+    return std::min(kBins - 1, static_cast<int>(t / (2.0 * std::numbers::pi) * kBins));
+  }
+  double xc_, yc_, clear_radius_ = 0;
+  std::vector<double> nearest_;
+};
+
+// The points the window reads: continuum, not hidden, within `radius` of
+// the centre and outside the band about the line.
+std::vector<const LocalPoint*> WindowPoints(const std::vector<LocalPoint>& pts,
+                                            const std::vector<char>& readable, double xc,
+                                            double yc, double radius, const CrackTipOptions& o) {
+  std::vector<const LocalPoint*> set;
+  for (const LocalPoint& p : pts)
+    if (readable[p.index] && std::hypot(p.x - xc, p.y - yc) < radius &&
+        std::abs(p.n) >= o.band_half_width_px)
+      set.push_back(&p);
+  return set;
+}
+
+// Too small or too one-sided for the Williams fit: ahead of the centre,
+// above and below the line each, the window keeps fewer points than that
+// quadrant of the disk of min_fit_radius_fraction x fit radius holds grid
+// positions (any status, outside the band). A disk cut all round at radius
+// r is short when r < that fraction of the fit radius (the earlier rule, to
+// about one grid step: the cut's inner neighbours are no continuum); a
+// cluster that hides one sector leaves the rest of the disk. Nothing is
+// required behind the centre (an ROI may end there).
+bool WindowShort(const DisplacementField& f, const std::vector<const LocalPoint*>& set,
+                 double s_centre, const CrackTipOptions& o) {
+  const double r_min = o.min_fit_radius_fraction * o.fit_radius_px;
+  int need_above = 0, need_below = 0, kept_above = 0, kept_below = 0;
+  for (size_t i = 0; i < f.size(); ++i) {
+    double s, n;
+    o.line.ToLocal(f.x[i], f.y[i], &s, &n);
+    if (s <= s_centre || std::abs(n) < o.band_half_width_px || std::hypot(s - s_centre, n) >= r_min)
+      continue;
+    ++(n > 0 ? need_above : need_below);
+  }
+  for (const LocalPoint* p : set)
+    if (p->s > s_centre) ++(p->n > 0 ? kept_above : kept_below);
+  return kept_above < need_above || kept_below < need_below;
+}
+
+struct TipScan {
+  bool found = false;
+  double s = 0, sigma = 0;
+  WilliamsFit fit;
+  bool interior_lo = false, interior_hi = false;
+};
+
+// Grid scan of the residual over [lo, hi] (quarter-station spacing), golden
+// section about the best node; sigma from Delta SSR = SSR / (N - p).
+TipScan ScanTip(const std::vector<const LocalPoint*>& set, double lo, double hi,
+                const CrackTipOptions& o) {
+  TipScan out;
+  const double h = std::max(0.5, 0.25 * o.station_spacing_px);
+  std::vector<double> grid_s;
+  for (double s = lo; s <= hi + 1e-9; s += h) grid_s.push_back(s);
+  // The scan's fits are independent (about 100 QR solves of 2N x 9-12).
+  std::vector<double> grid_ssr(grid_s.size());
+#pragma omp parallel for schedule(dynamic, 2)
+  for (size_t k = 0; k < grid_s.size(); ++k) grid_ssr[k] = FitWilliams(set, grid_s[k], o).ssr;
+  size_t best = 0;
+  for (size_t k = 1; k < grid_s.size(); ++k)
+    if (grid_ssr[k] < grid_ssr[best]) best = k;
+  if (grid_s.empty() || !std::isfinite(grid_ssr[best])) return out;
+  double a = grid_s[best] - h, c = grid_s[best] + h;
+  const double g = 0.5 * (std::sqrt(5.0) - 1.0);
+  double x1 = c - g * (c - a), x2 = a + g * (c - a);
+  double f1 = FitWilliams(set, x1, o).ssr, f2 = FitWilliams(set, x2, o).ssr;
+  for (int it = 0; it < 30 && c - a > 1e-3; ++it) {
+    if (f1 < f2) {
+      c = x2; x2 = x1; f2 = f1; x1 = c - g * (c - a); f1 = FitWilliams(set, x1, o).ssr;
+    } else {
+      a = x1; x1 = x2; f1 = f2; x2 = a + g * (c - a); f2 = FitWilliams(set, x2, o).ssr;
+    }
+  }
+  out.s = 0.5 * (a + c);
+  out.fit = FitWilliams(set, out.s, o);
+  const double e = std::max(h, 1.0);
+  const double fp = FitWilliams(set, out.s + e, o).ssr, fm = FitWilliams(set, out.s - e, o).ssr;
+  const double curv = (fp + fm - 2 * out.fit.ssr) / (e * e);
+  const double sigma2 = out.fit.ssr / std::max(1, out.fit.rows - out.fit.cols - 1);
+  out.sigma = curv > 0 ? std::sqrt(2.0 * sigma2 / curv) : o.station_spacing_px;
+  out.interior_lo = out.s > lo + 0.5 * h || lo <= 0.0;
+  out.interior_hi = out.s < hi - 0.5 * h || hi >= o.line.Length();
+  out.found = std::isfinite(out.s);
+  return out;
+}
+
+}  // namespace
+
+// Stages: window centre -> continuum not hidden by a failed cluster ->
+// enough of it ahead of the centre on both sides of the line? -> tip scan ->
+// the scan again with the radius one station smaller: a tip that moves by
+// more than twice its uncertainty (at least one station / sqrt(12)) is
+// unstable, not used.
+void WilliamsTip(const DisplacementField& field, const std::vector<LocalPoint>& pts,
+                 const CrackTipOptions& o, CrackTipResult& res) {
+  const double ds = o.station_spacing_px;
+  const double s_start = res.sqrt_cod.found ? std::clamp(res.sqrt_cod.s_px, res.jump.s_px - o.fit_radius_px, res.jump.s_px)
+                                            : res.jump.s_px;
+  double xs, ys;
+  o.line.FromLocal(s_start, 0, &xs, &ys);
+  res.williams_window = true;
+  res.williams_centre_s_px = s_start;
+  const std::vector<PointKind> kind = Kinds(field, o);
+  const Shadow shadow(field, kind, xs, ys, o);
+  res.williams_clear_radius_px = shadow.ClearRadius();
+  std::vector<char> readable(field.size(), 0);
+  int hidden = 0;
+  for (const LocalPoint& p : pts) {
+    if (!Continuum(field, kind, p.index)) continue;
+    const bool behind = shadow.Hides(p.x, p.y);
+    if (behind && std::hypot(p.x - xs, p.y - ys) < o.fit_radius_px &&
+        std::abs(p.n) >= o.band_half_width_px)
+      ++hidden;
+    readable[p.index] = behind ? 0 : 1;
+  }
+  res.williams_hidden_points = hidden;
+  const std::vector<const LocalPoint*> set =
+      WindowPoints(pts, readable, xs, ys, o.fit_radius_px, o);
+  res.williams_points = static_cast<int>(set.size());
+  if (WindowShort(field, set, s_start, o)) {
+    res.williams_window_short = true;  // too little continuum ahead: no Williams tip
+    return;
+  }
+  const double lo = std::max(0.0, s_start - 0.5 * o.fit_radius_px);
+  const double hi = std::min(o.line.Length(), s_start + 0.5 * o.fit_radius_px);
+  const TipScan scan = ScanTip(set, lo, hi, o);
+  if (!scan.found) return;
+  TipEstimate& t = res.williams;
+  t.s_px = scan.s;
+  t.uncertainty_px = scan.sigma;
+  res.k_over_2mu_sqrt_px = scan.fit.c1 * std::sqrt(2.0 * std::numbers::pi) / std::sqrt(o.fit_radius_px);
+  res.williams_residual_px = std::sqrt(scan.fit.ssr / std::max(1, scan.fit.rows));
+  t.found = res.k_over_2mu_sqrt_px > 0 && scan.interior_lo && scan.interior_hi;
+  if (!scan.interior_hi || scan.s > res.last_station_px) res.tip_at_edge = true;
+  SetPosition(o.line, &t);
+  if (!t.found) return;
+  const TipScan inner =
+      ScanTip(WindowPoints(pts, readable, xs, ys, o.fit_radius_px - ds, o), lo, hi, o);
+  const double tol = 2.0 * std::max(scan.sigma, ds / std::sqrt(12.0));
+  res.williams_shift_px = inner.found ? inner.s - scan.s : std::numeric_limits<double>::infinity();
+  res.williams_unstable = !(std::abs(res.williams_shift_px) <= tol);
+}
+
+}  // namespace bridgefit::dic::detail
