@@ -57,6 +57,8 @@ nlohmann::json ResultJson(const campaign::CampaignResult& r, const std::string& 
                                 {"delta_c_m", EstimateJson(f.delta_c)},
                                 {"J_tip_c_J_per_m2", EstimateJson(f.J_tip_c)}}},
              {"verdict", f.verdict},
+             {"model_error", r.joint->model_error.Summary()},
+             {"model_error_warning", r.joint->model_error.warning},
              {"likelihood_ratio", NumberOrNull(t.statistic)},
              {"degrees_of_freedom", t.degrees_of_freedom},
              {"p_value", NumberOrNull(t.p_value)},

@@ -242,6 +242,8 @@ void WriteCampaignH5(const CampaignResult& result, const std::filesystem::path& 
     file.WriteAttribute(g, "degrees_of_freedom", static_cast<double>(j.consistency.degrees_of_freedom));
     file.WriteAttribute(g, "p_value", j.consistency.p_value);
     file.WriteAttribute(g, "consistent", j.consistency.consistent() ? 1.0 : 0.0);
+    file.WriteAttribute(g, "model_error", j.model_error.Summary());
+    file.WriteAttribute(g, "model_error_status", inverse::ModelErrorStatusName(j.model_error.status));
     const inverse::FitSummary& f = j.summary;
     const std::pair<const char*, const inverse::ParameterEstimate*> rows[] = {
         {"sigma_c", &f.sigma_c}, {"J_B", &f.J_B}, {"delta_c", &f.delta_c}, {"J_tip_c", &f.J_tip_c}};
@@ -251,6 +253,9 @@ void WriteCampaignH5(const CampaignResult& result, const std::filesystem::path& 
       file.WriteAttribute(pg, "value", e->value);
       file.WriteAttribute(pg, "ci95_low", e->ci95_low);
       file.WriteAttribute(pg, "ci95_high", e->ci95_high);
+      file.WriteAttribute(pg, "statistical_ci95_low", e->statistical_ci95_low);
+      file.WriteAttribute(pg, "statistical_ci95_high", e->statistical_ci95_high);
+      file.WriteAttribute(pg, "model_bias", e->model_bias);
       file.WriteAttribute(pg, "lower_bound", e->lower_bound);
       file.WriteAttribute(pg, "identified", e->identified ? 1.0 : 0.0);
     }
