@@ -269,6 +269,7 @@ class ModelAtSize {
       return;
     }
     request_.resolution = resolution;
+    request_.model = ModelChoice::kReduced;  // --model auto: its reduced model, not the MPM check
     try {
       models_ = std::make_unique<FitModels>(request_, run.input, run.data, true, run.r_kind,
                                             run.reduced_models.get());
@@ -307,9 +308,22 @@ void AddModelError(const FitRequest& request, const FitModels& models,
                    const inverse::FitData& fit_data, const inverse::FitOptions& options,
                    const inverse::ComplianceCalibrationOptions& calibration, FitRun& run) {
   inverse::ModelErrorEstimate& e = run.model_error;
-  if (request.model != ModelChoice::kReduced) {
+  // --model auto reports the reduced model's fit unless MPM corrected it:
+  // that fit's error is the reduced model's, estimated as for --model reduced.
+  const bool reduced_fit =
+      request.model == ModelChoice::kReduced ||
+      (request.model == ModelChoice::kAuto && run.summary.model == models.model().Name());
+  if (!reduced_fit) {
     e.model = ModelChoiceName(request.model);
-    e.reason = fmt::format("no error model for the {} model yet", e.model);
+    e.reason = request.model == ModelChoice::kAuto
+                   ? fmt::format("the fit is the reduced model corrected to MPM at {:.3g} mm, whose "
+                                 "own error{} is not propagated to the parameters yet",
+                                 models.mpm_cell() * 1e3,
+                                 std::isfinite(run.mpm_convergence)
+                                     ? fmt::format(" (about {:.2g}% of R: twice its step to half "
+                                                   "the cell)", 200 * run.mpm_convergence)
+                                     : "")
+                   : fmt::format("no error model for the {} model yet", e.model);
     return;
   }
   inverse::ModelErrorOptions error_options;

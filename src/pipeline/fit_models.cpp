@@ -200,7 +200,9 @@ std::unique_ptr<inverse::SimulationForwardModel> FitModels::MakeReduced(const Sc
 }
 
 std::unique_ptr<inverse::ForwardModel> FitModels::ReducedAt(double resolution) const {
-  if (request_.model != ModelChoice::kReduced) return nullptr;
+  // --model auto: its reduced model (the MPM check is accurate()).
+  if (request_.model != ModelChoice::kReduced && request_.model != ModelChoice::kAuto)
+    return nullptr;
   const Scene scene = ScaledModuli(request_.scene, modulus_factor_);
   // Past the data by two elements (a coarse mesh's last node rounds down by
   // up to one element), else by the fine model's 2 mm.

@@ -55,8 +55,8 @@ class FitModels {
   double resolution() const { return resolution_; }
   // The reduced model as model() is (same scene scaling, series compliance
   // and R kind) at another element size: the model error's coarser solves
-  // (issue 17). Null when model() is not the reduced model or the mesh is
-  // not valid at that size.
+  // (issue 17; --model auto: its reduced model). Null when model() is not
+  // the reduced model or the mesh is not valid at that size.
   std::unique_ptr<inverse::ForwardModel> ReducedAt(double resolution) const;
   // The MPM growth model as accurate() (or model() for --model mpm) is, at
   // another cell size [m]: --model auto's convergence check.
