@@ -77,6 +77,7 @@ bool JIntegralOptions::IsValid(std::string* why) const {
     return fail("min_valid_fraction must be in (0, 1]");
   if (opening_rows < 2) return fail("opening_rows must be >= 2 (the fit extrapolates across rows)");
   if (!(opening_half_length > 0)) return fail("opening_half_length must be > 0");
+  if (!(opening_ahead_length >= 0)) return fail("opening_ahead_length must be >= 0");
   for (std::size_t k = 0; k < domains.size(); ++k) {
     const DomainSpec& d = domains[k];
     if (!(d.r_in >= 0 && d.r_out > d.r_in) || !std::isfinite(d.r_out) ||
@@ -309,7 +310,8 @@ double WorkOfTraction(const std::function<double(double)>& sigma, double delta) 
 // per-side fits a0 + a1 s + a2 s^2 + a3 n of the first `rows` rows beside the
 // band within +-half_length (all in field units); see the header, stage 4.
 NotchRootOpening OpeningAt(const DisplacementField& f, const Grid& g, double along_at,
-                           double half_length, int rows, double metres_per_unit) {
+                           double behind, double ahead, int rows, double metres_per_unit) {
+  const double half_length = std::max(behind, ahead);  // scales s for conditioning
   NotchRootOpening out;
   const double row_spacing = std::abs(g.s) > std::abs(g.c) ? g.dx : g.dy;
   struct Side {
@@ -321,7 +323,7 @@ NotchRootOpening OpeningAt(const DisplacementField& f, const Grid& g, double alo
     if (!f.ok(i)) continue;
     double s, n;
     g.Local(f.x[i], f.y[i], &s, &n);
-    if (std::abs(s - along_at) > half_length) continue;
+    if (s - along_at < -behind || s - along_at > ahead) continue;
     Side& side = sides[n >= 0 ? 0 : 1];
     side.s.push_back(s - along_at);
     side.n.push_back(n);
@@ -441,7 +443,7 @@ void SubtractFaceTerm(const DisplacementField& f, const Grid& g, const JIntegral
   const int steps =
       std::max(8, static_cast<int>(std::ceil((r_out - r_in) / std::min(g.dx, g.dy))) * 2);
   auto delta = [&](double along) {
-    const NotchRootOpening o2 = OpeningAt(f, g, along, half, o.opening_rows, m);
+    const NotchRootOpening o2 = OpeningAt(f, g, along, half, half, o.opening_rows, m);
     return o2.ok ? o2.delta : std::numeric_limits<double>::quiet_NaN();
   };
   const double h = (r_out - r_in) / steps;
@@ -502,14 +504,19 @@ JIntegralResult ComputeJIntegral(const DisplacementField& field, const CrackGeom
   // delta* needs the fitted stretch behind the tip (ahead of it there are
   // no faces): otherwise a status, not a number.
   const double root_half_length = options.opening_half_length * to_units;
-  if (crack.root_distance > root_half_length) {
-    result.root_opening = OpeningAt(field, grid, -crack.root_distance, root_half_length,
-                                    options.opening_rows, options.metres_per_unit);
+  const double root_ahead_length =
+      (options.opening_ahead_length > 0 ? options.opening_ahead_length
+                                        : options.opening_half_length) *
+      to_units;
+  if (crack.root_distance > root_ahead_length) {
+    result.root_opening =
+        OpeningAt(field, grid, -crack.root_distance, root_half_length, root_ahead_length,
+                  options.opening_rows, options.metres_per_unit);
   } else {
     result.root_opening.why = fmt::format(
-        "the root ({} behind the tip) is within opening_half_length ({}): the fit would reach "
-        "past the tip",
-        crack.root_distance, root_half_length);
+        "the root ({} behind the tip) is within the stretch ahead of it ({}): the fit would "
+        "reach past the tip",
+        crack.root_distance, root_ahead_length);
   }
   result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;

@@ -12,24 +12,28 @@
 //    zone is shorter than 2 grid points + the tip's error (a status, skipped
 //    by lawfree with a note);
 //  - delta* per frame within 3 % (+ 1 um) of the generator's root opening
-//    where the zone is at least 4 mm (measured <= 2 %), within 10 % for
-//    shorter zones (measured -5 to -8 %: the stretch is cut to 0.9 of the
-//    zone), exactly 0 at the onset frame;
-//  - J_ff per frame within 8 % of the generator's (measured 0.3-4 %: the
+//    where the zone is at least 3 mm, within 10 % below (the stretch reaches
+//    8 points behind the root and 0.35 of the zone ahead of it, 2 points at
+//    least, dic/frame_j.hpp; measured -1.5 .. +0.1 % here), exactly 0 at the
+//    onset frame;
+//  - J_ff per frame within 8 % of the generator's (measured 0.1-3.8 %: the
 //    domain integral on DIC gradients scatters a few percent);
-//  - J_tip,c within 5 % (measured 0.1 %);
+//  - J_tip,c within 5 %;
 //  - the mean sigma over the covered openings, W(delta_max) / delta_max,
-//    within 10 % of the law's (measured -3.5 %; -7 % on 480 x 400 px frames).
+//    within 10 % of the law's (measured +0.0 %).
 // What does not hold and is only printed: sigma(delta) pointwise within
-// 10 %. The J scatter of a few percent (per frame up to 4 %) over a rise
-// J_ff - J_tip,c of about 55 % of J_tip,c, differentiated, gives a worst
-// pointwise error of 12.8 % here and 42 % on the 480 x 400 px variant
-// (largest at the ends of the range; the band missed the truth mid-range
-// there). 10 % pointwise would need several times less J scatter or many
-// more frames. Asserted too: the data stop far before steady state, so
-// J_B and delta_c are lower bounds below the truth (the J route used to
-// take the J scatter for a plateau and print J_B about 100 J/m^2 as a value;
-// the plateau rule now needs flatness established, docs/LAW_FREE.md).
+// 10 % over the covered range (0 to the largest delta*, 41 nodes). Measured
+// worst 7.9 % here, 6.7-6.9 % on two other runs, 15.8-52.8 % on three more
+// (seeds, the exponential law, 480 x 400 px frames): the J scatter (1.5-3 %
+// RMS per frame) differentiated over a rise J_ff - J_tip,c of about 55 % of
+// J_tip,c moves the ends of the curve by 7-33 % on its own
+// (bench/lawfree_split, docs/LAW_FREE.md "Where the pointwise error comes
+// from"). The delta* part was cut (worst 10-26 % with the true J_ff
+// before the shorter stretch ahead of the root, 1-12 % now).
+// Asserted too: the data stop far before steady state, so J_B and delta_c
+// are lower bounds below the truth (the J route used to take the J scatter
+// for a plateau and print J_B about 100 J/m^2 as a value; the plateau rule
+// now needs flatness established, docs/LAW_FREE.md).
 #include <unistd.h>
 
 #include <cmath>
@@ -113,11 +117,12 @@ max_crack_length = "45 mm"
                 k, dic.J_ff[k], true_j[k], 100 * j_err, dic.J_ff_spread_percent[k],
                 dic.delta_star[k] * 1e3, true_delta[k] * 1e3);
     EXPECT_LT(std::abs(j_err), 0.08) << "frame " << k;
-    // Zones shorter than 8 grid points (4 mm) cut delta*'s stretch (0.9 of
-    // the zone): fewer points and the near-tip curvature bias it low
-    // (measured -5 to -8 % at 2.5-3.5 mm); longer zones use the full stretch.
+    // The stretch ahead of the root is 0.35 of the zone, 2 grid points at
+    // least (the near-tip curvature read it 5-8 % low on 2.5-5 mm zones
+    // when it reached 0.9 of the zone); on zones under 3 mm the 2 points
+    // are most of it (measured -1.0 % here, -6.4 % on another run).
     const double zone = truth.ColumnSi("crack_length", Dimension::Length())[k] - 30e-3;
-    const double tolerance = zone < 4e-3 ? 0.10 : 0.03;
+    const double tolerance = zone < 3e-3 ? 0.10 : 0.03;
     EXPECT_NEAR(dic.delta_star[k], true_delta[k], tolerance * true_delta[k] + 1e-6)
         << "frame " << k << ", zone " << zone * 1e3 << " mm";
   }
@@ -127,10 +132,15 @@ max_crack_length = "45 mm"
   ASSERT_TRUE(out.far_field.has_value());
   const laws::LawFreeResult& r = *out.far_field;
   EXPECT_NEAR(r.J_tip_c, kJtip, 0.05 * kJtip);
+  // Pointwise over the covered range (the grid runs from the onset frame's
+  // opening, 0, to the largest measured delta*): printed, not asserted.
   double worst = 0;
+  int misses = 0;
   for (size_t j = 0; j < r.delta.size(); ++j) {
-    const double err = r.sigma[j] / Sigma(r.delta[j]) - 1;
+    const double truth_j = Sigma(r.delta[j]);
+    const double err = r.sigma[j] / truth_j - 1;
     worst = std::max(worst, std::abs(err));
+    if (truth_j < r.sigma_lower[j] || truth_j > r.sigma_upper[j]) ++misses;
   }
   const double delta_max = r.delta.back();
   // Mean sigma over [0, delta_max]: the fitted rise of J_ff (the grid's
@@ -140,8 +150,10 @@ max_crack_length = "45 mm"
     area += 0.5 * (r.sigma[j] + r.sigma[j - 1]) * (r.delta[j] - r.delta[j - 1]);
   const double mean_err = area / Work(delta_max) - 1;
   std::printf("law-free J route: J_tip,c %.1f J/m^2 (true %.0f), openings to %.4f mm, mean sigma "
-              "error %+.1f %%, worst pointwise sigma error %.1f %% (not asserted)\n",
-              r.J_tip_c, kJtip, delta_max * 1e3, 100 * mean_err, 100 * worst);
+              "error %+.1f %%, worst pointwise sigma error %.1f %% (%zu nodes, not asserted), "
+              "band misses %d\n",
+              r.J_tip_c, kJtip, delta_max * 1e3, 100 * mean_err, 100 * worst, r.delta.size(),
+              misses);
   EXPECT_LT(std::abs(mean_err), 0.10);
   // The data stop far before steady state (delta* to about 0.1 mm of
   // delta_c 2 mm): J_B and delta_c are lower bounds below the truth, never

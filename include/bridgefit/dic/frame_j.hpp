@@ -12,10 +12,11 @@
 // that stays inside the grid. Points within the crack band (band half
 // width of the tip options) of the line behind the tip are set to
 // kCrackBand first: with the path found from the data they are correlated
-// across the faces and smeared. delta*'s stretch along the line is cut to
-// 0.9 of the zone (integral.opening_half_length at most, 2 points at
-// least); a tip within one grid step of the root gives delta* = 0 (the
-// root is the tip: the onset of growth).
+// across the faces and smeared. delta*'s stretch along the line reaches
+// integral.opening_half_length behind the root and opening_ahead_fraction
+// of the zone ahead of it (2 points at least; a zone that short is a
+// delta* status); a tip within one grid step of the root gives delta* = 0
+// (the root is the tip: the onset of growth).
 
 #include <string>
 
@@ -32,6 +33,10 @@ struct FrameJOptions {
   double notch_length_m = 0;
   int far_field_domains = 3;
   double margin_points = 2;  // r_in beyond half the zone, grid points
+  // delta*'s stretch ahead of the root (toward the tip) as a fraction of
+  // the zone (2 points at least, integral.opening_half_length at most);
+  // behind the root it is integral.opening_half_length.
+  double opening_ahead_fraction = 0.35;
   // Gradient window, fit order, valid fraction, opening rows and half
   // length; `domains`, `metres_per_unit` and `domain_units` are set per frame.
   JIntegralOptions integral;

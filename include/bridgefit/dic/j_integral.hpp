@@ -92,10 +92,14 @@ struct JIntegralOptions {
   // A domain with less than this fraction of its annulus cells usable
   // (valid with a gradient) gets kTooFewValid instead of a J.
   double min_valid_fraction = 0.75;
-  // delta*: rows beside the band used per side, and the half-length of the
-  // stretch along the line (in domain_units).
+  // delta*: rows beside the band used per side, and the stretch along the
+  // line (in domain_units): opening_half_length behind the root (toward the
+  // notch mouth) and opening_ahead_length ahead of it (toward the tip; 0:
+  // opening_half_length). Toward the tip the opening bends down, more so as
+  // DIC subsets smooth it, and a quadratic through it reads the root low.
   int opening_rows = 3;
   double opening_half_length = 8;
+  double opening_ahead_length = 0;
   // Optional bridging traction sigma(delta) (Pa of m): when set, tip domains
   // also report J_tip = J(x) - face term (PHYSICS eq. 4).
   std::function<double(double)> bridging_traction;

@@ -1,0 +1,5 @@
+# Law-free route error split (docs/LAW_FREE.md, "Where the pointwise error
+# comes from"): bench/lawfree_split DIR SCENE on a synth --bridged-field
+# run's images/truth.csv and dic.h5.
+add_executable(lawfree_split ${CMAKE_CURRENT_LIST_DIR}/lawfree_split.cpp)
+target_link_libraries(lawfree_split PRIVATE bf_pipeline bf_io fmt::fmt)

@@ -1,0 +1,121 @@
+// Where the law-free J route's pointwise sigma error comes from
+// (docs/LAW_FREE.md). On a `synth --bridged-field` run followed by
+// `dic --j-integral` (DIR/images/truth.csv, DIR/dic.h5), the same frames
+// go through the same derivative (laws::LawFromFarFieldJ, default options,
+// the pipeline's J uncertainties) four times:
+//   measured J_ff, measured delta*   (what `bridgefit lawfree` does)
+//   true J_ff,     measured delta*   (the delta* error alone)
+//   measured J_ff, true delta_root   (the J error alone)
+//   true J_ff,     true delta_root   (the derivative's own error)
+// and each is compared with the scene's law node by node.
+//   lawfree_split DIR SCENE
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include <fmt/format.h>
+
+#include "bridgefit/core/error.hpp"
+#include "bridgefit/io/csv.hpp"
+#include "bridgefit/io/scene_file.hpp"
+#include "bridgefit/laws/law_free.hpp"
+#include "bridgefit/pipeline/dic_file.hpp"
+#include "bridgefit/pipeline/law_free.hpp"
+
+namespace fs = std::filesystem;
+using namespace bridgefit;
+
+int main(int argc, char** argv) {
+  if (argc < 3) {
+    std::fprintf(stderr, "usage: lawfree_split DIR SCENE\n");
+    return 2;
+  }
+  try {
+    const fs::path dir = argv[1];
+    const Scene scene = io::ReadSceneFile(argv[2]);
+    const laws::BridgingLaw law = scene.bridging->Law();
+    const double j_tip = scene.fracture->J_tip_c;
+    const io::CsvTable truth = io::ReadCsvTable(dir / "images" / "truth.csv");
+    const std::vector<double> true_j = truth.columns[truth.Find("J_ff")];
+    const std::vector<double> true_d = truth.ColumnSi("delta_root", Dimension::Length());
+    const pipeline::DicJSeries s = pipeline::ReadDicJSeries(dir / "dic.h5");
+    pipeline::LawFreeRequest request;  // the pipeline's uncertainty floor
+    std::printf(
+        "frame  J_ff meas/true-1 [%%]  spread [%%]  delta* meas [um]  true [um]  "
+        "err [%%]  true J - J_tip - W(true delta) [J/m^2]\n");
+    laws::FarFieldJSamples mm, tm, mt, tt;
+    for (size_t k = 0; k < s.image.size(); ++k) {
+      if (s.J_status[k] != "ok" || s.delta_star_status[k] != "ok") continue;
+      const double spread = std::isfinite(s.J_ff_spread_percent[k]) ? s.J_ff_spread_percent[k] : 0;
+      const double u = std::max(0.5 * spread / 100, request.j_relative_floor) * s.J_ff[k];
+      std::printf("%5zu  %+8.2f  %8.1f  %10.3f  %10.3f  %+7.2f  %+8.3f\n", k,
+                  100 * (s.J_ff[k] / true_j[k] - 1), spread, s.delta_star[k] * 1e6, true_d[k] * 1e6,
+                  true_d[k] > 0 ? 100 * (s.delta_star[k] / true_d[k] - 1) : 0.0,
+                  true_j[k] - j_tip - law.Work(true_d[k]));
+      auto add = [&](laws::FarFieldJSamples& o, double j, double d) {
+        o.opening.push_back(d);
+        o.J_ff.push_back(j);
+        o.uncertainty.push_back(u);
+      };
+      add(mm, s.J_ff[k], s.delta_star[k]);
+      add(tm, true_j[k], s.delta_star[k]);
+      add(mt, s.J_ff[k], true_d[k]);
+      add(tt, true_j[k], true_d[k]);
+    }
+    auto report = [&](const char* name, const laws::FarFieldJSamples& in) {
+      laws::LawFreeResult r;
+      try {
+        r = laws::LawFromFarFieldJ(in);
+      } catch (const Error& e) {
+        std::printf("%-26s %s\n", name, e.what());
+        return;
+      }
+      double worst = 0, rms = 0, worst_in = 0, worst_cov = 0;
+      int n_in = 0, n_cov = 0, misses = 0;
+      const double dmax = r.delta.back();
+      std::string row;
+      for (size_t j = 0; j < r.delta.size(); ++j) {
+        const double t = law.Traction(r.delta[j]);
+        const double e = r.sigma[j] / t - 1;
+        worst = std::max(worst, std::abs(e));
+        rms += e * e;
+        if (r.delta[j] >= 0.1 * dmax && r.delta[j] <= 0.9 * dmax) {
+          worst_in = std::max(worst_in, std::abs(e)), ++n_in;
+        }
+        const double half = 0.5 * (r.sigma_upper[j] - r.sigma_lower[j]);
+        if (half <= 0.10 * r.sigma[j]) worst_cov = std::max(worst_cov, std::abs(e)), ++n_cov;
+        if (t < r.sigma_lower[j] || t > r.sigma_upper[j]) ++misses;
+        if (j % 5 == 0)
+          row += fmt::format(" {:.0f}um:{:+.1f}%(+-{:.1f})", r.delta[j] * 1e6, 100 * e,
+                             100 * half / t);
+      }
+      std::printf(
+          "%-26s onset %d%s J_tip,c %6.1f  lambda 10^%.1f  dof %.1f  s %.2f  worst %5.1f %%  rms "
+          "%4.1f "
+          "%%  worst 10-90 %% of range %5.1f %%  worst where band <= 10 %% (%d nodes) %5.1f "
+          "%%  band misses %d/%zu\n   %s\n",
+          name, r.onset_index, r.onset_detected ? "(found)" : "", r.J_tip_c,
+          r.penalty_log10_relative, r.effective_dof, r.noise_scale, 100 * worst,
+          100 * std::sqrt(rms / r.delta.size()), 100 * worst_in, n_cov, 100 * worst_cov, misses,
+          r.delta.size(), row.c_str());
+    };
+    report("measured J, measured d*", mm);
+    report("true J, measured d*", tm);
+    report("measured J, true d", mt);
+    report("true J, true d", tt);
+    // The same measured samples with one uncertainty for all (the RMS of
+    // the stated ones): are the spread-based weights worth their noise?
+    laws::FarFieldJSamples flat = mm;
+    double ms = 0;
+    for (double u : mm.uncertainty) ms += u * u / mm.uncertainty.size();
+    std::fill(flat.uncertainty.begin(), flat.uncertainty.end(), std::sqrt(ms));
+    report("measured, equal weights", flat);
+    flat.onset_opening = 0.0;
+    report("  ... onset at delta* = 0", flat);
+  } catch (const Error& e) {
+    std::fprintf(stderr, "%s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
