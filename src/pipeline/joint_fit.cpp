@@ -304,6 +304,7 @@ class JointFitter {
     return inverse::EstimateModelError(joint, joint_2h ? &*joint_2h : nullptr,
                                        joint_4h ? &*joint_4h : nullptr, resolution, shape_, joined,
                                        options, fit);
+  }
   // Each specimen's own noise scale s_k^2 (its chi^2 alone over its dof)
   // in its load uncertainties: records of different specimens carry loads of
   // different size and noise (and model error), so each row is weighted by
