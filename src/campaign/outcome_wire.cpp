@@ -17,7 +17,7 @@
 namespace bridgefit::campaign::wire {
 namespace {
 
-constexpr std::uint32_t kMagic = 0x34574642;  // "BFW4": change it when the layout changes
+constexpr std::uint32_t kMagic = 0x35574642;  // "BFW5": change it when the layout changes
 
 using Writer = parallel::ByteWriter;
 using Reader = parallel::ByteReader;
@@ -33,6 +33,8 @@ void Visit(Io& io, R& run) requires std::is_same_v<std::remove_const_t<R>, pipel
   io.Field(run.shape.d_points), io.Field(run.shape.s_points), io.Field(run.shape.interpolation);
   io.Field(run.resolution);
   io.Field(run.model_note);
+  // A load record's nuisance parameters, where the joint fit starts them.
+  io.Field(run.calibration.modulus_factor), io.Field(run.calibration.series_compliance);
 }
 
 // What a specimen's DIC gave: the frames' crack lengths (into the request,

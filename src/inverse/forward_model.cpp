@@ -118,6 +118,12 @@ SimulationResult SimulationForwardModel::Simulate(const laws::LawShape& shape,
 ForwardPrediction SimulationForwardModel::PredictLoad(const laws::LawShape& shape,
                                                       const LawParameters& p,
                                                       const std::vector<double>& displacements) const {
+  return PredictLoadInSeries(shape, p, displacements, series_compliance_);
+}
+
+ForwardPrediction SimulationForwardModel::PredictLoadInSeries(
+    const laws::LawShape& shape, const LawParameters& p, const std::vector<double>& displacements,
+    double series_compliance) const {
   ForwardPrediction out;
   const SimulationResult result = Simulate(shape, p);
   if (result.status != RunStatus::kOk || result.points.empty()) {
@@ -134,7 +140,7 @@ ForwardPrediction SimulationForwardModel::PredictLoad(const laws::LawShape& shap
   for (const SimulationPoint& point : result.points)
     if (std::isfinite(point.load) && std::isfinite(point.displacement)) {
       path.push_back(point);
-      path.back().displacement += series_compliance_ * point.load;
+      path.back().displacement += series_compliance * point.load;
     }
   if (path.empty() || !(path.front().displacement > 0.0)) {
     out.status = RunStatus::kFailed;

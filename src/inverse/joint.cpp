@@ -28,29 +28,46 @@ std::string JointForwardModel::Name() const {
 ForwardPrediction JointForwardModel::Predict(const laws::LawShape& shape, const LawParameters& p,
                                              const std::vector<double>& crack_lengths,
                                              RKind kind) const {
+  return Joined(shape, p, crack_lengths, kind, false);
+}
+
+ForwardPrediction JointForwardModel::PredictLoad(const laws::LawShape& shape,
+                                                 const LawParameters& p,
+                                                 const std::vector<double>& displacements) const {
+  return Joined(shape, p, displacements, RKind::kEnergy, true);
+}
+
+ForwardPrediction JointForwardModel::Joined(const laws::LawShape& shape, const LawParameters& p,
+                                            const std::vector<double>& axis, RKind kind,
+                                            bool load) const {
   ForwardPrediction out;
   const std::size_t total = std::accumulate(counts_.begin(), counts_.end(), std::size_t{0});
-  if (crack_lengths.size() != total) {
+  if (axis.size() != total) {
     out.status = RunStatus::kFailed;
-    out.message = fmt::format("joint model: {} crack lengths for blocks of {} in all",
-                              crack_lengths.size(), total);
+    out.message = fmt::format("joint model: {} {} for blocks of {} in all", axis.size(),
+                              load ? "displacements" : "crack lengths", total);
     return out;
   }
   std::size_t at = 0;
   for (std::size_t k = 0; k < models_.size(); ++k) {
-    std::vector<double> block(crack_lengths.begin() + at, crack_lengths.begin() + at + counts_[k]);
+    std::vector<double> block(axis.begin() + at, axis.begin() + at + counts_[k]);
     at += counts_[k];
-    for (double& a : block) a -= offsets_[k];
-    const ForwardPrediction part = models_[k]->Predict(shape, p, block, kind);
-    if (!part.ok() || part.R.size() != block.size()) {
+    if (!load)
+      for (double& a : block) a -= offsets_[k];
+    const ForwardPrediction part =
+        load ? models_[k]->PredictLoad(shape, p, block) : models_[k]->Predict(shape, p, block, kind);
+    const std::size_t got = load ? part.load.size() : part.R.size();
+    if (!part.ok() || got != block.size()) {
       out.status = part.ok() ? RunStatus::kFailed : part.status;
       out.message = fmt::format("specimen {}: {}", k + 1, part.message);
       return out;
     }
+    // A load prediction always carries the physical crack length and R.
     const std::vector<double>& physical =
         part.crack_length_physical.empty() ? block : part.crack_length_physical;
     const std::vector<double>& R_physical = part.R_physical.empty() ? part.R : part.R_physical;
     out.R.insert(out.R.end(), part.R.begin(), part.R.end());
+    out.load.insert(out.load.end(), part.load.begin(), part.load.end());
     out.delta_root.insert(out.delta_root.end(), part.delta_root.begin(), part.delta_root.end());
     out.crack_length_physical.insert(out.crack_length_physical.end(), physical.begin(), physical.end());
     out.R_physical.insert(out.R_physical.end(), R_physical.begin(), R_physical.end());
@@ -61,23 +78,116 @@ ForwardPrediction JointForwardModel::Predict(const laws::LawShape& shape, const 
   return out;
 }
 
+ModulusProfiledLoadModel::ModulusProfiledLoadModel(const SimulationForwardModel& base,
+                                                   double series_compliance, FitData rows,
+                                                   double span)
+    : base_(base), series_compliance_(series_compliance), rows_(std::move(rows)), span_(span) {
+  BF_CHECK_INPUT(rows_.target == FitTarget::kLoad && !rows_.load.empty(),
+                 "a profiled modulus scale needs the specimen's load-displacement rows",
+                 {.field = "joint fit"});
+  BF_CHECK_INPUT(span_ > 0.0 && span_ < 0.5, "the modulus scale's span must lie in (0, 0.5)",
+                 {.field = "joint fit", .value = fmt::format("{}", span_)});
+}
+
+ForwardPrediction ModulusProfiledLoadModel::Predict(const laws::LawShape&, const LawParameters&,
+                                                    const std::vector<double>&, RKind) const {
+  ForwardPrediction out;
+  out.status = RunStatus::kInvalidInput;
+  out.message = "a model with a profiled modulus scale predicts its load-displacement record only";
+  return out;
+}
+
+ForwardPrediction ModulusProfiledLoadModel::PredictLoadAtScale(
+    const laws::LawShape& shape, const LawParameters& p, const std::vector<double>& displacements,
+    double g) const {
+  std::vector<double> scaled = displacements;
+  for (double& d : scaled) d *= g;
+  ForwardPrediction out = base_.PredictLoadInSeries(
+      shape, {p.sigma_c, g * p.J_B, g * p.J_tip_c}, scaled, g * series_compliance_);
+  for (double& r : out.R_physical) r /= g;
+  for (double& r : out.R) r /= g;
+  for (double& d : out.delta_root) d /= g;
+  return out;
+}
+
+double ModulusProfiledLoadModel::ProfiledScale(const laws::LawShape& shape,
+                                               const LawParameters& p) const {
+  const bool weighted = rows_.weighted();
+  const auto chi2 = [&](double log_g) {
+    const ForwardPrediction q = PredictLoadAtScale(shape, p, rows_.displacement, std::exp(log_g));
+    if (!q.ok() || q.load.size() != rows_.load.size()) return static_cast<double>(INFINITY);
+    double sum = 0.0;
+    for (std::size_t i = 0; i < q.load.size(); ++i)
+      sum += std::pow((q.load[i] - rows_.load[i]) / (weighted ? rows_.load_uncertainty[i] : 1.0), 2);
+    return sum;
+  };
+  // Golden section on ln g in [-span, span].
+  constexpr double kInvPhi = 0.6180339887498949;
+  double lo = -span_, hi = span_;
+  double x1 = hi - kInvPhi * (hi - lo), x2 = lo + kInvPhi * (hi - lo);
+  double f1 = chi2(x1), f2 = chi2(x2);
+  while (hi - lo > 1e-5) {
+    if (f1 <= f2) {
+      hi = x2, x2 = x1, f2 = f1;
+      x1 = hi - kInvPhi * (hi - lo), f1 = chi2(x1);
+    } else {
+      lo = x1, x1 = x2, f1 = f2;
+      x2 = lo + kInvPhi * (hi - lo), f2 = chi2(x2);
+    }
+  }
+  if (!std::isfinite(std::min(f1, f2))) return NAN;
+  return std::exp(f1 <= f2 ? x1 : x2);
+}
+
+ForwardPrediction ModulusProfiledLoadModel::PredictLoad(
+    const laws::LawShape& shape, const LawParameters& p,
+    const std::vector<double>& displacements) const {
+  ForwardPrediction out;
+  if (displacements != rows_.displacement) {
+    out.status = RunStatus::kInvalidInput;
+    out.message = "a profiled modulus scale is fitted to the specimen's own rows only";
+    return out;
+  }
+  const double g = ProfiledScale(shape, p);
+  if (!std::isfinite(g)) {
+    out.status = RunStatus::kFailed;
+    out.message = fmt::format("no modulus scale within +-{:g}% gave a valid run", span_ * 100);
+    return out;
+  }
+  return PredictLoadAtScale(shape, p, displacements, g);
+}
+
 FitData JoinFitData(const std::vector<FitData>& parts, std::vector<double>* offsets) {
   BF_CHECK_INPUT(!parts.empty(), "a joint fit needs at least one specimen", {.field = "joint fit"});
   FitData joined;
   joined.kind = parts.front().kind;
+  joined.target = parts.front().target;
+  const bool load = joined.target == FitTarget::kLoad;
   bool all_weighted = true;
   for (const FitData& d : parts) {
-    BF_CHECK_INPUT(d.target == FitTarget::kRCurve,
-                   "a joint fit takes R curves (the specimens' load-displacement records are "
-                   "fitted one by one)",
-                   {.field = "fit_to", .value = FitTargetName(d.target), .expected = "r-curve"});
-    BF_CHECK_INPUT(d.kind == joined.kind, "the specimens' R curves are of different kinds",
-                   {.field = "r_kind", .value = RKindName(d.kind),
-                    .expected = RKindName(joined.kind)});
-    all_weighted = all_weighted && d.R_uncertainty.size() == d.R.size() && !d.R.empty();
+    BF_CHECK_INPUT(d.target == joined.target,
+                   "the specimens were fitted to different data (a joint fit compares like with "
+                   "like: every specimen's R curve, or every specimen's load-displacement record)",
+                   {.field = "fit_to", .value = FitTargetName(d.target),
+                    .expected = FitTargetName(joined.target)});
+    if (!load)
+      BF_CHECK_INPUT(d.kind == joined.kind, "the specimens' R curves are of different kinds",
+                     {.field = "r_kind", .value = RKindName(d.kind),
+                      .expected = RKindName(joined.kind)});
+    all_weighted = all_weighted && d.weighted() && d.size() > 0;
   }
   offsets->clear();
   for (const FitData& d : parts) {
+    if (load) {
+      offsets->push_back(0.0);
+      joined.displacement.insert(joined.displacement.end(), d.displacement.begin(),
+                                 d.displacement.end());
+      joined.load.insert(joined.load.end(), d.load.begin(), d.load.end());
+      if (all_weighted)
+        joined.load_uncertainty.insert(joined.load_uncertainty.end(), d.load_uncertainty.begin(),
+                                       d.load_uncertainty.end());
+      continue;
+    }
     const double offset =
         joined.crack_length.empty() || d.crack_length.empty()
             ? 0.0

@@ -22,8 +22,15 @@ namespace {
 
 // Why specimen `k` cannot join, or "".
 std::string CannotJoin(const FitRequest& request, const FitRun& run, const FitRun& first) {
-  if (run.load_data || request.target != inverse::FitTarget::kRCurve)
-    return "it was fitted to its load-displacement record (the joint fit takes R curves)";
+  const bool load = run.load_data.has_value(), first_load = first.load_data.has_value();
+  if (load != first_load)
+    return fmt::format(
+        "it was fitted to its {}, the first specimen to its {} (a joint fit compares like with "
+        "like: fit every specimen to its R curve, or every one to its load-displacement record)",
+        load ? "load-displacement record" : "R curve",
+        first_load ? "load-displacement record" : "R curve");
+  if (load && request.target != inverse::FitTarget::kLoad)
+    return "its fit request does not name its load-displacement record (fit_to)";
   if (request.model == ModelChoice::kMpm)
     return "it was fitted with the MPM model (the joint fit runs the reduced or analytic model)";
   if (run.r_kind != first.r_kind)
@@ -47,19 +54,30 @@ const inverse::StartResult* BestStart(const inverse::FitSummary& s) {
   return best;
 }
 
-// chi^2 of `data` under `model` at physical parameters p (infinite when the
-// model fails).
+// The model's prediction of `data` (R at its crack lengths, or the load at
+// its displacements) at law parameters p.
+inverse::ForwardPrediction PredictData(const inverse::ForwardModel& model,
+                                       const laws::LawShape& shape, const inverse::FitData& data,
+                                       const inverse::LawParameters& p) {
+  return data.target == inverse::FitTarget::kLoad
+             ? model.PredictLoad(shape, p, data.displacement)
+             : model.Predict(shape, p, data.crack_length, data.kind);
+}
+
+// chi^2 of `data` (R curve or load record) under `model` at physical
+// parameters p (infinite when the model fails).
 double Chi2(const inverse::ForwardModel& model, const laws::LawShape& shape,
             const inverse::FitData& data, const std::array<double, inverse::kParameterCount>& p) {
+  const bool load = data.target == inverse::FitTarget::kLoad;
   const inverse::ForwardPrediction prediction =
-      model.Predict(shape, {p[inverse::kSigmaC], p[inverse::kJB], p[inverse::kJTipC]},
-                    data.crack_length, data.kind);
-  if (!prediction.ok() || prediction.R.size() != data.R.size()) return INFINITY;
+      PredictData(model, shape, data, {p[inverse::kSigmaC], p[inverse::kJB], p[inverse::kJTipC]});
+  const std::vector<double>& values = load ? data.load : data.R;
+  const std::vector<double>& predicted = load ? prediction.load : prediction.R;
+  const std::vector<double>& u = load ? data.load_uncertainty : data.R_uncertainty;
+  if (!prediction.ok() || predicted.size() != values.size()) return INFINITY;
   double chi2 = 0.0;
-  for (std::size_t i = 0; i < data.R.size(); ++i) {
-    const double u = data.weighted() ? data.R_uncertainty[i] : 1.0;
-    chi2 += std::pow((prediction.R[i] - data.R[i]) / u, 2);
-  }
+  for (std::size_t i = 0; i < values.size(); ++i)
+    chi2 += std::pow((predicted[i] - values[i]) / (data.weighted() ? u[i] : 1.0), 2);
   return chi2;
 }
 
@@ -143,8 +161,11 @@ class JointFitter {
   };
 
   // `ranks` (may be null): the job's ranks, each making this same joint fit.
+  // `starts` (empty, or one per specimen): where each specimen's fit alone
+  // starts (its own single fit's optimum; load-displacement records).
   JointFitter(std::vector<const inverse::ForwardModel*> models, std::vector<inverse::FitData> data,
-              laws::LawShape shape, inverse::FitOptions options, parallel::Communicator* ranks)
+              laws::LawShape shape, inverse::FitOptions options, parallel::Communicator* ranks,
+              std::vector<std::array<double, inverse::kParameterCount>> starts = {})
       : models_(std::move(models)),
         data_(std::move(data)),
         shape_(std::move(shape)),
@@ -162,15 +183,20 @@ class JointFitter {
     weighted_ = inverse::JoinFitData(parts, &offsets).weighted();
     // Uncertainties dropped for all when one specimen lacks them.
     for (inverse::FitData& d : data_)
-      if (!weighted_) d.R_uncertainty.clear();
+      if (!weighted_) d.R_uncertainty.clear(), d.load_uncertainty.clear();
     const std::vector<AloneFit> alone = Dealt(ranks_, models_.size(), [&](std::size_t k) {
-      return AloneFit(inverse::FitBridgingLaw(*models_[k], shape_, data_[k], alone_));
+      inverse::FitOptions own = alone_;
+      if (k < starts.size())
+        for (int i = 0; i < inverse::kParameterCount; ++i)
+          if (!own.fixed[i] && std::isfinite(starts[k][i])) own.initial[i] = starts[k][i];
+      return AloneFit(inverse::FitBridgingLaw(*models_[k], shape_, data_[k], own));
     });
     for (const AloneFit& a : alone) {
       chi2_.push_back(a.chi2);
       dof_.push_back(std::max(1, a.data_points - free_));
       optima_.push_back(a.optimum);
     }
+    if (!data_.empty() && data_.front().target == inverse::FitTarget::kLoad) ScaleByOwnNoise();
   }
 
   Result Fit(const std::vector<std::size_t>& members) {
@@ -178,7 +204,7 @@ class JointFitter {
     std::vector<inverse::FitData> parts;
     std::vector<std::size_t> counts;
     for (std::size_t k : members)
-      models.push_back(models_[k]), parts.push_back(data_[k]), counts.push_back(data_[k].R.size());
+      models.push_back(models_[k]), parts.push_back(data_[k]), counts.push_back(data_[k].size());
     std::vector<double> offsets;
     const inverse::FitData joined = inverse::JoinFitData(parts, &offsets);
     const inverse::JointForwardModel joint(models, counts, offsets);
@@ -223,14 +249,18 @@ class JointFitter {
       r.p_value.push_back(inverse::ChiSquareSurvival(statistic, free_));
     }
     // The verdict per specimen: which reached steady state at the joint law.
-    r.summary.fitted_crack_length.clear();
-    for (const inverse::FitData& d : parts)
-      r.summary.fitted_crack_length.insert(r.summary.fitted_crack_length.end(),
-                                           d.crack_length.begin(), d.crack_length.end());
+    // (A load fit's crack lengths are already the specimens' own: the
+    // model's physical ones.)
+    if (joined.target != inverse::FitTarget::kLoad) {
+      r.summary.fitted_crack_length.clear();
+      for (const inverse::FitData& d : parts)
+        r.summary.fitted_crack_length.insert(r.summary.fitted_crack_length.end(),
+                                             d.crack_length.begin(), d.crack_length.end());
+    }
     r.summary.steady_state_crack_length = NAN;  // one per specimen
     if (r.summary.steady_state_reached) {
       const inverse::ForwardPrediction p =
-          joint.Predict(shape_, inverse::FittedLaw(r.summary), joined.crack_length, joined.kind);
+          PredictData(joint, shape_, joined, inverse::FittedLaw(r.summary));
       std::vector<std::size_t> reached;
       std::size_t start = 0;
       for (std::size_t j = 0; j < members.size(); start += counts[j], ++j)
@@ -259,7 +289,7 @@ class JointFitter {
       at_h.push_back(models_[k]), at_2h.push_back(coarse[k].get()), at_4h.push_back(coarser[k].get());
       have_coarse = have_coarse && coarse[k];
       have_coarser = have_coarser && coarser[k];
-      parts.push_back(data_[k]), counts.push_back(data_[k].R.size());
+      parts.push_back(data_[k]), counts.push_back(data_[k].size());
     }
     std::vector<double> offsets;
     const inverse::FitData joined = inverse::JoinFitData(parts, &offsets);
@@ -274,6 +304,23 @@ class JointFitter {
     return inverse::EstimateModelError(joint, joint_2h ? &*joint_2h : nullptr,
                                        joint_4h ? &*joint_4h : nullptr, resolution, shape_, joined,
                                        options, fit);
+  }
+  // Each specimen's own noise scale s_k^2 (its chi^2 alone over its dof)
+  // in its load uncertainties: records of different specimens carry loads of
+  // different size and noise (and model error), so each row is weighted by
+  // its own specimen's scatter about its own optimum, as the single fit's
+  // intervals are (s_k^2 there). Each chi^2 alone becomes its dof; the
+  // joint chi^2 and the likelihood ratio are then in these units (weighted).
+  void ScaleByOwnNoise() {
+    for (std::size_t k = 0; k < data_.size(); ++k) {
+      const double s2 = chi2_[k] / dof_[k];
+      if (!(std::isfinite(s2) && s2 > 0.0)) continue;  // a failed fit alone: left as it is
+      inverse::FitData& d = data_[k];
+      if (d.load_uncertainty.empty()) d.load_uncertainty.assign(d.load.size(), 1.0);
+      for (double& u : d.load_uncertainty) u *= std::sqrt(s2);
+      chi2_[k] /= s2;
+    }
+    weighted_ = true;
   }
   // Members (positions in the last Fit's list) past steady state at its law.
   const std::vector<std::size_t>& reached() const { return reached_; }
@@ -318,6 +365,9 @@ JointFitRun RunJointFit(const std::vector<FitRequest>& requests,
   std::vector<std::unique_ptr<FitModels>> models;
   std::vector<const inverse::ForwardModel*> model_of;
   std::vector<inverse::FitData> parts;
+  std::vector<std::array<double, inverse::kParameterCount>> starts;
+  std::vector<std::unique_ptr<inverse::ModulusProfiledLoadModel>> profiled;
+  std::vector<double> calibrated_factor, held_series;
   for (std::size_t k = 0; k < runs.size(); ++k) {
     const std::string why = CannotJoin(requests[k], *runs[k], *runs.front());
     BF_CHECK_INPUT(why.empty(), "specimen '" + names[k] + "' cannot join the joint fit: " + why,
@@ -325,23 +375,57 @@ JointFitRun RunJointFit(const std::vector<FitRequest>& requests,
     FitRequest& r = rebuilt.emplace_back(requests[k]);
     if (r.model == ModelChoice::kAuto) r.model = ModelChoice::kReduced;
     r.resolution = runs[k]->resolution;
-    models.push_back(std::make_unique<FitModels>(r, runs[k]->input, runs[k]->data, false,
+    const bool load = runs[k]->load_data.has_value();
+    models.push_back(std::make_unique<FitModels>(r, runs[k]->input, runs[k]->data, load,
                                                  runs[k]->r_kind));
-    models.back()->Build(1.0, 0.0);
-    model_of.push_back(&models.back()->model());
-    parts.push_back(runs[k]->data);
+    if (!load) {
+      models.back()->Build(1.0, 0.0);
+      model_of.push_back(&models.back()->model());
+      parts.push_back(runs[k]->data);
+      continue;
+    }
+    // A load record's nuisance parameters: its modulus scale, profiled out
+    // at every law from its own fit's calibrated value (the model built
+    // there), and its series compliance, held at its own fit's value.
+    const inverse::ComplianceCalibrationResult& c = runs[k]->calibration;
+    const double f0 = c.calibrated() ? c.modulus_factor : 1.0;
+    models.back()->Build(f0, 0.0);
+    const auto* base = dynamic_cast<const inverse::SimulationForwardModel*>(&models.back()->model());
+    BF_CHECK_INPUT(base != nullptr,
+                   "specimen '" + names[k] + "' cannot join the joint fit: its model (" +
+                       models.back()->model().Name() + ") gives no load-displacement record",
+                   {.file = requests[k].input_path, .field = "joint fit"});
+    held_series.push_back(c.calibrated() ? c.series_compliance : 0.0);
+    profiled.push_back(std::make_unique<inverse::ModulusProfiledLoadModel>(
+        *base, held_series.back(), *runs[k]->load_data));
+    model_of.push_back(profiled.back().get());
+    parts.push_back(*runs[k]->load_data);
+    starts.push_back(runs[k]->summary.best_parameters);
+    calibrated_factor.push_back(f0);
   }
-  JointFitter fitter(model_of, parts, out.shape, requests.front().fit, ranks);
+  JointFitter fitter(model_of, parts, out.shape, requests.front().fit, ranks, starts);
   std::vector<std::size_t> members(runs.size());
   for (std::size_t k = 0; k < members.size(); ++k) members[k] = k;
   const JointFitter::Result all = fitter.Fit(members);
   out.summary = all.summary;
-  // The joint model's own error, each specimen coarsened from its own size.
-  std::vector<std::unique_ptr<inverse::ForwardModel>> coarse, coarser;
+  // The joint model's own error, each specimen coarsened from its own size
+  // (a load record's coarser model with its modulus scale profiled too: it
+  // is re-calibrated at that size, as a single fit's model error does).
+  std::vector<std::unique_ptr<inverse::ForwardModel>> coarse, coarser, coarse_bases;
+  const auto coarsened = [&](std::size_t k, double size) -> std::unique_ptr<inverse::ForwardModel> {
+    std::unique_ptr<inverse::ForwardModel> m = models[k]->ReducedAt(size);
+    if (!m || profiled.empty()) return m;
+    const auto* base = dynamic_cast<const inverse::SimulationForwardModel*>(m.get());
+    if (!base) return nullptr;
+    auto wrapped = std::make_unique<inverse::ModulusProfiledLoadModel>(*base, held_series[k],
+                                                                       *runs[k]->load_data);
+    coarse_bases.push_back(std::move(m));
+    return wrapped;
+  };
   for (std::size_t k = 0; k < runs.size(); ++k) {
     const double h = runs[k]->resolution;
-    coarse.push_back(std::isfinite(h) ? models[k]->ReducedAt(2.0 * h) : nullptr);
-    coarser.push_back(std::isfinite(h) ? models[k]->ReducedAt(4.0 * h) : nullptr);
+    coarse.push_back(std::isfinite(h) ? coarsened(k, 2.0 * h) : nullptr);
+    coarser.push_back(std::isfinite(h) ? coarsened(k, 4.0 * h) : nullptr);
   }
   out.model_error =
       fitter.ModelError(members, coarse, coarser, runs.front()->resolution, out.summary);
@@ -349,6 +433,15 @@ JointFitRun RunJointFit(const std::vector<FitRequest>& requests,
   out.consistency = all.consistency;
   out.specimen_statistic = all.statistic;
   out.specimen_p_value = all.p_value;
+  // Each load record's modulus factor at the joint law (its calibrated f0 x g).
+  if (!profiled.empty()) {
+    const inverse::LawParameters at = inverse::FittedLaw(out.summary);
+    for (std::size_t k = 0; k < profiled.size(); ++k) {
+      out.specimen_modulus_factor.push_back(calibrated_factor[k] *
+                                            profiled[k]->ProfiledScale(out.shape, at));
+      out.specimen_calibrated_modulus_factor.push_back(calibrated_factor[k]);
+    }
+  }
   if (out.summary.steady_state_reached) {
     std::vector<std::string> reached;
     for (std::size_t j : fitter.reached()) reached.push_back(names[j]);
@@ -362,7 +455,8 @@ JointFitRun RunJointFit(const std::vector<FitRequest>& requests,
   // specimen of another law pulls the joint law off the others too, so the
   // worst is taken one at a time rather than every p below a limit.
   JointFitter::Result rest = all;
-  while (!rest.consistency.consistent() && members.size() >= 3) {
+  while (std::isfinite(rest.consistency.p_value) && !rest.consistency.consistent() &&
+         members.size() >= 3) {
     const std::size_t worst =
         std::max_element(rest.statistic.begin(), rest.statistic.end()) - rest.statistic.begin();
     out.flagged.push_back(names[members[worst]]);
@@ -392,6 +486,11 @@ std::string JointFitRun::BriefReport() const {
                         std::find(flagged.begin(), flagged.end(), specimens[k]) != flagged.end()
                             ? "  FLAGGED: set aside, the others are one law without it"
                             : "");
+  for (std::size_t k = 0; k < specimen_modulus_factor.size(); ++k)
+    text += fmt::format("  {:<16} modulus factor at the joint law {:.4f} (its own fit's {:.4f}; "
+                        "series compliance held at its own fit's)\n",
+                        specimens[k], specimen_modulus_factor[k],
+                        specimen_calibrated_modulus_factor[k]);
   if (summary_without_flagged) {
     std::vector<std::string> rest;
     for (const std::string& s : specimens)

@@ -47,6 +47,8 @@ SpecimenOutcome Ran() {
   f.fitted_R = {2210.0, NAN};
   f.best_parameters = {1e6, 500.0, 2210.0};
   run.load_data.emplace().load = {1.0, 2.0};
+  run.calibration.modulus_factor = 1.0 / 3.0 + 1.0;
+  run.calibration.series_compliance = 2e-7 / 3.0;
   return s;
 }
 
@@ -84,6 +86,8 @@ TEST(OutcomeWire, ADecodedOutcomeEncodesToTheSameBytes) {
   EXPECT_EQ(run.shape.interpolation, laws::TableInterpolation::kMonotoneCubic);
   ASSERT_TRUE(run.load_data.has_value());
   EXPECT_EQ(run.load_data->load, (std::vector<double>{1.0, 2.0}));
+  EXPECT_EQ(run.calibration.modulus_factor, 1.0 / 3.0 + 1.0);  // the joint fit's nuisance start
+  EXPECT_EQ(run.calibration.series_compliance, 2e-7 / 3.0);
   EXPECT_FALSE(got[2].ran());
   EXPECT_EQ(got[2].error, "record bad.csv: not a number");
 }

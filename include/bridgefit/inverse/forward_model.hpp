@@ -127,6 +127,11 @@ class SimulationForwardModel final : public ForwardModel {
                             const std::vector<double>& crack_lengths, RKind kind) const override;
   ForwardPrediction PredictLoad(const laws::LawShape& shape, const LawParameters& p,
                                 const std::vector<double>& displacements) const override;
+  // PredictLoad with `series_compliance` [m/N] in place of the model's own
+  // (thread-safe: the model is not changed).
+  ForwardPrediction PredictLoadInSeries(const laws::LawShape& shape, const LawParameters& p,
+                                        const std::vector<double>& displacements,
+                                        double series_compliance) const;
 
  private:
   // Runs the simulator for `p`; a failure is in the result's status.

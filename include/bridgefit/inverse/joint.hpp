@@ -21,7 +21,10 @@ namespace bridgefit::inverse {
 // whether it lies past its own specimen's steady state (J_B is identified by
 // the specimens that reached it), and gives the physical crack length
 // (crack_length_physical) and R (R_physical) for the bounds and reports.
-// R-curve data only (no PredictLoad).
+// PredictLoad does the same for load-displacement records: the displacements
+// split into the blocks (no shift: a load fit's rows need not ascend), each
+// specimen's model - built at its own calibrated moduli and series
+// compliance - predicting its own rows.
 class JointForwardModel final : public ForwardModel {
  public:
   JointForwardModel(std::vector<const ForwardModel*> models, std::vector<std::size_t> counts,
@@ -29,17 +32,57 @@ class JointForwardModel final : public ForwardModel {
   std::string Name() const override;
   ForwardPrediction Predict(const laws::LawShape& shape, const LawParameters& p,
                             const std::vector<double>& crack_lengths, RKind kind) const override;
+  ForwardPrediction PredictLoad(const laws::LawShape& shape, const LawParameters& p,
+                                const std::vector<double>& displacements) const override;
 
  private:
+  // Joins the blocks' predictions (`load`: PredictLoad's, else Predict's).
+  ForwardPrediction Joined(const laws::LawShape& shape, const LawParameters& p,
+                           const std::vector<double>& axis, RKind kind, bool load) const;
   std::vector<const ForwardModel*> models_;
   std::vector<std::size_t> counts_;
   std::vector<double> offsets_;
 };
 
-// The specimens' R-curve data end to end (same kind; uncertainties kept only
-// when every specimen has them). A fit's crack-length axis ascends: block k
-// is shifted by offsets[k] (>= 0) to start 1 mm past block k - 1's end.
-// Throws Error (kInput) for load data or mixed kinds.
+// A specimen's load-displacement model with its modulus scale profiled out
+// (the joint fit's per-specimen nuisance parameter, docs/CAMPAIGN.md): the
+// model at moduli g x those of `base` (built at the specimen's calibrated
+// modulus factor f0, without series compliance) and `series_compliance`
+// [m/N] in series, with g chosen at every law to minimise the chi^2 of the
+// specimen's own `rows` (golden section on ln g within +-`span`, to 1e-5).
+// No model is rebuilt: all moduli x g is the same elastic problem with
+// displacements / g, so the model at g under (sigma_c, J_B, J_tip,c) is the
+// base model under (sigma_c, g J_B, g J_tip,c) at displacements g D with the
+// series compliance g C_s, its R and openings / g and its loads as they are
+// (exact for a linear-elastic model with every modulus scaled alike).
+// PredictLoad must be asked at the rows' own displacements.
+class ModulusProfiledLoadModel final : public ForwardModel {
+ public:
+  ModulusProfiledLoadModel(const SimulationForwardModel& base, double series_compliance,
+                           FitData rows, double span = 0.05);
+  std::string Name() const override { return base_.Name() + " (modulus scale profiled)"; }
+  ForwardPrediction Predict(const laws::LawShape& shape, const LawParameters& p,
+                            const std::vector<double>& crack_lengths, RKind kind) const override;
+  ForwardPrediction PredictLoad(const laws::LawShape& shape, const LawParameters& p,
+                                const std::vector<double>& displacements) const override;
+  // The base model at relative modulus scale g (no profiling).
+  ForwardPrediction PredictLoadAtScale(const laws::LawShape& shape, const LawParameters& p,
+                                       const std::vector<double>& displacements, double g) const;
+  // The scale g [-] the profile chooses for law p (NaN when every run failed).
+  double ProfiledScale(const laws::LawShape& shape, const LawParameters& p) const;
+
+ private:
+  const SimulationForwardModel& base_;
+  double series_compliance_;
+  FitData rows_;
+  double span_;
+};
+
+// The specimens' data end to end (uncertainties kept only when every
+// specimen has them). R curves (same kind): a fit's crack-length axis
+// ascends, so block k is shifted by offsets[k] (>= 0) to start 1 mm past
+// block k - 1's end. Load-displacement records: the rows joined as they are
+// (offsets all 0). Throws Error (kInput) for mixed targets or R kinds.
 FitData JoinFitData(const std::vector<FitData>& parts, std::vector<double>* offsets);
 
 // Likelihood ratio of the joint fit against the separate ones: with the

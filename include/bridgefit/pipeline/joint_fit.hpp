@@ -32,6 +32,10 @@ struct JointFitRun {
   // Per specimen: its chi^2 at the joint law over its own optimum's, in
   // units of s^2, and that difference's chi^2 tail on k degrees of freedom.
   std::vector<double> specimen_statistic, specimen_p_value;
+  // Load-displacement records (empty for R curves): each specimen's modulus
+  // factor (all moduli x it) profiled at the joint law, and its own fit's
+  // calibrated one that the profile starts from (ModulusProfiledLoadModel).
+  std::vector<double> specimen_modulus_factor, specimen_calibrated_modulus_factor;
   // Not one law: the specimens set aside one at a time (the one the joint
   // law misses most) until the rest is consistent or two are left, and the
   // joint fit of the rest.
@@ -43,8 +47,12 @@ struct JointFitRun {
 };
 
 // Specimens already fitted one by one (their requests and runs, same order as
-// `names`), R-curve fits of one law shape and one R kind with the reduced or
-// analytic model (--model auto: its reduced model). Each model is rebuilt as
+// `names`), all R-curve fits (one R kind) or all load-displacement fits, of
+// one law shape with the reduced or analytic model (--model auto: its
+// reduced model). A load record's modulus scale is profiled out at every law
+// (inverse::ModulusProfiledLoadModel, from its own fit's calibrated value),
+// its series compliance held at its own fit's value, and each record's rows
+// weighted by its own noise scale (its chi^2 alone over its dof). Each model is rebuilt as
 // the specimen's own fit used it (element size, scene); the specimens are
 // re-fitted alone with the joint fit's options (no outlier removal) so the
 // likelihood ratio compares like with like. Throws Error (kInput) for
