@@ -33,7 +33,8 @@ int main(int argc, char** argv) {
   if (argc > 1 && (std::string(argv[1]) == "-h" || std::string(argv[1]) == "--help")) {
     std::printf(
         "usage: bf_validate [cases=300 | i,j,k] [seed=17] [jobs=2] [out_dir=out/validate] "
-        "[first=0] [max_wall_s=0]\n       bf_validate --scene SEED INDEX\n");
+        "[first=0] [max_wall_s=0]\n       bf_validate --scene SEED INDEX\n"
+        "BF_VALIDATE_IMAGES=N: the first N CT energy cases also run as images -> DIC -> fit\n");
     return 0;
   }
   if (argc == 4 && std::string(argv[1]) == "--scene") {  // bf_validate --scene SEED INDEX
