@@ -10,6 +10,9 @@
 //   bf_validate 22,37,40 [seed] [jobs] [out_dir]   runs the listed cases only
 //   bf_validate --scene SEED INDEX   prints case INDEX as a scene TOML with
 //                                    the synth and fit commands that rerun it
+// BF_VALIDATE_IMAGES=N: the first N CT energy cases of those run also run on
+// the images route (images -> DIC -> fit), as extra rows labelled "images";
+// the draws themselves are unchanged.
 #include <atomic>
 #include <chrono>
 #include <cstdio>
@@ -30,7 +33,8 @@ int main(int argc, char** argv) {
   if (argc > 1 && (std::string(argv[1]) == "-h" || std::string(argv[1]) == "--help")) {
     std::printf(
         "usage: bf_validate [cases=300 | i,j,k] [seed=17] [jobs=2] [out_dir=out/validate] "
-        "[first=0] [max_wall_s=0]\n       bf_validate --scene SEED INDEX\n");
+        "[first=0] [max_wall_s=0]\n       bf_validate --scene SEED INDEX\n"
+        "BF_VALIDATE_IMAGES=N: the first N CT energy cases also run as images -> DIC -> fit\n");
     return 0;
   }
   if (argc == 4 && std::string(argv[1]) == "--scene") {  // bf_validate --scene SEED INDEX
@@ -58,6 +62,20 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "bf_validate: cases must be positive\n");
     return 2;
   }
+  std::vector<ValidationCase> specs;
+  for (int index : indices) specs.push_back(DrawCase(seed, index));
+  const char* images_env = std::getenv("BF_VALIDATE_IMAGES");
+  int images_left = images_env ? std::atoi(images_env) : 0;
+  for (int i = 0; i < cases && images_left > 0; ++i) {
+    if (specs[i].route != Route::kEnergy ||
+        specs[i].scene.specimen.type != bridgefit::SpecimenType::kCT)
+      continue;
+    ValidationCase by_images = specs[i];
+    by_images.route = Route::kImages;
+    specs.push_back(by_images);
+    --images_left;
+  }
+  const int rows = static_cast<int>(specs.size());
   std::filesystem::create_directories(out);
   const std::string base = "validation";
   const auto t0 = std::chrono::steady_clock::now();
@@ -65,8 +83,8 @@ int main(int argc, char** argv) {
   auto elapsed = [&t0] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   };
-  std::vector<CaseResult> results(cases);
-  std::vector<char> finished(cases, 0);
+  std::vector<CaseResult> results(rows);
+  std::vector<char> finished(rows, 0);
   std::atomic<int> next{0};
   std::mutex io;
   std::ofstream csv(out / (base + ".csv"));
@@ -74,15 +92,15 @@ int main(int argc, char** argv) {
   int done = 0;
   // Cases side by side, each fit serial inside (threads = 1) when jobs > 1.
   auto worker = [&] {
-    for (int i = next++; i < cases; i = next++) {
+    for (int i = next++; i < rows; i = next++) {
       if (max_wall_s > 0.0 && elapsed() > max_wall_s) break;
-      const ValidationCase spec = DrawCase(seed, indices[i]);
+      const ValidationCase& spec = specs[i];
       results[i] = RunCase(spec, jobs > 1 ? 1 : 0);
       std::lock_guard<std::mutex> lock(io);
       finished[i] = 1;
       csv << CaseCsvRow(results[i]) << std::flush;
       const CaseResult& r = results[i];
-      std::printf("[%d/%d] %s: %s, fit %.1f s%s\n", ++done, cases, spec.Label().c_str(),
+      std::printf("[%d/%d] %s: %s, fit %.1f s%s\n", ++done, rows, spec.Label().c_str(),
                   r.ran ? "ok" : r.error.c_str(), r.fit_s,
                   r.ran && (r.parameters[0].silent_failure || r.parameters[1].silent_failure ||
                             r.parameters[2].silent_failure)
@@ -96,12 +114,13 @@ int main(int argc, char** argv) {
   for (std::thread& t : pool) t.join();
   const double wall = elapsed();
   std::vector<CaseResult> run;
-  for (int i = 0; i < cases; ++i)
+  for (int i = 0; i < rows; ++i)
     if (finished[i]) run.push_back(std::move(results[i]));
 
   const CampaignStats stats = Summarise(run);
   std::string text = "bf_validate " + std::to_string(run.size()) + " of " +
-                     std::to_string(cases) + " cases run, seed " +
+                     std::to_string(rows) + " rows run (" + std::to_string(rows - cases) +
+                     " of them the images route's), seed " +
                      std::to_string(seed) + ", first case " + std::to_string(first) + ", " +
                      std::to_string(jobs) + " jobs, wall " + std::to_string(int(wall)) + " s\n";
   text += SummaryTable(stats);

@@ -3,17 +3,23 @@
 #include "validation.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <cmath>
 #include <random>
+
+#include <unistd.h>
 
 #include <fmt/format.h>
 
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/core/input_limits.hpp"
+#include "bridgefit/dic/sequence.hpp"
+#include "bridgefit/dic/settings.hpp"
 #include "bridgefit/inverse/fit.hpp"
 #include "bridgefit/io/csv.hpp"
 #include "bridgefit/pipeline/fit.hpp"
@@ -150,6 +156,68 @@ ParameterCheck CheckParameter(const inverse::ParameterEstimate& e, double truth,
   return c;
 }
 
+// The images route's DIC: the frames written as `bridgefit synth` writes
+// them (a temporary folder, removed after), analysed with `bridgefit dic`'s
+// defaults along the synth window's crack line (the image's middle row;
+// scale and left edge from the window, as scripts/demo.sh gives them), each
+// length compared with the frame's true tip. A flagged frame, or one after
+// the reference without a length, is a case warning (`bridgefit dic` prints
+// both).
+pipeline::FitRequest::FrameCrackLengths MeasureFrames(const ValidationCase& spec,
+                                                      const pipeline::SynthTest& test, int threads,
+                                                      CaseResult& result) {
+  static std::atomic<unsigned> serial{0};
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() /
+      fmt::format("bf_validate_{}_{}_{}", static_cast<long>(::getpid()), spec.index, serial++);
+  struct Remove {  // the folder goes whatever happens
+    std::filesystem::path dir;
+    ~Remove() {
+      std::error_code ec;
+      std::filesystem::remove_all(dir, ec);
+    }
+  } remove{dir};
+  pipeline::WriteSyntheticTest(test, dir, "record.csv");
+  std::vector<std::filesystem::path> images;
+  for (const pipeline::SynthFrame& f : test.frames)
+    images.push_back(dir / "images" / pipeline::SynthFrameName(f.index));
+  dic::DicSettings settings;
+  settings.scale_m_per_px = test.window.scale;
+  settings.offset_m = test.window.x0;
+  const double row = 0.5 * kImageHeight;
+  settings.crack_line = dic::CrackLine{0.0, row, kImageWidth - 1.0, row};
+  settings.threads = threads;
+  const dic::CrackSequenceResult dic = dic::AnalyzeCrackSequence(images, dic::MakeSequenceOptions(settings));
+  pipeline::FitRequest::FrameCrackLengths frames;
+  frames.source = "DIC of validation case " + std::to_string(spec.index);
+  double sum = 0.0, worst = 0.0;
+  for (std::size_t k = 0; k < dic.frames.size(); ++k) {
+    const dic::FrameResult& f = dic.frames[k];
+    frames.image.push_back(f.image);
+    frames.crack_length.push_back(f.has_length ? f.crack_length_m : NAN);
+    if (k == 0) continue;  // the reference
+    const std::string file = std::filesystem::path(f.image).filename().string();
+    if (!f.has_length) {
+      result.warnings.push_back("DIC " + file + ": no crack length");
+      ++result.dic_flagged;
+      continue;
+    }
+    if (f.flagged) {
+      result.warnings.push_back("DIC " + file + ": flagged " + f.Flags());
+      ++result.dic_flagged;
+    }
+    const double error = f.crack_length_m - test.frames[k].crack_length;
+    sum += error;
+    worst = std::max(worst, std::abs(error));
+    ++result.dic_frames;
+  }
+  if (result.dic_frames > 0) {
+    result.dic_mean_error = sum / result.dic_frames;
+    result.dic_max_abs_error = worst;
+  }
+  return frames;
+}
+
 // The request `bridgefit fit RECORD --scene S --law FAMILY` makes (apps/
 // cmd_fit.cpp defaults: BOBYQA, 4 starts, profiles, --resolution auto), with
 // the route's flags: --rcurve-method mbt, or --fit-to load-displacement
@@ -186,6 +254,7 @@ const char* RouteName(Route route) {
     case Route::kEnergy: return "energy";
     case Route::kMbt: return "mbt";
     case Route::kLoad: return "load";
+    case Route::kImages: return "images";
   }
   return "?";
 }
@@ -238,7 +307,10 @@ CaseResult RunCase(const ValidationCase& spec, int threads) {
     synth.load_noise = spec.load_noise;
     synth.displacement_noise = spec.displacement_noise;
     synth.crack_noise = spec.crack_noise;
-    synth.frames = 0;
+    const bool images = spec.route == Route::kImages;
+    synth.frames = images ? kImageFrames : 0;
+    synth.image_width = kImageWidth;
+    synth.image_height = kImageHeight;
     result.generation_failed = true;  // until the record is made
     const pipeline::SynthTest test = pipeline::MakeSyntheticTest(synth);
     result.truth_steady_state = test.simulation.steady_state_reached;
@@ -256,8 +328,14 @@ CaseResult RunCase(const ValidationCase& spec, int threads) {
     result.generate_s = Seconds(t0);
     result.generation_failed = false;
 
+    pipeline::FitRequest request = FitRequestFor(spec, std::move(record), threads);
+    if (images) {
+      const auto t_dic = std::chrono::steady_clock::now();
+      request.frame_crack_lengths = MeasureFrames(spec, test, threads, result);
+      result.dic_s = Seconds(t_dic);
+    }
     const auto t1 = std::chrono::steady_clock::now();
-    const pipeline::FitRun run = pipeline::RunFit(FitRequestFor(spec, std::move(record), threads));
+    const pipeline::FitRun run = pipeline::RunFit(request);
     result.fit_s = Seconds(t1);
     if (std::getenv("BF_VALIDATE_VERBOSE"))  // the fit's report, as `bridgefit fit` prints it
       std::fprintf(stderr, "%s: model error: %s\n%s", spec.Label().c_str(),
@@ -268,7 +346,7 @@ CaseResult RunCase(const ValidationCase& spec, int threads) {
     result.converged = s.converged;
     result.fit_resolution = run.resolution;
     result.data_points = s.data_points;
-    result.warnings = CaseWarnings(run);
+    for (std::string& w : CaseWarnings(run)) result.warnings.push_back(std::move(w));
     const bool case_warned = !result.warnings.empty();
     const laws::LawScales& truth = spec.scene.bridging->scales;
     result.parameters[0] = CheckParameter(s.sigma_c, truth.sigma_c, case_warned);

@@ -12,6 +12,7 @@
 //   CampaignStats s = Summarise(results);   // coverage, bias, silent failures
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -23,9 +24,17 @@ namespace bridgefit::validate {
 
 // How the record reaches the law: its energy R curve (the default), its MBT
 // R curve (DCB), or the load-displacement record itself with the compliance
-// calibrated along the measured crack.
-enum class Route { kEnergy, kMbt, kLoad };
-const char* RouteName(Route route);  // "energy", "mbt", "load"
+// calibrated along the measured crack. kImages: the energy route with the
+// crack lengths a DIC run measures on the case's speckle frames (images ->
+// DIC -> fit, as `bridgefit dic` then `rcurve --crack-length-from`); never
+// drawn by DrawCase, only asked for (bf_validate's BF_VALIDATE_IMAGES).
+enum class Route { kEnergy, kMbt, kLoad, kImages };
+const char* RouteName(Route route);  // "energy", "mbt", "load", "images"
+
+// The images route's frames: kImageFrames speckle frames of
+// kImageWidth x kImageHeight px (pipeline::SynthImageWindow's window).
+inline constexpr int kImageFrames = 12;
+inline constexpr int kImageWidth = 400, kImageHeight = 300;
 
 struct ValidationCase {
   int index = 0;
@@ -91,6 +100,13 @@ struct CaseResult {
   std::vector<std::string> warnings;  // case-level warnings (see Warnings in the .cpp)
   std::array<ParameterCheck, 3> parameters{};  // sigma_c, J_B, J_tip_c
   double generate_s = 0.0, fit_s = 0.0;
+  // Images route only (else 0 / NaN): the DIC's crack lengths against the
+  // frames' true tips, over the frames after the reference that have a length.
+  int dic_frames = 0;            // frames with a length
+  int dic_flagged = 0;           // frames flagged or without a length (case warnings)
+  double dic_mean_error = NAN;   // [m], mean (DIC - truth)
+  double dic_max_abs_error = NAN;  // [m]
+  double dic_s = 0.0;            // writing the frames and the DIC
 };
 
 // Generates the record and fits it (never throws: a thrown Error is

@@ -4,5 +4,5 @@ if(NOT TARGET bf_validation)
   add_library(bf_validation STATIC ${CMAKE_CURRENT_LIST_DIR}/validation.cpp
                                    ${CMAKE_CURRENT_LIST_DIR}/validation_report.cpp)
   target_include_directories(bf_validation PUBLIC ${CMAKE_CURRENT_LIST_DIR})
-  target_link_libraries(bf_validation PUBLIC bf_pipeline bf_scene PRIVATE bf_io bf_specimen fmt::fmt)
+  target_link_libraries(bf_validation PUBLIC bf_pipeline bf_scene PRIVATE bf_dic bf_io bf_specimen fmt::fmt)
 endif()

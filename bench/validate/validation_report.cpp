@@ -123,7 +123,7 @@ std::string CaseCsvHeader() {
         "{0}_warned, {0}_failure, {0}_silent_failure",
         n, u);
   }
-  return h + ", warnings\n";
+  return h + ", dic_frames, dic_flagged, dic_mean_error_mm, dic_max_abs_error_mm, dic_s, warnings\n";
 }
 
 std::string CaseCsvRow(const CaseResult& r) {
@@ -155,6 +155,8 @@ std::string CaseCsvRow(const CaseResult& r) {
   }
   std::string warnings;
   for (const std::string& w : r.warnings) warnings += (warnings.empty() ? "" : " | ") + w;
+  row += fmt::format(", {}, {}, {}, {}, {:.2f}", r.dic_frames, r.dic_flagged, Num(r.dic_mean_error * 1e3),
+                     Num(r.dic_max_abs_error * 1e3), r.dic_s);
   return row + ", " + CsvText(warnings) + "\n";
 }
 
