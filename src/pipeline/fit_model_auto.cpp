@@ -117,12 +117,12 @@ void FitCheckedByMpm(const FitRequest& request, FitModels& models, const inverse
   const double finest = models.mpm_cell() / std::pow(2.0, request.mpm_cell_halvings);
   const double limit = kConvergenceShare * request.model_tolerance;
   std::string tried, verdict;
+  double step_to_here = NAN;  // MPM's R step from the coarser cell to this one (none at first)
   for (;;) {
     run.summary = inverse::FitWithModelCheck(models.model(), *models.accurate(), run.shape, data,
                                              options, run.check, &run.model_check);
     run.model_note = "auto: " + run.model_check.outcome;
     run.mpm_cell = models.mpm_cell();
-    const double coarser_step = run.mpm_convergence;  // the step that led to this cell
     run.mpm_convergence = NAN;
     if (!auto_cell) return;
     if (!run.model_check.accurate_ok) {
@@ -131,10 +131,10 @@ void FitCheckedByMpm(const FitRequest& request, FitModels& models, const inverse
     }
     // MPM's own error at a halved cell is, to order 1, the step that led to
     // it (R(h) - R(h/2) = C h/2): accepted without a finer run when small.
-    if (coarser_step <= limit) {
-      run.mpm_convergence = 0.5 * coarser_step;  // its step to half the cell, order 1
+    if (step_to_here <= limit) {
+      run.mpm_convergence = 0.5 * step_to_here;  // its step to half the cell, order 1
       tried += fmt::format(", {:.3g} mm {:.2f}% (the step from the coarser cell)",
-                           run.mpm_cell * 1e3, 100 * coarser_step);
+                           run.mpm_cell * 1e3, 100 * step_to_here);
       verdict = "accepted";
       break;
     }
@@ -166,7 +166,7 @@ void FitCheckedByMpm(const FitRequest& request, FitModels& models, const inverse
       break;
     }
     models.UseMpmCell(0.5 * run.mpm_cell);
-    run.mpm_convergence = 0.5 * error;  // the step to the new cell, read above
+    step_to_here = run.mpm_convergence;
   }
   run.mpm_cell_choice = fmt::format(
       "--mpm-cell auto: {:.3g} mm, {} (MPM's own error, twice its R step to half the cell, "
