@@ -39,7 +39,8 @@ int main(int argc, char** argv) {
   try {
     const fs::path dir = argv[1];
     const Scene scene = io::ReadSceneFile(argv[2]);
-    const int width = argc > 4 ? std::stoi(argv[3]) : 400, height = argc > 4 ? std::stoi(argv[4]) : 320;
+    const int width = argc > 4 ? std::stoi(argv[3]) : 400,
+              height = argc > 4 ? std::stoi(argv[4]) : 320;
     constexpr double kScale = 0.1e-3, kOffset = 15e-3;
     const laws::BridgingLaw law = scene.bridging->Law();
     const MaterialSpec& m = scene.material;
@@ -60,13 +61,15 @@ int main(int argc, char** argv) {
 
     const io::CsvTable truth = io::ReadCsvTable(dir / "images" / "truth.csv");
     const auto crack = truth.ColumnSi("crack_length", Dimension::Length());
-    const auto tip_x = truth.columns[truth.Find("tip_x")], tip_y = truth.columns[truth.Find("tip_y")];
+    const auto tip_x = truth.columns[truth.Find("tip_x")],
+               tip_y = truth.columns[truth.Find("tip_y")];
     const auto K = truth.columns[truth.Find("K_I")];
     const auto tx = truth.columns[truth.Find("translation_x")];
     const auto ty = truth.columns[truth.Find("translation_y")];
     const auto J = truth.columns[truth.Find("J_ff")];
-    std::printf("frame  zone[mm]  tip err[px]  J err [%%]: DIC/DIC tip  DIC/true tip  exact/DIC tip  "
-                "exact/true tip\n");
+    std::printf(
+        "frame  zone[mm]  tip err[px]  J err [%%]: DIC/DIC tip  DIC/true tip  exact/DIC tip  "
+        "exact/true tip\n");
     double ss[4] = {0, 0, 0, 0};
     int n = 0;
     for (size_t k = 1; k < run.frames.size() && k < J.size(); ++k) {
@@ -87,7 +90,8 @@ int main(int argc, char** argv) {
         b.k_over_2mu = k2mu;
         b.traction_over_2mu = [&](double d) { return law.Traction(d * kScale) / (2 * mu); };
         b.Solve();
-        for (size_t i = 0; i < exact.size(); ++i) b(exact.x[i], exact.y[i], &exact.u[i], &exact.v[i]);
+        for (size_t i = 0; i < exact.size(); ++i)
+          b(exact.x[i], exact.y[i], &exact.u[i], &exact.v[i]);
       } else {
         dic::ModeICrackField e;
         e.tip_x = tip_x[k];
@@ -96,20 +100,22 @@ int main(int argc, char** argv) {
         e.k_over_2mu = k2mu;
         e.translation_x = tx[k];
         e.translation_y = ty[k];
-        for (size_t i = 0; i < exact.size(); ++i) e(exact.x[i], exact.y[i], &exact.u[i], &exact.v[i]);
+        for (size_t i = 0; i < exact.size(); ++i)
+          e(exact.x[i], exact.y[i], &exact.u[i], &exact.v[i]);
       }
       double du2 = 0, dv2 = 0;
       int ok = 0;
       for (size_t i = 0; i < exact.size(); ++i)
         if (f.field.ok(i)) {
-          du2 += std::pow(f.field.u[i] - exact.u[i], 2), dv2 += std::pow(f.field.v[i] - exact.v[i], 2);
+          du2 += std::pow(f.field.u[i] - exact.u[i], 2),
+              dv2 += std::pow(f.field.v[i] - exact.v[i], 2);
           ++ok;
         }
       const dic::CrackLine& L = f.line_used;
       auto j_of = [&](const dic::DisplacementField& field, double x, double y, double s) {
-        const dic::FrameJ r = dic::ComputeFrameJ(field, x, y, s, L.x1 - L.x0, L.y1 - L.y0,
-                                                 opt.tip.band_half_width_px, kScale, kOffset,
-                                                 opt.j_integral);
+        const dic::FrameJ r =
+            dic::ComputeFrameJ(field, x, y, s, L.x1 - L.x0, L.y1 - L.y0, opt.tip.band_half_width_px,
+                               kScale, kOffset, opt.j_integral);
         return r.status == dic::FrameJStatus::kOk ? 100 * (r.J_ff / J[k] - 1) : NAN;
       };
       const double true_s = std::hypot(tip_x[k] - L.x0, tip_y[k] - L.y0);
@@ -117,14 +123,16 @@ int main(int argc, char** argv) {
                            j_of(f.field, tip_x[k], tip_y[k], true_s),
                            j_of(exact, f.tip.tip.x_px, f.tip.tip.y_px, f.tip.tip.s_px),
                            j_of(exact, tip_x[k], tip_y[k], true_s)};
-      std::printf("%5zu  %7.2f  %+8.2f  %+10.2f  %+12.2f  %+13.2f  %+13.2f   u, v RMS err %.4f %.4f px\n",
-                  k, zone_px * kScale * 1e3, f.tip.tip.x_px - tip_x[k], e[0], e[1], e[2], e[3],
-                  std::sqrt(du2 / ok), std::sqrt(dv2 / ok));
+      std::printf(
+          "%5zu  %7.2f  %+8.2f  %+10.2f  %+12.2f  %+13.2f  %+13.2f   u, v RMS err %.4f %.4f px\n",
+          k, zone_px * kScale * 1e3, f.tip.tip.x_px - tip_x[k], e[0], e[1], e[2], e[3],
+          std::sqrt(du2 / ok), std::sqrt(dv2 / ok));
       for (int i = 0; i < 4; ++i) ss[i] += e[i] * e[i];
       ++n;
     }
     std::printf("RMS [%%] over %d frames:      %+10.2f  %+12.2f  %+13.2f  %+13.2f\n", n,
-                std::sqrt(ss[0] / n), std::sqrt(ss[1] / n), std::sqrt(ss[2] / n), std::sqrt(ss[3] / n));
+                std::sqrt(ss[0] / n), std::sqrt(ss[1] / n), std::sqrt(ss[2] / n),
+                std::sqrt(ss[3] / n));
   } catch (const Error& e) {
     std::fprintf(stderr, "%s\n", e.what());
     return 1;

@@ -75,18 +75,21 @@ int main(int argc, char** argv) {
       so.bit_depth = depth;
       const dic::SpeckleRenderer renderer(so);
       dic::Correlator correlator(copt, renderer.RenderReference(ref_seed * 1000));
-      const dic::DisplacementField f = correlator.Next(renderer.Render(field, def_seed * 1000 + 15));
+      const dic::DisplacementField f =
+          correlator.Next(renderer.Render(field, def_seed * 1000 + 15));
       const dic::FrameJ r = dic::ComputeFrameJ(f, kTipX, kTipY, kTipX, 1, 0,
                                                opt.tip.band_half_width_px, kScale, kOffset, jo);
       return r.status == dic::FrameJStatus::kOk ? 100 * (r.J_ff / J_true - 1) : NAN;
     };
     std::printf("J_ff error [%%] of one K-field frame (J = %.1f J/m^2), true tip\n", J_true);
-    std::printf("pattern  noise 0.005 8-bit: reference/deformed noise draws 1/1  1/2  2/1  2/2"
-                "   noise 0 16-bit   noise 0.02 8-bit\n");
+    std::printf(
+        "pattern  noise 0.005 8-bit: reference/deformed noise draws 1/1  1/2  2/1  2/2"
+        "   noise 0 16-bit   noise 0.02 8-bit\n");
     for (int p = 1; p <= patterns; ++p)
       std::printf("%7d  %+8.2f %+8.2f %+8.2f %+8.2f  %+14.2f  %+14.2f\n", p,
-                  j_error(p, 0.005, 8, 1, 1), j_error(p, 0.005, 8, 1, 2), j_error(p, 0.005, 8, 2, 1),
-                  j_error(p, 0.005, 8, 2, 2), j_error(p, 0.0, 16, 1, 1), j_error(p, 0.02, 8, 1, 1));
+                  j_error(p, 0.005, 8, 1, 1), j_error(p, 0.005, 8, 1, 2),
+                  j_error(p, 0.005, 8, 2, 1), j_error(p, 0.005, 8, 2, 2), j_error(p, 0.0, 16, 1, 1),
+                  j_error(p, 0.02, 8, 1, 1));
   } catch (const Error& e) {
     std::fprintf(stderr, "%s\n", e.what());
     return 1;

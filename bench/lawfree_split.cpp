@@ -66,7 +66,8 @@ int main(int argc, char** argv) {
     // The onset as the pipeline takes it: the frame with delta* = 0 (dic's
     // onset marker; synth's frame 1), the same sample in all four.
     for (size_t i = 0; i < mm.opening.size(); ++i)
-      if (mm.opening[i] == 0.0) mm.onset_index = tm.onset_index = mt.onset_index = tt.onset_index = static_cast<int>(i);
+      if (mm.opening[i] == 0.0)
+        mm.onset_index = tm.onset_index = mt.onset_index = tt.onset_index = static_cast<int>(i);
     auto report = [&](const char* name, const laws::FarFieldJSamples& in) {
       laws::LawFreeResult r;
       try {

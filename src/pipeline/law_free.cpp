@@ -61,16 +61,27 @@ namespace {
 // |delta*| <= this many standard uncertainties reads as zero opening.
 constexpr double kOnsetOpeningZ = 2.0;
 
-// The onset frame (docs/LAW_FREE.md "Onset of growth"): the last frame
-// whose notch-root opening is zero within its uncertainty (|delta*| <=
-// onset_opening_z u; dic writes delta* = 0, u = 0 where the tip is within a
-// grid step of the root: the root is the tip). -1: none.
+bool ZeroOpening(const DicJSeries& s, size_t k) {
+  if (s.delta_star_status[k] != "ok" || !std::isfinite(s.delta_star[k])) return false;
+  const double u = std::isfinite(s.delta_star_uncertainty[k]) ? s.delta_star_uncertainty[k] : 0;
+  return std::abs(s.delta_star[k]) <= kOnsetOpeningZ * u;
+}
+
+// The onset frame (docs/LAW_FREE.md "What each route needs"): the last
+// frame of the leading run whose notch-root opening is zero within its
+// uncertainty (|delta*| <= kOnsetOpeningZ u; dic writes delta* = 0, u = 0
+// while the tip is within a grid step of the root: the root is the tip).
+// The run ends at the first frame with an opening; a zero read after it is
+// an anomaly (ZeroAfterGrowth), not the onset. -1: none.
 int OnsetFrame(const DicJSeries& s) {
   int onset = -1;
   for (size_t k = 0; k < s.image.size(); ++k) {
     if (s.delta_star_status[k] != "ok" || !std::isfinite(s.delta_star[k])) continue;
-    const double u = std::isfinite(s.delta_star_uncertainty[k]) ? s.delta_star_uncertainty[k] : 0;
-    if (std::abs(s.delta_star[k]) <= kOnsetOpeningZ * u) onset = static_cast<int>(k);
+    if (!ZeroOpening(s, k)) {
+      if (onset >= 0) break;
+      continue;
+    }
+    onset = static_cast<int>(k);
   }
   return onset;
 }
@@ -90,6 +101,12 @@ laws::FarFieldJSamples JSamples(const DicJSeries& s, const LawFreeRequest& reque
     const bool d_ok = s.delta_star_status[k] == "ok" && std::isfinite(s.delta_star[k]);
     if (static_cast<int>(k) < onset && j_ok && d_ok) {
       ++before;
+      continue;
+    }
+    if (onset >= 0 && static_cast<int>(k) > onset && ZeroOpening(s, k)) {
+      notes.push_back(fmt::format(
+          "warning: frame {} ({}) reads delta* = 0 after growth began at frame {}: skipped", k,
+          s.image[k], onset));
       continue;
     }
     if (!j_ok || !d_ok) {

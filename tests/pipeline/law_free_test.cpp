@@ -124,7 +124,15 @@ TEST(LawFree, JRouteRecoversTheLawAndSkipsAFailedFrameWithANote) {
 // out with a note; main passed them on and the repeated openings threw.
 TEST(LawFree, JRouteOnsetIsTheLastFrameWithZeroOpening) {
   const fs::path dir = TempDir("onset");
-  const dic::CrackSequenceResult run = ExactRun(26, -1, 4);  // frames 1-4 at delta* = 0
+  dic::CrackSequenceResult run = ExactRun(26, -1, 4);  // frames 1-4 at delta* = 0
+  // The onset frame's opening measured, not set: zero within 2 standard
+  // uncertainties counts as zero.
+  run.frames[4].j.delta_star = 1.5e-7;
+  run.frames[4].j.delta_star_uncertainty = 1e-7;
+  // A zero opening read after growth began is an anomaly, skipped with a
+  // warning, not a later onset.
+  run.frames[20].j.delta_star = 0;
+  run.frames[20].j.delta_star_uncertainty = 0;
   WriteDicH5((dir / "dic.h5").string(), run, JOptions());
   LawFreeRequest request;
   request.dic_file = dir / "dic.h5";
@@ -134,13 +142,17 @@ TEST(LawFree, JRouteOnsetIsTheLastFrameWithZeroOpening) {
   const laws::LawFreeResult& r = *out.far_field;
   EXPECT_FALSE(r.onset_detected);
   EXPECT_EQ(r.onset_index, 0);
-  EXPECT_EQ(r.points_used, 22);  // frames 4 .. 25
+  EXPECT_EQ(r.points_used, 21);  // frames 4 .. 25 but 20
   EXPECT_NEAR(r.J_tip_c, kJtip, 0.01 * kJtip);
   bool noted = false;
   for (const std::string& n : out.notes)
     noted = noted || (n.find("onset of growth: frame 4 ") == 0 &&
                       n.find("3 frame(s) before it left out") != std::string::npos);
   EXPECT_TRUE(noted) << "no note on the onset frame and the frames before it";
+  bool anomaly = false;
+  for (const std::string& n : out.notes)
+    anomaly = anomaly || n.find("warning: frame 20 ") == 0;
+  EXPECT_TRUE(anomaly) << "no warning on frame 20's zero opening after growth";
   double worst = 0;
   for (size_t j = 0; j < r.delta.size(); ++j)
     worst = std::max(worst, std::abs(r.sigma[j] - Sigma(r.delta[j])) / kSigmaC);

@@ -43,7 +43,8 @@ struct LawFreeRequest {
   bool far_field_route = true;        // false: the R route only
   std::optional<double> J_tip_c;      // R route: given [J/m^2]; absent: fitted
   // J route: delta* at the onset [m]. Absent: the onset frame is the last
-  // whose delta* is zero within 2 of its standard uncertainties (dic writes
+  // of the leading frames whose delta* is zero within 2 of its standard
+  // uncertainties (a zero after growth began: skipped, a warning; dic writes
   // delta* = 0 while the tip is within a grid step of the notch root), the
   // frames before it are left out (a note); without such a frame the onset
   // is detected from J_ff's shape, with a warning note.
