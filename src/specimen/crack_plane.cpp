@@ -385,10 +385,8 @@ void Condense(const Domain& d, const Grid& g, const DofMap& map, const Blocks& b
   if (solver.info() != Eigen::Success)
     throw Error(ErrorKind::kRuntime, "the finite-element stiffness matrix is singular",
                 {.field = "mesh", .value = key});
-  // K_ii = P^T L D L^T P: with Z = L^-1 P K_iR (the forward half of a solve
-  // only; K_iR's columns are sparse and the forward substitution skips their
-  // zeros), K_Ri K_ii^-1 K_iR = Z^T D^-1 Z, a dense product. Twice to three
-  // times cheaper than full solves of every column (docs/REDUCED.md).
+  // K_ii = P^T L D L^T P, Z = D^-1/2 L^-1 P K_iR (forward halves only, which
+  // skip the sparse columns' zeros): K_Ri K_ii^-1 K_iR = Z^T Z (docs/REDUCED.md).
   const Eigen::MatrixXd PK = solver.permutationP() * Eigen::MatrixXd(k_ir);
   Eigen::MatrixXd Z(n_interior, n_retained);
   const Eigen::VectorXd d_inv_sqrt = solver.vectorD().cwiseSqrt().cwiseInverse();
@@ -398,8 +396,7 @@ void Condense(const Domain& d, const Grid& g, const DofMap& map, const Blocks& b
     solver.matrixL().solveInPlace(z);
     Z.col(c) = d_inv_sqrt.cwiseProduct(z);
   }
-  // The load's, the mouth's and the gauge point's columns: full solves.
-  const Eigen::VectorXd Y = solver.solve(blocks.w_i);
+  const Eigen::VectorXd Y = solver.solve(blocks.w_i);  // the load's column: a full solve
 
   model.node_x.resize(n_retained);
   for (int r = 0; r < n_retained; ++r) model.node_x[r] = d.notch + (r - 1) * d.h;
@@ -411,11 +408,8 @@ void Condense(const Domain& d, const Grid& g, const DofMap& map, const Blocks& b
   model.load.assign(load.data(), load.data() + load.size());
   model.load_compliance = blocks.w_i.dot(Y);
   model.load_coupling = model.load;  // q = w_R - X^T w_i = g (Maxwell-Betti)
-  // X = K_ii^-1 K_iR at one interior dof j: (K_ii^-1 e_j)^T K_iR (K_ii symmetric).
-  auto row_of_x = [&](int j) -> Eigen::VectorXd {
-    Eigen::VectorXd e = Eigen::VectorXd::Zero(n_interior);
-    e[j] = 1.0;
-    return k_ir.transpose() * solver.solve(e);
+  auto row_of_x = [&](int j) -> Eigen::VectorXd {  // row j of K_ii^-1 K_iR (K_ii symmetric)
+    return k_ir.transpose() * solver.solve(Eigen::VectorXd::Unit(n_interior, j));
   };
   const int mouth_dof = map.index[2 * node(0, 0) + 1];
   BF_DEBUG_ASSERT(map.kind[2 * node(0, 0) + 1] == DofMap::kInterior);
