@@ -212,6 +212,12 @@ void WriteDicCsv(const std::string& path, const dic::CrackSequenceResult& r) {
   auto num = [](bool ok, double v) {
     return ok && std::isfinite(v) ? fmt::format("{:.6g}", v) : std::string();
   };
+  // The crack lengths exactly (the shortest text that reads back to the same
+  // double): `rcurve --crack-length-from` gives what the DIC measured, and a
+  // campaign's DIC specimen the single chain's fit (CampaignDic test).
+  auto exact = [](bool ok, double v) {
+    return ok && std::isfinite(v) ? fmt::format("{}", v) : std::string();
+  };
   for (size_t k = 0; k < r.frames.size(); ++k) {
     const auto& f = r.frames[k];
     const bool t = f.has_length;
@@ -223,7 +229,7 @@ void WriteDicCsv(const std::string& path, const dic::CrackSequenceResult& r) {
     }
     text += fmt::format(
         "{}, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}, {:.4f}, {:.4f}, {}, {}\n", k, image,
-        num(t, f.crack_length_m * 1e3), num(t, f.crack_length_raw_m * 1e3),
+        exact(t, f.crack_length_m * 1e3), exact(t, f.crack_length_raw_m * 1e3),
         num(t, f.uncertainty_m * 1e3), num(t, f.tip.tip.s_px), num(t, f.tip.tip.x_px),
         num(t, f.tip.tip.y_px), t ? dic::TipMethodName(f.tip.method) : "",
         num(f.tip.williams.found, f.tip.williams.s_px), num(f.tip.jump.found, f.tip.jump.s_px),
