@@ -144,9 +144,20 @@ bool Covers(const inverse::ParameterEstimate& e, double truth) {
   return e.ci95_low <= truth && truth <= e.ci95_high;
 }
 
-TEST(JointCampaign, TwoSizesIdentifyWhatTheSmallOneCannot) {
+// One joint fit serves both halves of issue 19's acceptance point (one run
+// of the three-specimen campaign costs about as much as the two-size one
+// alone; the suite is at its time limit): the two-size campaign plus a CT of
+// twice the sigma_c is rejected and that CT alone flagged; the joint fit of
+// the rest is then the two-size campaign's own joint fit (the same fitter and
+// options; each specimen alone is also re-started from the three-specimen
+// optimum, which can only lower its chi^2 alone and so raise the likelihood
+// ratio: the acceptance is not made easier). On it: one law accepted, J_B
+// within 5% and sigma_c within 3% of the truth, every total interval
+// covering it. Checked by hand 2026-12-03: the two-size campaign run alone
+// gave the same estimates (LR 6.00 against 6.01 here, seed offset 0).
+TEST(JointCampaign, TwoSizesIdentifyWhatTheSmallOneCannotAndAnotherLawIsFlagged) {
   const Stopwatch clock;
-  // Alone: the small ones give J_B only as a lower bound, below the truth;
+  // Alone: the small CT gives J_B only as a lower bound, below the truth;
   // the large one reaches steady state.
   const inverse::FitSummary& small = Get(kSmall).run.summary;
   Print(kSmall.name, small);
@@ -157,15 +168,24 @@ TEST(JointCampaign, TwoSizesIdentifyWhatTheSmallOneCannot) {
   Print(kLarge.name, large);
   EXPECT_TRUE(large.steady_state_reached);
   EXPECT_TRUE(large.J_B.identified);
+  Print(kOther.name, Get(kOther).run.summary);
 
-  const JointFitRun joint = Joint({kSmall, kLarge});
+  const JointFitRun joint = Joint({kSmall, kLarge, kOther});
   std::printf("%s", joint.BriefReport().c_str());
-  Print("joint", joint.summary);
-  const inverse::FitSummary& f = joint.summary;
+  EXPECT_FALSE(joint.consistency.consistent()) << joint.consistency.Summary();
+  EXPECT_LT(joint.consistency.p_value, 1e-4);
+  ASSERT_EQ(joint.flagged, (std::vector<std::string>{kOther.name}));
+  ASSERT_TRUE(joint.summary_without_flagged.has_value());
+
+  // The two-size campaign {W50, W400}.
+  const inverse::FitSummary& f = *joint.summary_without_flagged;
+  Print("joint", f);
   ASSERT_TRUE(f.converged) << f.stop_reason;
-  EXPECT_TRUE(joint.consistency.consistent()) << joint.consistency.Summary();
-  EXPECT_TRUE(joint.flagged.empty());
+  EXPECT_TRUE(joint.consistency_without_flagged.consistent())
+      << joint.consistency_without_flagged.Summary();
+  EXPECT_EQ(joint.consistency_without_flagged.degrees_of_freedom, 3);
   ASSERT_TRUE(f.J_B.identified && f.sigma_c.identified && f.J_tip_c.identified) << f.verdict;
+  EXPECT_NE(f.verdict.find("inside the windows of W400"), std::string::npos) << f.verdict;
   // Issue 19: J_B within 5%, sigma_c within 3%, every (total) interval
   // covering the truth.
   EXPECT_NEAR(f.J_B.value, kJB, 0.05 * kJB);
@@ -173,20 +193,7 @@ TEST(JointCampaign, TwoSizesIdentifyWhatTheSmallOneCannot) {
   EXPECT_TRUE(Covers(f.sigma_c, kSigmaC));
   EXPECT_TRUE(Covers(f.J_B, kJB));
   EXPECT_TRUE(Covers(f.J_tip_c, kJTip));
-  std::printf("accepted campaign: %.1f s with the fits alone\n", clock.Seconds());
-}
-
-TEST(JointCampaign, ASpecimenOfTwiceTheStrengthIsRejectedAndFlagged) {
-  const Stopwatch clock;
-  Print(kOther.name, Get(kOther).run.summary);
-  const JointFitRun joint = Joint({kSmall, kLarge, kOther});
-  std::printf("%s", joint.BriefReport().c_str());
-  EXPECT_FALSE(joint.consistency.consistent()) << joint.consistency.Summary();
-  EXPECT_EQ(joint.flagged, (std::vector<std::string>{kOther.name}));
-  ASSERT_TRUE(joint.summary_without_flagged.has_value());
-  EXPECT_TRUE(joint.consistency_without_flagged.consistent())
-      << joint.consistency_without_flagged.Summary();
-  std::printf("rejected campaign: %.1f s\n", clock.Seconds());
+  std::printf("campaign: %.1f s with the fits alone\n", clock.Seconds());
 }
 
 }  // namespace
