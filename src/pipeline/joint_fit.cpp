@@ -442,14 +442,18 @@ JointFitRun RunJointFit(const std::vector<FitRequest>& requests,
       out.specimen_calibrated_modulus_factor.push_back(calibrated_factor[k]);
     }
   }
-  if (out.summary.steady_state_reached) {
+  // The verdict of a joint fit of `members` past steady state names the
+  // specimens that reach it (one steady-state crack length per specimen).
+  const auto name_reached = [&](const std::vector<std::size_t>& of, inverse::FitSummary& fit) {
+    if (!fit.steady_state_reached) return;
     std::vector<std::string> reached;
-    for (std::size_t j : fitter.reached()) reached.push_back(names[j]);
-    out.summary.verdict = fmt::format(
+    for (std::size_t j : fitter.reached()) reached.push_back(names[of[j]]);
+    fit.verdict = fmt::format(
         "steady state reached at the joint law inside the windows of {}: all parameters estimated "
         "(a specimen's own lower bound on J_B holds at its own J_tip,c)",
         reached.empty() ? std::string("(none at the optimum)") : Names(reached));
-  }
+  };
+  name_reached(members, out.summary);
   // Not one law: the specimen the joint law misses most is set aside and the
   // rest fitted again, until the rest is consistent or two are left. One
   // specimen of another law pulls the joint law off the others too, so the
@@ -462,6 +466,7 @@ JointFitRun RunJointFit(const std::vector<FitRequest>& requests,
     out.flagged.push_back(names[members[worst]]);
     members.erase(members.begin() + static_cast<std::ptrdiff_t>(worst));
     rest = fitter.Fit(members);
+    name_reached(members, rest.summary);
   }
   if (!out.flagged.empty()) {
     out.consistency_without_flagged = rest.consistency;

@@ -49,7 +49,7 @@ class JointForwardModel final : public ForwardModel {
 // model at moduli g x those of `base` (built at the specimen's calibrated
 // modulus factor f0, without series compliance) and `series_compliance`
 // [m/N] in series, with g chosen at every law to minimise the chi^2 of the
-// specimen's own `rows` (golden section on ln g within +-`span`, to 1e-5).
+// specimen's own `rows` (Brent's minimiser on ln g within +-`span`, to 1e-5).
 // No model is rebuilt: all moduli x g is the same elastic problem with
 // displacements / g, so the model at g under (sigma_c, J_B, J_tip,c) is the
 // base model under (sigma_c, g J_B, g J_tip,c) at displacements g D with the
