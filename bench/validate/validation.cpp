@@ -344,6 +344,7 @@ CaseResult RunCase(const ValidationCase& spec, int threads) {
     result.fit_steady_state = s.steady_state_reached;
     result.bridging_detected = s.bridging_detected;
     result.converged = s.converged;
+    result.misfit_points = s.misfit.points;
     result.fit_resolution = run.resolution;
     result.data_points = s.data_points;
     for (std::string& w : CaseWarnings(run)) result.warnings.push_back(std::move(w));

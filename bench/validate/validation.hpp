@@ -97,6 +97,7 @@ struct CaseResult {
   // at its last crack length over J_tip,c, minus 1 (how visible bridging is).
   double truth_R_rise = 0.0;
   int data_points = 0;
+  int misfit_points = 0;  // R points in runs off the model (inverse::FitSummary::misfit)
   std::vector<std::string> warnings;  // case-level warnings (see Warnings in the .cpp)
   std::array<ParameterCheck, 3> parameters{};  // sigma_c, J_B, J_tip_c
   double generate_s = 0.0, fit_s = 0.0;

@@ -98,10 +98,13 @@ TEST(Validation, RunsOfPointsTheModelMissesAreKeptAndWarned) {
   }
   const ParameterCheck& tip = results[0].parameters[2];  // #271's J_tip,c
   EXPECT_TRUE(tip.covered || tip.warned) << FailureList(results, false);
-  bool misfit_flagged = false;
+  // #274: the run off the model is found, and no interval is printed as
+  // reliable (since the as-data range fix its model error's coarser solves
+  // run and the fit differs: an interval its profile already flagged keeps
+  // that reason, inverse::MarkMisfit).
+  EXPECT_GT(results[1].misfit_points, 0) << FailureList(results, false);
   for (const ParameterCheck& p : results[1].parameters)
-    misfit_flagged |= p.interval_status == "unreliable_misfit";
-  EXPECT_TRUE(misfit_flagged) << FailureList(results, false);
+    EXPECT_NE(p.interval_status, "reliable") << FailureList(results, false);
 }
 
 // The images route (images -> DIC -> fit) on one CI case: the DIC's crack
