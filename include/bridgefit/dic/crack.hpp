@@ -97,8 +97,8 @@ struct CrackTipResult {
   TipMethod method = TipMethod::kWilliams;  // the method that gave `tip`
   TipEstimate tip;
   // The found tips differ by more than their stated uncertainties allow
-  // (k = 2, each at least one station / sqrt(12); the jump tip may also lie
-  // up to `band_half_width_px` ahead, its documented bias).
+  // (MethodsDisagree: k = 2, each at least one station / sqrt(12); the COD
+  // tips may also lie up to `band_half_width_px` ahead, their documented bias).
   bool methods_disagree = false;
   // The opening still exceeds the threshold at the last station with data on
   // both sides (or the Williams minimum sits at the end of the line): the
@@ -106,6 +106,14 @@ struct CrackTipResult {
   bool tip_at_edge = false;
   double last_station_px = 0;  // s of the last station with data on both sides
 };
+
+// The rule of CrackTipResult::methods_disagree, on the found tips of r:
+// pairwise |s_a - s_b| > 2 sqrt(sigma_a^2 + sigma_b^2) (each sigma at least
+// one station / sqrt(12)), except that the COD tips (jump, sqrt) may lie up
+// to band_half_width_px further ahead of the Williams tip, and the jump tip
+// that much ahead of the sqrt tip (their documented bias: the opening read
+// from outside the band runs on past the tip).
+bool MethodsDisagree(const CrackTipResult& r, const CrackTipOptions& o);
 
 // Throws Error(kUsage) for invalid options.
 CrackTipResult LocateCrackTip(const DisplacementField& field, const CrackTipOptions& options,
