@@ -127,6 +127,7 @@ CrackTipResult Tips(double williams, double sqrt_cod, double jump) {
   set(r.williams, williams);
   set(r.sqrt_cod, sqrt_cod);
   set(r.jump, jump);
+  r.sqrt_near_tip_share = 1;  // a short crack: every sqrt station near the tip
   return r;
 }
 
@@ -149,6 +150,12 @@ TEST(CrackFlags, MethodsDisagreeInUnitsOfTheirUncertainty) {
   EXPECT_TRUE(MethodsDisagree(Tips(100, 121, nan), o));
   EXPECT_TRUE(MethodsDisagree(Tips(100, nan, 121), o));
   EXPECT_TRUE(MethodsDisagree(Tips(nan, 110, 104), o));
+  // A long crack, its sqrt fit mostly far from the tip: little allowance.
+  CrackTipResult long_crack = Tips(100, 108, nan);
+  long_crack.sqrt_near_tip_share = 0.2;
+  EXPECT_TRUE(MethodsDisagree(long_crack, o));
+  long_crack.sqrt_cod.s_px = 107;
+  EXPECT_FALSE(MethodsDisagree(long_crack, o));
   // One method alone cannot disagree.
   EXPECT_FALSE(MethodsDisagree(Tips(100, nan, nan), o));
 }
