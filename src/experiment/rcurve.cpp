@@ -216,6 +216,7 @@ void CrackLengthStage(Prepared& p, RCurveResult& result) {
     p.sigma_a = options.crack_length_noise;
   }
   p.sigma_a_increment = p.sigma_a;
+  if (p.sigma_a > 0.0) result.figures["crack_length_noise_m"] = p.sigma_a;
 
   double a_limit = options.max_crack_length;
   const SpecimenSpec& spec = options.specimen;

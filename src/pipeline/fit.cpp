@@ -445,6 +445,7 @@ FitRun RunFit(const FitRequest& given) {
   run.input = ResolveFitInput(request);
   run.r_kind = ResolveRKind(request, run.input);
   run.data = inverse::FitData::FromRCurve(run.input.curve, run.r_kind);
+  HoldAtNotch(request.scene.specimen.notch, run.input, run.data);
   if (request.target == inverse::FitTarget::kLoad)
     run.load_data = LoadFitData(request, run.input);
   // Comparing or fitting a shape: the start fit and the calibration use the linear law.

@@ -2,6 +2,9 @@
 // curve with the same library call and defaults as `bridgefit rcurve RECORD
 // --scene SCENE --method M` (docs/FIT.md).
 
+#include <algorithm>
+#include <cmath>
+
 #include <fmt/format.h>
 
 #include "bridgefit/core/error.hpp"
@@ -211,6 +214,35 @@ FitInput ResolveFitInput(const FitRequest& request) {
   if (input.from_record) ReduceRecordInput(request, input);
   else ReadRCurveInput(request, input);
   return input;
+}
+
+void HoldAtNotch(double notch, FitInput& input, inverse::FitData& data) {
+  if (!(notch > 0.0)) return;
+  int below = 0;
+  double worst = 0.0;
+  for (double& a : data.crack_length) {
+    if (!(a < notch)) continue;
+    ++below, worst = std::max(worst, notch - a);
+    a = notch;
+  }
+  if (below == 0) return;
+  double noise = NAN;
+  if (input.reduction) {
+    const auto it = input.reduction->figures.find("crack_length_noise_m");
+    if (it != input.reduction->figures.end()) noise = it->second;
+  }
+  const double tolerance = std::max(1e-4, std::isfinite(noise) ? 2.0 * noise : 0.0);
+  const std::string said = fmt::format(
+      "{} R point{} measured up to {:.3g} mm below the notch (a0 = {:.4g} mm) fitted at the "
+      "notch (a crack cannot be shorter than its notch)",
+      below, below == 1 ? "" : "s", worst * 1e3, notch * 1e3);
+  if (worst > tolerance)
+    input.reduction_warnings.push_back(fmt::format(
+        "{}: more than {:.2g} mm short, so the crack lengths may be offset; check the scene's "
+        "notch, the crack-length column's zero or the DIC crack line",
+        said, tolerance * 1e3));
+  else if (input.reduction)
+    input.reduction->notes.push_back(said);
 }
 
 }  // namespace bridgefit::pipeline

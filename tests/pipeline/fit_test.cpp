@@ -313,6 +313,57 @@ TEST(PipelineFit, InputsThatCannotServeTheRequestAreRefused) {
   EXPECT_EQ(e.context().value, "x, y");
 }
 
+// Crack lengths read short (a DIC offset, a gauge's zero): R points below the
+// notch are fitted at the notch (the models start there), with a note within
+// twice the record's crack-length noise (or 0.1 mm) and a warning beyond;
+// the estimates stay those of the record read right. Before this rule a
+// point 0.02 mm below the notch failed every forward run (issue 17, the
+// validation's images case #6).
+TEST(PipelineFit, CrackLengthsReadShortAreHeldAtTheNotchAndALargeShortfallWarns) {
+  const FitRequest base = RecordRequest();
+  const double notch = base.scene.specimen.notch;
+  const FitRun right = RunFit(base);
+  ASSERT_TRUE(right.summary.converged);
+  auto shifted_run = [&](double shift) {
+    FitRequest request = base;
+    ExperimentRecord record = ReadRecordFile(base.input_path, "", "");
+    for (double& a : record.crack_length) a -= shift;
+    request.input_path.clear();
+    request.record = record;
+    return RunFit(request);
+  };
+  auto below = [&](const FitRun& run) {
+    int n = 0;
+    for (double a : run.input.curve.crack_length) n += a < notch;
+    return n;
+  };
+  auto warned = [](const FitRun& run) {
+    for (const std::string& w : run.input.reduction_warnings)
+      if (w.find("below the notch") != std::string::npos) return true;
+    return false;
+  };
+  // Shifts that put the first R point 0.05 mm and 0.6 mm below the notch.
+  const double first = right.input.curve.crack_length.front() - notch;
+  ASSERT_GE(first, 0.0);
+  const FitRun small = shifted_run(first + 0.05e-3);
+  ASSERT_GT(below(small), 0) << "the shift must put R points below the notch";
+  ASSERT_TRUE(small.summary.converged);
+  EXPECT_FALSE(warned(small));
+  bool noted = false;
+  for (const std::string& n : small.input.reduction->notes)
+    noted |= n.find("below the notch") != std::string::npos;
+  EXPECT_TRUE(noted);
+  for (double a : small.data.crack_length) EXPECT_GE(a, notch);
+  EXPECT_NEAR(small.summary.sigma_c.value, right.summary.sigma_c.value,
+              0.02 * right.summary.sigma_c.value);
+  EXPECT_NEAR(small.summary.J_tip_c.value, right.summary.J_tip_c.value,
+              0.01 * right.summary.J_tip_c.value);
+
+  const FitRun large = shifted_run(first + 0.6e-3);
+  ASSERT_GT(below(large), 0);
+  EXPECT_TRUE(warned(large));
+}
+
 }  // namespace
 }  // namespace bridgefit::pipeline
 

@@ -205,6 +205,14 @@ struct FitRun {
 // The input as the request names it (read, and reduced for a record).
 FitInput ResolveFitInput(const FitRequest& request);
 
+// R points measured below the scene's notch (crack lengths read short, by
+// DIC or a gauge: a crack cannot be shorter than its notch, and the models
+// start there) are fitted at the notch. A note says how many and by how
+// much; a warning (input.reduction_warnings) where the largest shortfall
+// exceeds twice the record's crack-length noise or 0.1 mm, whichever is
+// larger (the crack lengths may then be offset).
+void HoldAtNotch(double notch, FitInput& input, inverse::FitData& data);
+
 FitRun RunFit(const FitRequest& request);
 
 }  // namespace bridgefit::pipeline
