@@ -30,8 +30,10 @@ class LawFreeCommand final : public Command {
                    "R curve (rcurve.h5 or CSV, R per crack length): also the R(delta_root) route");
     sub.add_flag("--no-j-route", no_j_route_, "Only the R(delta_root) route");
     sub.add_option("--jtip", jtip_, "R route: J_tip,c given, e.g. '2210 J/m^2' (default: fitted)");
-    sub.add_option("--onset", onset_,
-                   "J route: delta* at the onset of growth, e.g. '0.01 mm' (default: detected)");
+    sub.add_option(
+        "--onset", onset_,
+        "J route: delta* at the onset of growth, e.g. '0.01 mm' (default: the last frame with "
+        "delta* = 0, else detected from J_ff's shape with a warning)");
     sub.add_option("--grid-points", grid_points_, "sigma nodes from 0 to the largest opening")
         ->default_val(41);
     sub.add_option("--out", out_, "Write /lawfree to this HDF5 file");

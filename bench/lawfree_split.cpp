@@ -63,6 +63,11 @@ int main(int argc, char** argv) {
       add(mt, s.J_ff[k], true_d[k]);
       add(tt, true_j[k], true_d[k]);
     }
+    // The onset as the pipeline takes it: the frame with delta* = 0 (dic's
+    // onset marker; synth's frame 1), the same sample in all four.
+    for (size_t i = 0; i < mm.opening.size(); ++i)
+      if (mm.opening[i] == 0.0)
+        mm.onset_index = tm.onset_index = mt.onset_index = tt.onset_index = static_cast<int>(i);
     auto report = [&](const char* name, const laws::FarFieldJSamples& in) {
       laws::LawFreeResult r;
       try {
@@ -111,8 +116,8 @@ int main(int argc, char** argv) {
     for (double u : mm.uncertainty) ms += u * u / mm.uncertainty.size();
     std::fill(flat.uncertainty.begin(), flat.uncertainty.end(), std::sqrt(ms));
     report("measured, equal weights", flat);
-    flat.onset_opening = 0.0;
-    report("  ... onset at delta* = 0", flat);
+    flat.onset_index.reset();
+    report("  ... onset detected", flat);
   } catch (const Error& e) {
     std::fprintf(stderr, "%s\n", e.what());
     return 1;

@@ -257,11 +257,19 @@ ForwardPrediction SimulationForwardModel::Predict(const laws::LawShape& shape,
     out.message = "the simulation returned fewer than two usable points";
     return out;
   }
-  // As-data: the reduction starts one model step after initiation, while the
-  // data's first growth rows lie closer to it; within one step of either end
-  // the end value holds (the reduced R is flat there to a few J/m^2).
+  // As-data: the reduction starts a model step or two after initiation,
+  // while the data's first growth rows lie closer to it; from the model's
+  // initial crack length (the notch: lengths read short are fitted there,
+  // pipeline::HoldAtNotch) to the first reduced point, and within one step
+  // of the last, the end value holds (the reduced R is flat there to a few
+  // J/m^2). Before, one step only: a 0.625 mm DCB model's reduction began
+  // at a0 + 1.25 mm and the data's first MBT point at a0 + 0.57 mm failed
+  // every coarser solve of the model error.
+  const double initial = result.points.empty() ? NAN : result.points.front().crack_length;
   const double low_reach =
-      kind == RKind::kAsData && a.size() >= 2 ? a[1] - a[0] : 0.0;
+      kind == RKind::kAsData && a.size() >= 2
+          ? std::max(a[1] - a[0], std::isfinite(initial) ? a.front() - initial : 0.0)
+          : 0.0;
   const double high_reach =
       kind == RKind::kAsData && a.size() >= 2 ? a[a.size() - 1] - a[a.size() - 2] : 0.0;
   for (double x_in : crack_lengths) {

@@ -273,4 +273,36 @@ FitSummary FitWithModelCheck(const ForwardModel& cheap, const ForwardModel& accu
   return FinalCorrectedFit(cheap, shape, data, options, check, knots, state, r);
 }
 
+std::array<double, kParameterCount> CorrectedFitBias(const ForwardModel& cheap,
+                                                     const ModelCheckResult& result,
+                                                     const laws::LawShape& shape,
+                                                     const FitData& data, const FitOptions& options,
+                                                     const FitSummary& fit,
+                                                     const std::vector<double>& accurate_error,
+                                                     int* runs) {
+  std::array<double, kParameterCount> bias = {NAN, NAN, NAN};
+  const std::size_t n = result.crack_length.size();
+  if (!result.corrected || n == 0 || accurate_error.size() != n || result.R_cheap.size() != n ||
+      result.R_accurate.size() != n)
+    return bias;
+  std::vector<double> offset(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!std::isfinite(accurate_error[i])) return bias;
+    offset[i] = result.R_accurate[i] - accurate_error[i] - result.R_cheap[i];
+  }
+  const CorrectedModel converged(cheap, result.accurate_model + " converged", result.crack_length,
+                                 offset);
+  FitOptions quick = options;
+  quick.profile_likelihood = false;
+  for (int i = 0; i < kParameterCount; ++i)
+    if (!options.fixed[i] && std::isfinite(fit.best_parameters[i]))
+      quick.initial[i] = fit.best_parameters[i];
+  const FitSummary refit = FitBridgingLaw(converged, shape, data, quick);
+  if (runs) *runs = refit.evaluations;
+  if (!refit.converged) return bias;
+  for (int i = 0; i < kParameterCount; ++i)
+    bias[i] = options.fixed[i] ? 0.0 : fit.best_parameters[i] - refit.best_parameters[i];
+  return bias;
+}
+
 }  // namespace bridgefit::inverse

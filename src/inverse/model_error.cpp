@@ -48,6 +48,9 @@ std::string ModelErrorEstimate::Summary() const {
       coarse_resolution < resolution
           ? fmt::format("model error ({} model at {:.3g} mm, from one finer solve at {:.3g} mm): ",
                         model, resolution * 1e3, coarse_resolution * 1e3)
+      : !std::isfinite(coarser_resolution)
+          ? fmt::format("model error ({} model at {:.3g} mm, from one coarser solve at {:.3g} mm): ",
+                        model, resolution * 1e3, coarse_resolution * 1e3)
           : fmt::format("model error ({} model at {:.3g} mm, from {:.3g} and {:.3g} mm): ", model,
                         resolution * 1e3, coarse_resolution * 1e3, coarser_resolution * 1e3);
   if (status == ModelErrorStatus::kEstimated)

@@ -313,6 +313,13 @@ void AddModelError(const FitRequest& request, const FitModels& models,
   const bool reduced_fit =
       request.model == ModelChoice::kReduced ||
       (request.model == ModelChoice::kAuto && run.summary.model == models.model().Name());
+  if (!reduced_fit && request.model == ModelChoice::kAuto && run.model_check.corrected) {
+    e = MpmCorrectionError(models, fit_data, options, run);
+    inverse::ApplyModelError(e, run.summary);
+    run.summary.wall_s += e.wall_s;
+    run.summary.evaluations += e.runs;
+    return;
+  }
   if (!reduced_fit) {
     e.model = ModelChoiceName(request.model);
     e.reason = request.model == ModelChoice::kAuto

@@ -18,6 +18,9 @@
 #include <fmt/format.h>
 
 #include "bridgefit/core/error.hpp"
+#include "bridgefit/core/progress.hpp"
+#include "bridgefit/inverse/model_check.hpp"
+#include "bridgefit/inverse/model_error.hpp"
 #include "fit_models.hpp"
 
 namespace bridgefit::pipeline {
@@ -40,8 +43,10 @@ double MaxRelativeDifference(const std::vector<double>& a, const std::vector<dou
 }
 
 // max |R(cell / 2) / R(cell) - 1| of MPM at the final parameters over the
-// check's crack lengths; NaN with `why` when either run fails.
-double MpmHalvingStep(const FitModels& models, const FitRun& run, std::string* why) {
+// check's crack lengths; NaN with `why` when either run fails. `step` (may
+// be null) gets R(cell / 2) - R(cell) there [J/m^2].
+double MpmHalvingStep(const FitModels& models, const FitRun& run, std::string* why,
+                      std::vector<double>* step = nullptr) {
   const inverse::ModelCheckResult& c = run.model_check;
   const inverse::LawParameters p = inverse::FittedLaw(run.summary);
   const double cell = run.mpm_cell;
@@ -60,7 +65,21 @@ double MpmHalvingStep(const FitModels& models, const FitRun& run, std::string* w
                        at_cell.ok() ? at_half.message : at_cell.message);
     return NAN;
   }
+  if (step) {
+    step->resize(at_cell.R.size());
+    for (std::size_t i = 0; i < at_cell.R.size() && i < at_half.R.size(); ++i)
+      (*step)[i] = at_half.R[i] - at_cell.R[i];
+  }
   return MaxRelativeDifference(at_cell.R, at_half.R);
+}
+
+// MPM's own error at its cell h (R(h) minus the converged R), order 1: from
+// a step to h / 2, R(h) - R(h / 2) = C h / 2 gives 2 (R(h) - R(h / 2)); from
+// the step that led to h, R(2 h) - R(h) = C h gives it once.
+std::vector<double> MpmErrorFromStep(const std::vector<double>& step, bool to_half_cell) {
+  std::vector<double> error(step.size());
+  for (std::size_t i = 0; i < step.size(); ++i) error[i] = (to_half_cell ? -2.0 : -1.0) * step[i];
+  return error;
 }
 
 // The cell against the scene: the reasons it is too coarse (empty: none).
@@ -85,8 +104,12 @@ bool CorrectionConverged(const FitModels& models, FitRun& run, std::string* why)
   const inverse::ModelCheckResult& c = run.model_check;
   const double cell = run.mpm_cell;
   // --mpm-cell auto computed the step at this cell already (NaN: it failed, said there).
-  if (std::isnan(run.mpm_convergence) && run.mpm_cell_choice.empty())
-    run.mpm_convergence = MpmHalvingStep(models, run, why);
+  if (std::isnan(run.mpm_convergence) && run.mpm_cell_choice.empty()) {
+    std::vector<double> step;
+    run.mpm_convergence = MpmHalvingStep(models, run, why, &step);
+    run.mpm_error_R = MpmErrorFromStep(step, true);
+    run.mpm_error_from_cell = 0.5 * cell;
+  }
   if (std::isnan(run.mpm_convergence)) {
     if (why->empty()) *why = fmt::format("MPM at {:.3g} mm failed", 0.5 * cell * 1e3);
     return false;
@@ -118,12 +141,14 @@ void FitCheckedByMpm(const FitRequest& request, FitModels& models, const inverse
   const double limit = kConvergenceShare * request.model_tolerance;
   std::string tried, verdict;
   double step_to_here = NAN;  // MPM's R step from the coarser cell to this one (none at first)
+  std::vector<double> step_vector;  // the same at each data crack length [J/m^2]
   for (;;) {
     run.summary = inverse::FitWithModelCheck(models.model(), *models.accurate(), run.shape, data,
                                              options, run.check, &run.model_check);
     run.model_note = "auto: " + run.model_check.outcome;
     run.mpm_cell = models.mpm_cell();
     run.mpm_convergence = NAN;
+    run.mpm_error_R.clear();
     if (!auto_cell) return;
     if (!run.model_check.accurate_ok) {
       verdict = "not verified: the check did not complete";
@@ -133,6 +158,8 @@ void FitCheckedByMpm(const FitRequest& request, FitModels& models, const inverse
     // it (R(h) - R(h/2) = C h/2): accepted without a finer run when small.
     if (step_to_here <= limit) {
       run.mpm_convergence = 0.5 * step_to_here;  // its step to half the cell, order 1
+      run.mpm_error_R = MpmErrorFromStep(step_vector, false);
+      run.mpm_error_from_cell = 2.0 * run.mpm_cell;
       tried += fmt::format(", {:.3g} mm {:.2f}% (the step from the coarser cell)",
                            run.mpm_cell * 1e3, 100 * step_to_here);
       verdict = "accepted";
@@ -140,7 +167,9 @@ void FitCheckedByMpm(const FitRequest& request, FitModels& models, const inverse
     }
     // Otherwise: twice its step to half the cell (order 1).
     std::string why;
-    run.mpm_convergence = MpmHalvingStep(models, run, &why);
+    run.mpm_convergence = MpmHalvingStep(models, run, &why, &step_vector);
+    run.mpm_error_R = MpmErrorFromStep(step_vector, true);
+    run.mpm_error_from_cell = 0.5 * run.mpm_cell;
     const double error = 2.0 * run.mpm_convergence;
     tried += fmt::format("{}{:.3g} mm {}", tried.empty() ? "" : ", ", run.mpm_cell * 1e3,
                          std::isnan(error) ? "unknown" : fmt::format("{:.2f}%", 100 * error));
@@ -204,6 +233,50 @@ void CheckModelAuto(const FitRequest& request, const FitModels& models,
   }
   for (const std::string& w : warnings)
     run.model_check_warning += (run.model_check_warning.empty() ? "" : "; ") + w;
+}
+
+inverse::ModelErrorEstimate MpmCorrectionError(const FitModels& models,
+                                               const inverse::FitData& data,
+                                               const inverse::FitOptions& options,
+                                               const FitRun& run) {
+  inverse::ModelErrorEstimate e;
+  e.model = "mpm";
+  e.quantity = "R";
+  e.resolution = run.mpm_cell;
+  const inverse::ModelCheckResult& c = run.model_check;
+  if (run.mpm_error_R.empty() || run.mpm_error_R.size() != c.crack_length.size()) {
+    e.reason = fmt::format(
+        "the fit is the reduced model corrected to MPM at {:.3g} mm, whose own error at the "
+        "data is not known (no MPM run at another cell at these parameters)",
+        run.mpm_cell * 1e3);
+    return e;
+  }
+  Stopwatch clock;
+  e.status = inverse::ModelErrorStatus::kOrderNotObserved;
+  e.reason = "MPM at two cells only; order 1 from its cell-size study, docs/MPM.md";
+  e.coarse_resolution = run.mpm_error_from_cell;
+  e.order_used = 1.0;
+  e.safety_factor = inverse::ModelErrorOptions{}.unverified_safety_factor;
+  e.output_bias = run.mpm_error_R;
+  double sum2 = 0.0;
+  e.output_bias_max = 0.0, e.output_bias_max_relative = 0.0;
+  for (std::size_t i = 0; i < e.output_bias.size(); ++i) {
+    const double b = e.output_bias[i];
+    sum2 += b * b;
+    if (std::abs(b) > e.output_bias_max) e.output_bias_max = std::abs(b);
+    if (i < c.R_accurate.size() && c.R_accurate[i] != 0.0)
+      e.output_bias_max_relative =
+          std::max(e.output_bias_max_relative, std::abs(b / c.R_accurate[i]));
+  }
+  e.output_bias_rms = std::sqrt(sum2 / std::max<std::size_t>(1, e.output_bias.size()));
+  e.parameter_bias = inverse::CorrectedFitBias(models.model(), c, run.shape, data, options,
+                                               run.summary, run.mpm_error_R, &e.runs);
+  if (!std::isfinite(e.parameter_bias[inverse::kJTipC])) {
+    e.status = inverse::ModelErrorStatus::kNotEstimated;
+    e.reason = "the refit of the corrected model without MPM's own error failed";
+  }
+  e.wall_s = clock.Seconds();
+  return e;
 }
 
 }  // namespace bridgefit::pipeline

@@ -127,6 +127,15 @@ void FitCheckedByMpm(const FitRequest& request, FitModels& models, const inverse
 // complete or its cell is too coarse for the scene, and accepts a
 // correction to MPM only when MPM at half the cell agrees with itself
 // better than with the reduced model; otherwise the reduced fit is reported.
+// The model error of a fit corrected to MPM: MPM's own error at the data
+// (run.mpm_error_R, order 1 from two cells) through a refit of the
+// corrected model without it (inverse::CorrectedFitBias), F_s 3; not
+// estimated, with the reason, when MPM's error is not known.
+inverse::ModelErrorEstimate MpmCorrectionError(const FitModels& models,
+                                               const inverse::FitData& data,
+                                               const inverse::FitOptions& options,
+                                               const FitRun& run);
+
 void CheckModelAuto(const FitRequest& request, const FitModels& models,
                     const inverse::FitData& data, const inverse::FitOptions& options, FitRun& run);
 

@@ -58,20 +58,70 @@ bool LawFreeRequest::IsValid(std::string* why) const {
 
 namespace {
 
+// |delta*| <= this many standard uncertainties reads as zero opening.
+constexpr double kOnsetOpeningZ = 2.0;
+
+bool ZeroOpening(const DicJSeries& s, size_t k) {
+  if (s.delta_star_status[k] != "ok" || !std::isfinite(s.delta_star[k])) return false;
+  const double u = std::isfinite(s.delta_star_uncertainty[k]) ? s.delta_star_uncertainty[k] : 0;
+  return std::abs(s.delta_star[k]) <= kOnsetOpeningZ * u;
+}
+
+// The onset frame (docs/LAW_FREE.md "What each route needs"): the last
+// frame of the leading run whose notch-root opening is zero within its
+// uncertainty (|delta*| <= kOnsetOpeningZ u; dic writes delta* = 0, u = 0
+// while the tip is within a grid step of the root: the root is the tip).
+// The run ends at the first frame with an opening; a zero read after it is
+// an anomaly (ZeroAfterGrowth), not the onset. -1: none.
+int OnsetFrame(const DicJSeries& s) {
+  int onset = -1;
+  for (size_t k = 0; k < s.image.size(); ++k) {
+    if (s.delta_star_status[k] != "ok" || !std::isfinite(s.delta_star[k])) continue;
+    if (!ZeroOpening(s, k)) {
+      if (onset >= 0) break;
+      continue;
+    }
+    onset = static_cast<int>(k);
+  }
+  return onset;
+}
+
 // Frames with both J and delta* ok -> J route samples; the others skipped
-// with a note each.
+// with a note each. Unless the request gives the onset, it is the onset
+// frame (OnsetFrame): frames before it (J_tip still rising at the root) are
+// left out with one note, and without such a frame the laws unit detects
+// the onset from J_ff's shape, with a warning.
 laws::FarFieldJSamples JSamples(const DicJSeries& s, const LawFreeRequest& request,
                                 std::vector<std::string>& notes) {
   laws::FarFieldJSamples out;
+  const int onset = request.onset_opening ? -1 : OnsetFrame(s);
+  int before = 0;
   for (size_t k = 0; k < s.image.size(); ++k) {
     const bool j_ok = s.J_status[k] == "ok" && std::isfinite(s.J_ff[k]);
     const bool d_ok = s.delta_star_status[k] == "ok" && std::isfinite(s.delta_star[k]);
+    if (static_cast<int>(k) < onset && j_ok && d_ok) {
+      ++before;
+      continue;
+    }
+    if (onset >= 0 && static_cast<int>(k) > onset && ZeroOpening(s, k)) {
+      notes.push_back(fmt::format(
+          "warning: frame {} ({}) reads delta* = 0 after growth began at frame {}: skipped", k,
+          s.image[k], onset));
+      continue;
+    }
     if (!j_ok || !d_ok) {
       if (s.J_status[k].rfind("no_tip", 0) != 0 || k > 0)
         notes.push_back(fmt::format("frame {} ({}) skipped: J {}, delta* {}", k, s.image[k],
                                     s.J_status[k], s.delta_star_status[k]));
+      if (static_cast<int>(k) == onset)
+        notes.push_back(fmt::format(
+            "warning: the onset frame {} (delta* = 0) has no J_ff: the onset is taken at the "
+            "next usable frame, openings and J_tip,c are counted from there",
+            k));
       continue;
     }
+    if (static_cast<int>(k) >= onset && onset >= 0 && !out.onset_index)
+      out.onset_index = static_cast<int>(out.opening.size());
     const double spread = std::isfinite(s.J_ff_spread_percent[k]) ? s.J_ff_spread_percent[k] : 0;
     out.opening.push_back(s.delta_star[k]);
     out.J_ff.push_back(s.J_ff[k]);
@@ -79,6 +129,20 @@ laws::FarFieldJSamples JSamples(const DicJSeries& s, const LawFreeRequest& reque
                               std::abs(s.J_ff[k]));
   }
   out.onset_opening = request.onset_opening;
+  if (request.onset_opening) return out;
+  if (onset >= 0) {
+    notes.push_back(fmt::format(
+        "onset of growth: frame {} ({}), the last with delta* = 0 within its uncertainty{}", onset,
+        s.image[onset],
+        before > 0 ? fmt::format("; {} frame(s) before it left out (J_tip still rising)", before)
+                   : std::string()));
+  } else {
+    notes.push_back(
+        "warning: no frame has delta* = 0 within its uncertainty (the crack had grown before "
+        "the first frame with J and delta*, or that frame failed): the onset of growth is "
+        "detected from the shape of J_ff(delta*), which a smooth drift of J_ff can fool; give "
+        "--onset");
+  }
   return out;
 }
 

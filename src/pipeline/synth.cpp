@@ -130,20 +130,26 @@ dic::BridgedCrackField BridgedFrame(const SynthRequest& request, const dic::Mode
   return b;
 }
 
-// The bridged field (hundreds of terms per point) tabulated every pixel and
-// interpolated bilinearly, except in cells that straddle the crack faces,
-// where it is evaluated exactly (the opening is a jump there).
+// The bridged field (hundreds of terms per point) tabulated every kTableStep
+// px and interpolated bilinearly, except in cells that straddle the crack
+// faces, where it is evaluated exactly (the opening is a jump there). Every
+// 2 px instead of every pixel: a quarter of the evaluations (they were three
+// quarters of `synth --bridged-field`'s time); the bilinear error, h^2/8
+// |u''|, is about 2e-4 px 10 px from the tip (K field, K = 0.94 MPa m^0.5
+// at 0.1 mm/px), far below the DIC's noise (5e-3 px).
+constexpr int kTableStep = 2;
 dic::DisplacementFunction Tabulated(const dic::BridgedCrackField& b, int width, int height) {
-  const int nx = width + 3, ny = height + 3;  // nodes at -1 .. width + 1
+  constexpr double h = kTableStep;
+  const int nx = (width + 2) / kTableStep + 2, ny = (height + 2) / kTableStep + 2;  // from -1 px
   auto u = std::make_shared<std::vector<double>>(static_cast<size_t>(nx) * ny);
   auto v = std::make_shared<std::vector<double>>(u->size());
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i)
-      b(i - 1.0, j - 1.0, &(*u)[j * nx + i], &(*v)[j * nx + i]);
-  return [b, u, v, nx, ny](double X, double Y, double* ux, double* vy) {
-    const double fx = X + 1, fy = Y + 1;
+      b(h * i - 1.0, h * j - 1.0, &(*u)[j * nx + i], &(*v)[j * nx + i]);
+  return [b, u, v, nx, ny, h](double X, double Y, double* ux, double* vy) {
+    const double fx = (X + 1) / h, fy = (Y + 1) / h;
     const int i = static_cast<int>(std::floor(fx)), j = static_cast<int>(std::floor(fy));
-    const bool faces = X < b.tip_x + 1 && std::abs(Y - b.tip_y) < 1.5;
+    const bool faces = X < b.tip_x + h && std::abs(Y - b.tip_y) < h + 0.5;
     if (faces || i < 0 || j < 0 || i + 1 >= nx || j + 1 >= ny) return b(X, Y, ux, vy);
     const double tx = fx - i, ty = fy - j;
     auto lerp = [&](const std::vector<double>& a) {

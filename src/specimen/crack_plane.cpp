@@ -385,30 +385,38 @@ void Condense(const Domain& d, const Grid& g, const DofMap& map, const Blocks& b
   if (solver.info() != Eigen::Success)
     throw Error(ErrorKind::kRuntime, "the finite-element stiffness matrix is singular",
                 {.field = "mesh", .value = key});
-  Eigen::MatrixXd rhs(n_interior, n_retained + 1);
-  rhs.leftCols(n_retained) = Eigen::MatrixXd(k_ir);
-  rhs.col(n_retained) = blocks.w_i;
-  Eigen::MatrixXd sol(n_interior, n_retained + 1);
-  const int columns = n_retained + 1;
+  // K_ii = P^T L D L^T P, Z = D^-1/2 L^-1 P K_iR (forward halves only, which
+  // skip the sparse columns' zeros): K_Ri K_ii^-1 K_iR = Z^T Z (docs/REDUCED.md).
+  const Eigen::MatrixXd PK = solver.permutationP() * Eigen::MatrixXd(k_ir);
+  Eigen::MatrixXd Z(n_interior, n_retained);
+  const Eigen::VectorXd d_inv_sqrt = solver.vectorD().cwiseSqrt().cwiseInverse();
 #pragma omp parallel for schedule(dynamic, 4)
-  for (int c = 0; c < columns; ++c) sol.col(c) = solver.solve(rhs.col(c));
-  const auto X = sol.leftCols(n_retained);
-  const Eigen::VectorXd Y = sol.col(n_retained);
+  for (int c = 0; c < n_retained; ++c) {
+    Eigen::VectorXd z = PK.col(c);
+    solver.matrixL().solveInPlace(z);
+    Z.col(c) = d_inv_sqrt.cwiseProduct(z);
+  }
+  const Eigen::VectorXd Y = solver.solve(blocks.w_i);  // the load's column: a full solve
 
   model.node_x.resize(n_retained);
   for (int r = 0; r < n_retained; ++r) model.node_x[r] = d.notch + (r - 1) * d.h;
-  const Eigen::MatrixXd S = blocks.k_rr - k_ir.transpose() * X;
-  const Eigen::MatrixXd S_sym = 0.5 * (S + S.transpose());
+  Eigen::MatrixXd S = blocks.k_rr;
+  S.selfadjointView<Eigen::Lower>().rankUpdate(Z.transpose(), -1.0);
+  const Eigen::MatrixXd S_sym = S.selfadjointView<Eigen::Lower>();
   model.stiffness.assign(S_sym.data(), S_sym.data() + S_sym.size());
   const Eigen::VectorXd load = blocks.w_r - k_ir.transpose() * Y;
   model.load.assign(load.data(), load.data() + load.size());
   model.load_compliance = blocks.w_i.dot(Y);
   model.load_coupling = model.load;  // q = w_R - X^T w_i = g (Maxwell-Betti)
+  auto row_of_x = [&](int j) -> Eigen::VectorXd {  // row j of K_ii^-1 K_iR (K_ii symmetric)
+    return k_ir.transpose() * solver.solve(Eigen::VectorXd::Unit(n_interior, j));
+  };
   const int mouth_dof = map.index[2 * node(0, 0) + 1];
   BF_DEBUG_ASSERT(map.kind[2 * node(0, 0) + 1] == DofMap::kInterior);
   model.mouth_compliance = Y[mouth_dof];
+  const Eigen::VectorXd mouth_x = row_of_x(mouth_dof);
   model.mouth_coupling.resize(n_retained);
-  for (int r = 0; r < n_retained; ++r) model.mouth_coupling[r] = -X(mouth_dof, r);
+  for (int r = 0; r < n_retained; ++r) model.mouth_coupling[r] = -mouth_x[r];
   const int gauge_ix = static_cast<int>(
       std::distance(xs.begin(), std::min_element(xs.begin(), xs.end(), [](double a, double b) {
                       return std::abs(a) < std::abs(b);
@@ -416,8 +424,9 @@ void Condense(const Domain& d, const Grid& g, const DofMap& map, const Blocks& b
   const int gauge_dof = map.index[2 * node(gauge_ix, 0) + 1];
   model.gauge_x = xs[gauge_ix];
   model.gauge_compliance = Y[gauge_dof];
+  const Eigen::VectorXd gauge_x = row_of_x(gauge_dof);
   model.gauge_coupling.resize(n_retained);
-  for (int r = 0; r < n_retained; ++r) model.gauge_coupling[r] = -X(gauge_dof, r);
+  for (int r = 0; r < n_retained; ++r) model.gauge_coupling[r] = -gauge_x[r];
 }
 
 // The crack-plane model of a domain, in named stages: grid, immersed hole,

@@ -14,21 +14,24 @@
 //  - delta* per frame within 3 % (+ 1 um) of the generator's root opening
 //    where the zone is at least 3 mm, within 10 % below (the stretch reaches
 //    8 points behind the root and 0.35 of the zone ahead of it, 2 points at
-//    least, dic/frame_j.hpp; measured -1.5 .. +0.1 % here), exactly 0 at the
+//    least, dic/frame_j.hpp; measured -1.5 .. +0.2 % here), exactly 0 at the
 //    onset frame;
 //  - J_ff per frame within 8 % of the generator's (measured 0.1-3.8 %: the
 //    domain integral on DIC gradients scatters a few percent);
+//  - the onset of growth at frame 1, the delta* = 0 frame (not a kink in
+//    J_ff(delta*), which a drift of the J scatter can fake);
 //  - J_tip,c within 5 %;
 //  - the mean sigma over the covered openings, W(delta_max) / delta_max,
-//    within 10 % of the law's (measured +0.0 %).
+//    within 10 % of the law's (measured -1.3 %).
 // What does not hold and is only printed: sigma(delta) pointwise within
 // 10 % over the covered range (0 to the largest delta*, 41 nodes). Measured
-// worst 7.9 % here, 6.7-6.9 % on two other runs, 15.8-52.8 % on three more
+// worst 10.9 % here, 6.7-6.9 % on two other runs, 15.8-63.7 % on four more
 // (seeds, the exponential law, 480 x 400 px frames): the J scatter (1.5-3 %
-// RMS per frame) differentiated over a rise J_ff - J_tip,c of about 55 % of
-// J_tip,c moves the ends of the curve by 7-33 % on its own
-// (bench/lawfree_split, docs/LAW_FREE.md "Where the pointwise error comes
-// from"). The delta* part was cut (worst 10-26 % with the true J_ff
+// RMS per frame; the DIC's response to the image noise, 0.1-0.2 % on the
+// generator's exact field: bench/lawfree_exact_j) differentiated over a
+// rise J_ff - J_tip,c of about 55 % of J_tip,c moves the ends of the curve
+// by 7-63 % on its own (bench/lawfree_split, docs/LAW_FREE.md "Where the
+// pointwise error comes from"). The delta* part was cut (worst 10-26 % with the true J_ff
 // before the shorter stretch ahead of the root, 1-12 % now).
 // Asserted too: the data stop far before steady state, so J_B and delta_c
 // are lower bounds below the truth (the J route used to take the J scatter
@@ -132,6 +135,11 @@ max_crack_length = "45 mm"
   ASSERT_TRUE(out.far_field.has_value());
   const laws::LawFreeResult& r = *out.far_field;
   EXPECT_NEAR(r.J_tip_c, kJtip, 0.05 * kJtip);
+  // The onset of growth is frame 1 (the tip at the notch root: dic writes
+  // delta* = 0), not a kink in J_ff(delta*) that the J scatter can fake.
+  EXPECT_FALSE(r.onset_detected);
+  EXPECT_EQ(r.onset_index, 0);
+  EXPECT_NE(lawfree.out.find("onset of growth: frame 1 ("), std::string::npos) << lawfree.out;
   // Pointwise over the covered range (the grid runs from the onset frame's
   // opening, 0, to the largest measured delta*): printed, not asserted.
   double worst = 0;

@@ -54,4 +54,21 @@ FitSummary FitWithModelCheck(const ForwardModel& cheap, const ForwardModel& accu
                              const FitOptions& options, const ModelCheckOptions& check,
                              ModelCheckResult* result);
 
+// The bias of a corrected fit's parameters from the accurate model's own
+// discretisation error (issue 17: model error in every interval).
+// `accurate_error` is that error of the accurate R at result.crack_length
+// (the accurate R minus its converged R [J/m^2]; for MPM, from a halved
+// cell at order 1). The corrected model is rebuilt with the converged
+// accurate R (its offset less the error) and refitted without profiles from
+// the fit's optimum; each free parameter's bias is the fit's value minus the
+// refit's (0 for fixed ones, NaN for all when the refit fails or the
+// sizes differ). `runs` (may be null) gets the forward runs spent.
+std::array<double, kParameterCount> CorrectedFitBias(const ForwardModel& cheap,
+                                                     const ModelCheckResult& result,
+                                                     const laws::LawShape& shape,
+                                                     const FitData& data, const FitOptions& options,
+                                                     const FitSummary& fit,
+                                                     const std::vector<double>& accurate_error,
+                                                     int* runs = nullptr);
+
 }  // namespace bridgefit::inverse

@@ -177,6 +177,12 @@ struct FitRun {
   // parameters over the data (NaN when not computed: a given cell and no
   // correction).
   double mpm_convergence = NAN;
+  // --model auto: MPM's own error at the check's crack lengths
+  // (model_check.crack_length; R(cell) minus its converged R, order 1,
+  // fit_model_auto.cpp), the corrected fit's model error; empty when not
+  // computed.
+  std::vector<double> mpm_error_R;  // [J/m^2]
+  double mpm_error_from_cell = NAN;  // [m], the other cell of that estimate
   // --model auto with --mpm-cell auto: how the cell was chosen (the cells
   // tried, MPM's own error at each); empty for a given cell.
   std::string mpm_cell_choice;

@@ -42,7 +42,13 @@ struct LawFreeRequest {
   std::filesystem::path rcurve_file;  // optional: rcurve.h5 or R-curve CSV (the R route)
   bool far_field_route = true;        // false: the R route only
   std::optional<double> J_tip_c;      // R route: given [J/m^2]; absent: fitted
-  std::optional<double> onset_opening;  // J route: delta* at the onset [m]; absent: detected
+  // J route: delta* at the onset [m]. Absent: the onset frame is the last
+  // of the leading frames whose delta* is zero within 2 of its standard
+  // uncertainties (a zero after growth began: skipped, a warning; dic writes
+  // delta* = 0 while the tip is within a grid step of the notch root), the
+  // frames before it are left out (a note); without such a frame the onset
+  // is detected from J_ff's shape, with a warning note.
+  std::optional<double> onset_opening;
   double j_relative_floor = 0.01;
   double r_relative_floor = 0.02;
   laws::LawFreeOptions options;
