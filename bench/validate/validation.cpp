@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <cmath>
 #include <random>
 
@@ -156,6 +157,43 @@ ParameterCheck CheckParameter(const inverse::ParameterEstimate& e, double truth,
   return c;
 }
 
+// BF_VALIDATE_DIC_CSV=FILE: one row per DIC frame after the reference
+// appended to FILE (header when new): each tip method's length and 1-sigma
+// uncertainty, the path against the line, the flags, the error against the
+// true tip (lengths in mm).
+void AppendDicFrames(const std::string& file, const ValidationCase& spec,
+                     const pipeline::SynthTest& test, const dic::CrackSequenceResult& dic) {
+  static std::mutex mutex;
+  const std::lock_guard<std::mutex> lock(mutex);
+  const bool is_new = !std::filesystem::exists(file);
+  std::ofstream out(file, std::ios::app);
+  if (is_new)
+    out << "case, frame, truth_mm, raw_mm, monotone_mm, u_mm, method, williams_mm, u_williams_mm, "
+           "sqrt_mm, u_sqrt_mm, jump_mm, u_jump_mm, path_points, path_rms_px, line_rms_all_px, "
+           "hint_offset_px, line_se_px, hint_angle_deg, cracked_px, curvature_per_px, "
+           "curvature_se_per_px, williams_shift_px, flags\n";
+  const double mm = 1e3 * test.window.scale;  // px -> mm
+  auto at = [&](const dic::TipEstimate& t) {  // along the line used, as the frame's length
+    return t.found ? fmt::format("{:.4f}, {:.4f}", t.s_px * mm + 1e3 * test.window.x0,
+                                 t.uncertainty_px * mm)
+                   : std::string("nan, nan");
+  };
+  for (std::size_t k = 1; k < dic.frames.size(); ++k) {
+    const dic::FrameResult& f = dic.frames[k];
+    const dic::CrackTipResult& t = f.tip;
+    out << fmt::format("{}, {}, {:.4f}, {:.4f}, {:.4f}, {:.4f}, {}, {}, {}, {}, {}, {:.3f}, {:.3f}, "
+                       "{:.2f}, {:.2f}, {:.3f}, {:.1f}, {:.3g}, {:.3g}, {:.3f}, {}\n",
+                       spec.index, k, 1e3 * test.frames[k].crack_length,
+                       f.has_length ? 1e3 * f.crack_length_raw_m : NAN,
+                       f.has_length ? 1e3 * f.crack_length_m : NAN, 1e3 * f.uncertainty_m,
+                       dic::TipMethodName(t.method), at(t.williams), at(t.sqrt_cod),
+                       at(t.jump), f.path.inliers, f.path.rms_residual_px,
+                       f.path.line_rms_all_px, f.path.hint_max_offset_px, f.path.line_se_px,
+                       f.path.hint_angle_deg, f.path.cracked_length_px, f.path.curvature_per_px,
+                       f.path.curvature_se_per_px, t.williams_shift_px, f.Flags());
+  }
+}
+
 // The images route's DIC: the frames written as `bridgefit synth` writes
 // them (a temporary folder, removed after), analysed with `bridgefit dic`'s
 // defaults along the synth window's crack line (the image's middle row;
@@ -188,6 +226,7 @@ pipeline::FitRequest::FrameCrackLengths MeasureFrames(const ValidationCase& spec
   settings.crack_line = dic::CrackLine{0.0, row, kImageWidth - 1.0, row};
   settings.threads = threads;
   const dic::CrackSequenceResult dic = dic::AnalyzeCrackSequence(images, dic::MakeSequenceOptions(settings));
+  if (const char* csv = std::getenv("BF_VALIDATE_DIC_CSV")) AppendDicFrames(csv, spec, test, dic);
   pipeline::FitRequest::FrameCrackLengths frames;
   frames.source = "DIC of validation case " + std::to_string(spec.index);
   double sum = 0.0, worst = 0.0;

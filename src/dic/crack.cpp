@@ -136,23 +136,6 @@ CodProfile BuildCodProfile(const std::vector<LocalPoint>& pts, const CrackTipOpt
   return cod;
 }
 
-// Pairwise: |s_a - s_b| > 2 sqrt(sigma_a^2 + sigma_b^2), sigmas at least one
-// station / sqrt(12); the jump tip may lie ahead of the others by up to the
-// band half width (it reads the opening where it drops below a threshold).
-bool MethodsDisagree(const CrackTipResult& r, const CrackTipOptions& o) {
-  const double floor_sigma = o.station_spacing_px / std::sqrt(12.0);
-  auto sig = [&](const TipEstimate& t) { return std::max(t.uncertainty_px, floor_sigma); };
-  auto apart = [&](const TipEstimate& a, const TipEstimate& b, double ahead_allowed) {
-    if (!a.found || !b.found) return false;
-    const double tol = 2.0 * std::hypot(sig(a), sig(b));
-    const double d = a.s_px - b.s_px;  // a relative to b
-    return d > tol + ahead_allowed || d < -tol;
-  };
-  const TipEstimate &w = r.williams, &q = r.sqrt_cod, &j = r.jump;
-  return apart(w, q, 0) || apart(j, w, o.band_half_width_px) ||
-         apart(j, q, o.band_half_width_px);
-}
-
 // Robust noise of the opening (MAD of consecutive differences, sigma =
 // 1.4826 MAD / sqrt 2) and the threshold an opened station must pass.
 void OpeningNoiseAndThreshold(const CodProfile& cod, const CrackTipOptions& o, CrackTipResult& res) {
@@ -263,6 +246,9 @@ void SqrtCodTip(const CodProfile& cod, int last, const CrackTipOptions& o, Crack
       const double ds_dbeta = (sm - t.s_px) / beta;  // d s_tip / d beta with alpha = om - beta sm
       t.uncertainty_px = std::sqrt(sigma2 / n / (beta * beta) + ds_dbeta * ds_dbeta * var_beta);
       t.found = std::isfinite(t.s_px) && t.s_px > 0 && t.s_px < o.line.Length() * 1.5;
+      const double reach = o.band_half_width_px;  // a subset's half width: it smooths that far
+      res.sqrt_near_tip_share =
+          static_cast<double>(std::count_if(s.begin(), s.end(), [&](double sk) { return t.s_px - sk < reach; })) / n;
       SetPosition(o.line, &t);
     }
   }
@@ -290,6 +276,28 @@ void ChooseTip(TipMethod preferred, const CrackTipOptions& o, CrackTipResult& re
 }
 
 }  // namespace
+
+// Pairwise: |s_a - s_b| > 2 sqrt(sigma_a^2 + sigma_b^2), sigmas at least one
+// station / sqrt(12). Both COD tips read the opening extrapolated from
+// outside the band, which near the tip exceeds the faces' (the field at r ~
+// band, not at the face), so the opening seems to run on: the jump tip (where
+// it drops below a threshold) may lie up to a band half width ahead of the
+// others, the sqrt tip by that share of it that its fit's stations near the
+// tip carry. Never allowed: a COD tip behind.
+bool MethodsDisagree(const CrackTipResult& r, const CrackTipOptions& o) {
+  const double floor_sigma = o.station_spacing_px / std::sqrt(12.0);
+  auto sig = [&](const TipEstimate& t) { return std::max(t.uncertainty_px, floor_sigma); };
+  auto apart = [&](const TipEstimate& a, const TipEstimate& b, double ahead_allowed) {
+    if (!a.found || !b.found) return false;
+    const double tol = 2.0 * std::hypot(sig(a), sig(b));
+    const double d = a.s_px - b.s_px;  // a relative to b
+    return d > tol + ahead_allowed || d < -tol;
+  };
+  const TipEstimate &w = r.williams, &q = r.sqrt_cod, &j = r.jump;
+  return apart(q, w, r.sqrt_near_tip_share * o.band_half_width_px) ||
+         apart(j, w, o.band_half_width_px) ||
+         apart(j, q, o.band_half_width_px);
+}
 
 // Stages: opening profile -> noise and threshold -> first opened run -> jump,
 // sqrt-COD and Williams tips -> the preferred tip found.

@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "bridgefit/core/error.hpp"
+#include "weighted_poly_impl.hpp"
 
 namespace bridgefit::dic {
 
@@ -29,6 +30,7 @@ bool CrackPathOptions::IsValid(std::string* why) const {
   if (min_stations < 2) return fail("a path needs at least 2 stations");
   if (!(hint_tolerance_px > 0)) return fail("path-hint tolerance must be > 0");
   if (!(curved_rms_px > 0)) return fail("curved-path RMS threshold must be > 0");
+  if (!(error_correlation_px >= 0)) return fail("error correlation length must be >= 0");
   return true;
 }
 
@@ -216,6 +218,7 @@ struct LineFit {
   std::vector<char> inlier;
   double rms = 0;
   int count = 0;
+  bool slope_from_hint = false;  // b = 0: the data do not resolve the angle
 };
 
 // Weighted (J^2) straight line through the station hits, outliers trimmed.
@@ -264,31 +267,46 @@ LineFit FitPath(const std::vector<StationHit>& hits) {
   return fit;
 }
 
+// Variance factor for station errors correlated over error_correlation_px.
+double CorrelationInflation(const CrackPathOptions& o) {
+  return std::max(1.0, o.error_correlation_px / o.station_spacing_px);
+}
+
+// The weighted (J^2) fit of the inliers' n against s, with its sandwich
+// standard errors: degree 1, or 0 where the slope is the hint's.
+detail::WeightedPoly InlierFit(const std::vector<StationHit>& hits, const LineFit& fit, int degree,
+                               const CrackPathOptions& o) {
+  std::vector<double> s, n, w;
+  for (size_t k = 0; k < hits.size(); ++k) {
+    s.push_back(hits[k].s);
+    n.push_back(hits[k].n);
+    w.push_back(fit.inlier[k] ? hits[k].jump * hits[k].jump : 0.0);
+  }
+  return detail::FitWeightedPoly(s, n, w, degree, CorrelationInflation(o));
+}
+
 // With a hint, the path's angle is taken from the data only where the data
-// resolve it: a slope within two standard errors of the hint's (a short or
-// scattered run of crack points) keeps the hint's direction, through the
+// resolve it: a slope within two standard errors of the hint's, or a run too
+// short to fit one (no more than two independent points: errors correlate
+// over error_correlation_px), keeps the hint's direction, through the
 // weighted mean offset of the inliers.
-void KeepHintDirectionUnlessResolved(const std::vector<StationHit>& hits, LineFit* fit) {
-  double ms = 0, sxx = 0, sw = 0, sn = 0;
+void KeepHintDirectionUnlessResolved(const std::vector<StationHit>& hits, const CrackPathOptions& o,
+                                     LineFit* fit) {
+  const detail::WeightedPoly line = InlierFit(hits, *fit, 1, o);
+  if (line.ok && std::abs(fit->b) >= 2 * line.CoefSe(1)) return;
+  double sw = 0, sn = 0;
   int n = 0;
   for (size_t k = 0; k < hits.size(); ++k)
     if (fit->inlier[k]) {
-      ms += hits[k].s;
-      ++n;
-    }
-  if (n < 3) return;
-  ms /= n;
-  for (size_t k = 0; k < hits.size(); ++k)
-    if (fit->inlier[k]) {
-      sxx += (hits[k].s - ms) * (hits[k].s - ms);
       const double w = hits[k].jump * hits[k].jump;
       sw += w;
       sn += w * hits[k].n;
+      ++n;
     }
-  const double se_slope = fit->rms * std::sqrt(static_cast<double>(n) / (n - 2)) / std::sqrt(std::max(sxx, 1e-12));
-  if (std::abs(fit->b) >= 2 * se_slope || !(sw > 0)) return;
+  if (!(sw > 0)) return;
   fit->b = 0;
   fit->a = sn / sw;
+  fit->slope_from_hint = true;
   double ssr = 0;
   for (size_t k = 0; k < hits.size(); ++k)
     if (fit->inlier[k]) ssr += (hits[k].n - fit->a) * (hits[k].n - fit->a);
@@ -376,7 +394,7 @@ Scan ScanFrame(const DisplacementField& f, const Frame& frame, bool limit_to_hin
   }
   if (static_cast<int>(scan.hits.size()) < o.min_stations) return scan;
   scan.fit = FitPath(scan.hits);
-  if (limit_to_hint) KeepHintDirectionUnlessResolved(scan.hits, &scan.fit);
+  if (limit_to_hint) KeepHintDirectionUnlessResolved(scan.hits, o, &scan.fit);
   for (size_t k = 0; k < scan.hits.size(); ++k)
     if (scan.fit.inlier[k]) scan.score += scan.hits[k].jump;
   return scan;
@@ -493,33 +511,39 @@ CrackPathResult FindCrackPath(const DisplacementField& field, const CrackPathOpt
     const double a = scan.fit.a, b = scan.fit.b;
     res.hint_max_offset_px = std::max(std::abs(a + b * s_first), std::abs(a + b * s_last));
     res.hint_angle_deg = std::atan(b) * 180.0 / std::numbers::pi;
-    // Disagree beyond the tolerance and beyond twice the standard error of
-    // the fitted line at the ends of the cracked length.
-    double mean_s = 0, sxx = 0;
-    for (size_t k = 0; k < scan.hits.size(); ++k)
-      if (scan.fit.inlier[k]) mean_s += scan.hits[k].s / res.inliers;
-    for (size_t k = 0; k < scan.hits.size(); ++k)
-      if (scan.fit.inlier[k]) sxx += (scan.hits[k].s - mean_s) * (scan.hits[k].s - mean_s);
-    auto se = [&](double s) {
-      return res.rms_residual_px * std::sqrt(1.0 / res.inliers + (s - mean_s) * (s - mean_s) / std::max(sxx, 1e-9));
-    };
+    // Disagree beyond twice the line's uncertainty at an end of the cracked
+    // length: its resolution (hint_tolerance_px is two of its sigmas) and its
+    // standard error there, in quadrature.
+    const detail::WeightedPoly fit = InlierFit(scan.hits, scan.fit, scan.fit.slope_from_hint ? 0 : 1, o);
+    res.line_se_px = fit.ok ? std::max(fit.Se(s_first), fit.Se(s_last)) : 0.0;
     res.disagrees_with_hint =
-        std::abs(a + b * s_first) > std::max(o.hint_tolerance_px, 2 * se(s_first)) ||
-        std::abs(a + b * s_last) > std::max(o.hint_tolerance_px, 2 * se(s_last));
+        res.hint_max_offset_px > 2 * std::hypot(0.5 * o.hint_tolerance_px, res.line_se_px);
   }
   // Fit quality of the line over every crack point; a polyline where it is
   // poor (a kinked or curved crack), its points ordered along the path.
   {
     std::vector<std::pair<double, size_t>> order;
+    std::vector<double> ps, pn, pw;
     double ss = 0;
     for (size_t k = 0; k < res.point_x.size(); ++k) {
       double s, n;
       res.line.ToLocal(res.point_x[k], res.point_y[k], &s, &n);
       order.push_back({s, k});
       ss += n * n;
+      ps.push_back(s);
+      pn.push_back(n);
+      pw.push_back(res.point_jump_px[k] * res.point_jump_px[k]);
     }
     res.line_rms_all_px = std::sqrt(ss / std::max<size_t>(1, order.size()));
-    res.curved = res.line_rms_all_px > o.curved_rms_px;
+    // Curved: off the line by more than the resolution, and the bend is
+    // resolved (a parabola's curvature beyond twice its standard error).
+    const detail::WeightedPoly bend = detail::FitWeightedPoly(ps, pn, pw, 2, CorrelationInflation(o));
+    if (bend.ok) {
+      res.curvature_per_px = bend.c[2];
+      res.curvature_se_per_px = bend.CoefSe(2);
+    }
+    res.curved = res.line_rms_all_px > o.curved_rms_px && bend.ok &&
+                 std::abs(res.curvature_per_px) > 2 * res.curvature_se_per_px;
     if (res.curved) {
       std::sort(order.begin(), order.end());
       std::vector<double> xs, ys;

@@ -87,6 +87,9 @@ TEST_F(DicCli, SyntheticSequencePathFound) {
     const double a = f["crack_length_raw_m"].get<double>();
     const double expected = (tips_[k - 1] - 10) * 0.05e-3 + 2e-3;
     const double sigma = f["crack_length_uncertainty_m"].get<double>();
+    std::printf("frame %d: error %+.2f px, 2 sigma %.2f px, path %.2f deg, flags [%s]\n", k,
+                (a - expected) / 0.05e-3, 2 * sigma / 0.05e-3, f["path"]["angle_deg"].get<double>(),
+                f["flags"].get<std::string>().c_str());
     EXPECT_TRUE(std::abs(a - expected) <= 2 * sigma || f["flagged"].get<bool>()) << f.dump();
   }
 }

@@ -124,6 +124,14 @@ TEST(Validation, ImagesRouteMeasuresTheCrackOnTheFramesAndCleansUp) {
   EXPECT_GE(r.dic_frames, kImageFrames / 2) << "frames after the reference with a length";
   EXPECT_LT(r.dic_max_abs_error, 0.5e-3);
   EXPECT_LT(std::abs(r.dic_mean_error), 0.3e-3);
+  // Issue 17: the DIC flags fire when something is wrong, not on frames
+  // whose lengths agree with the truth (here within 0.11 mm, 2 sigma about
+  // 0.3-0.4 mm). A guard only: this case had no flagged frame before the
+  // flags were stated in units of the uncertainty either (the campaign's
+  // seed-17 cases did: docs/VALIDATION.md, "Images route").
+  std::printf("DIC: %d frames, %d flagged, mean %+.3f mm, max abs %.3f mm\n", r.dic_frames, r.dic_flagged,
+              r.dic_mean_error * 1e3, r.dic_max_abs_error * 1e3);
+  EXPECT_EQ(r.dic_flagged, 0) << FailureList({r}, true);
   for (const ParameterCheck& p : r.parameters) EXPECT_FALSE(p.silent_failure) << FailureList({r}, true);
   const std::string prefix = "bf_validate_" + std::to_string(static_cast<long>(::getpid())) + "_";
   for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::temp_directory_path()))

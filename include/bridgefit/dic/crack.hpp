@@ -68,6 +68,11 @@ struct CrackTipResult {
   double threshold_px = 0;        // threshold actually used by kJump
   double noise_px = 0;            // robust noise of the opening profile
   TipEstimate williams, jump, sqrt_cod;
+  // Share of the sqrt-COD fit's stations within band_half_width_px of its
+  // tip: there the opening is read from points about as far from the tip as
+  // from the faces and smoothed over a subset reaching past the tip (the tip
+  // seems further ahead); MethodsDisagree allows it that share of a band ahead.
+  double sqrt_near_tip_share = 0;
   double k_over_2mu_sqrt_px = 0;  // Williams: K_I / (2 mu), px^0.5
   double williams_residual_px = 0;  // RMS residual of the field fit
   int williams_points = 0;
@@ -97,8 +102,8 @@ struct CrackTipResult {
   TipMethod method = TipMethod::kWilliams;  // the method that gave `tip`
   TipEstimate tip;
   // The found tips differ by more than their stated uncertainties allow
-  // (k = 2, each at least one station / sqrt(12); the jump tip may also lie
-  // up to `band_half_width_px` ahead, its documented bias).
+  // (MethodsDisagree: k = 2, each at least one station / sqrt(12); the COD
+  // tips may also lie up to a band half width ahead, their documented bias).
   bool methods_disagree = false;
   // The opening still exceeds the threshold at the last station with data on
   // both sides (or the Williams minimum sits at the end of the line): the
@@ -106,6 +111,15 @@ struct CrackTipResult {
   bool tip_at_edge = false;
   double last_station_px = 0;  // s of the last station with data on both sides
 };
+
+// The rule of CrackTipResult::methods_disagree, on the found tips of r:
+// pairwise |s_a - s_b| > 2 sqrt(sigma_a^2 + sigma_b^2) (each sigma at least
+// one station / sqrt(12)), except that the COD tips may lie further ahead
+// (their documented bias: the opening read from outside the band runs on
+// past the tip): the jump tip up to band_half_width_px ahead of the others,
+// the sqrt tip up to sqrt_near_tip_share x band_half_width_px ahead of the
+// Williams tip.
+bool MethodsDisagree(const CrackTipResult& r, const CrackTipOptions& o);
 
 // Throws Error(kUsage) for invalid options.
 CrackTipResult LocateCrackTip(const DisplacementField& field, const CrackTipOptions& options,

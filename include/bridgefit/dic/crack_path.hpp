@@ -23,8 +23,11 @@
 // The path starts at the hint's start point projected on the fitted line, or,
 // without a hint, where the line enters the field on the notch side (the end
 // of the detected run with the larger opening) and runs to the field's far
-// edge. It disagrees with the hint when the two lines are further apart than
-// `hint_tolerance_px` anywhere over the cracked length.
+// edge. It disagrees with the hint when the two lines are further apart at an
+// end of the cracked length than twice the line's uncertainty there (the
+// resolution `hint_tolerance_px` / 2 and the standard error in quadrature). Standard errors: weighted least squares with the sandwich
+// (heteroscedastic) covariance, times n / (n - p), inflated for the
+// correlation of neighbouring stations (`error_correlation_px`).
 
 #include <string>
 #include <vector>
@@ -49,10 +52,20 @@ struct CrackPathOptions {
   // Without a hint the path runs across this box (the image: 0, 0, width - 1,
   // height - 1); lengths count from where it enters. Empty: the field's extent.
   double bounds_x0 = 0, bounds_y0 = 0, bounds_x1 = -1, bounds_y1 = -1;
-  double hint_tolerance_px = 2;      // path vs hint: further apart than this = disagree
-  // The straight line fits badly when the RMS normal distance of all crack
-  // points (outliers of the line fit included) exceeds this: the path is
-  // then also given as a polyline (FitCrackPolyline) and marked curved.
+  // The path's resolution, as two standard deviations (where straddling
+  // subsets fail, half a grid step and more). Path vs hint: further apart at
+  // an end of the cracked length than 2 sqrt((this / 2)^2 + se^2), se the
+  // fitted line's standard error there = disagree.
+  double hint_tolerance_px = 2;
+  // The crack points' position errors are correlated over this length
+  // along the path (DIC subsets of this size overlap; 0: independent): the
+  // line's and the curvature's standard errors are inflated by
+  // sqrt(max(1, this / station spacing)).
+  double error_correlation_px = 0;
+  // Curved: the RMS normal distance of all crack points (outliers of the
+  // line fit included) to the line exceeds this AND a parabola through them
+  // (weights J^2) has a curvature beyond twice its own standard error. The
+  // path is then also given as a polyline (FitCrackPolyline).
   double curved_rms_px = 2;
   bool IsValid(std::string* why) const;
 };
@@ -76,6 +89,12 @@ struct CrackPathResult {
   // polyline where it fits badly (vertices notch side first; empty when the
   // line fits: then the path is the line).
   double line_rms_all_px = 0;
+  // Parabola n = c0 + c1 s + c2 s^2 through every crack point: c2 [1/px]
+  // and its standard error (sandwich, correlation-inflated).
+  double curvature_per_px = 0, curvature_se_per_px = 0;
+  // Standard error of the fitted line at the ends of the cracked length
+  // (has_hint only; the larger of the two), px.
+  double line_se_px = 0;
   bool curved = false;
   std::vector<double> polyline_x, polyline_y;
   double polyline_rms_px = 0;  // RMS distance of the crack points to the polyline

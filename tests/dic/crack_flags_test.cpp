@@ -1,0 +1,164 @@
+// The DIC flags fire when something is wrong, not on agreeing frames
+// (issues 17 and 18): the path-vs-line and curvature rules in units of the
+// path's own uncertainty (station errors correlated over a subset), and the
+// tip methods' disagreement in units of their stated uncertainties.
+// Exact fields (no image noise): the path wanders by a known amount.
+// Runtime: well under 1 s.
+#include <cmath>
+#include <functional>
+#include <numbers>
+#include <gtest/gtest.h>
+
+#include "bridgefit/dic/crack.hpp"
+#include "bridgefit/dic/crack_path.hpp"
+
+namespace bridgefit::dic {
+namespace {
+
+// Opening jump across the path y = path_y(x), falling as sqrt(200 - x) to
+// zero at the tip x = 200 (the notch on the left), on a 2 px grid.
+DisplacementField CrackAlong(const std::function<double(double)>& path_y) {
+  DisplacementField f;
+  for (int y = 0; y <= 200; y += 2)
+    for (int x = 0; x <= 240; x += 2) {
+      const double side = y > path_y(x) ? 1.0 : -1.0;
+      const bool cracked = x < 200;
+      f.x.push_back(x);
+      f.y.push_back(y);
+      f.u.push_back(0.1);
+      f.v.push_back(0.05 + (cracked ? 0.5 * side * std::sqrt((200.0 - x) / 200.0) : 0.0));
+      f.zncc.push_back(1);
+      f.iterations.push_back(0);
+      f.status.push_back(PointStatus::kOk);
+    }
+  f.nx = 121;
+  f.ny = 101;
+  return f;
+}
+
+// A crack on y = 100 whose found position wanders by +-3 px with a period
+// of 60 px (as the path found on DIC images does where straddling subsets
+// fail: about half a grid step, correlated over a subset).
+double Wander(double x) { return 100.0 + 3.0 * std::sin(2 * std::numbers::pi * x / 60.0); }
+
+// Stations every 2 px, errors correlated over a 30 px subset, resolution
+// (two sigma) 3 px: as SetGridDefaults gives for a 30 px subset.
+CrackPathOptions Options(const CrackLine& hint) {
+  CrackPathOptions o;
+  o.station_spacing_px = 2;
+  o.gap_px = 3;
+  o.side_depth_px = 6;
+  o.hint_tolerance_px = 3;
+  o.curved_rms_px = 1;
+  o.error_correlation_px = 30;
+  o.has_hint = true;
+  o.hint = hint;
+  return o;
+}
+
+TEST(CrackFlags, PathWanderingWithinItsResolutionIsNeitherOffTheLineNorCurved) {
+  const CrackPathResult r = FindCrackPath(CrackAlong(Wander), Options({0, 100, 240, 100}));
+  ASSERT_TRUE(r.found) << r.why_not_found;
+  std::printf("%s | line se %.2f px, curvature %.2e +- %.2e /px\n", r.BriefReport().c_str(),
+              r.line_se_px, r.curvature_per_px, r.curvature_se_per_px);
+  EXPECT_GT(r.line_rms_all_px, 1.0);  // off the line by more than curved_rms_px: the bend decides
+  EXPECT_FALSE(r.curved) << r.BriefReport();
+  EXPECT_FALSE(r.disagrees_with_hint) << r.BriefReport();
+  EXPECT_LT(std::abs(r.line.y0 - 100), 1.5) << r.BriefReport();
+  EXPECT_LT(std::abs(r.line.y1 - 100), 1.5) << r.BriefReport();
+}
+
+TEST(CrackFlags, SameWanderTakenAsIndependentStationsIsFlagged) {
+  // The rule needs the correlation: 100 stations taken as independent resolve
+  // the wander's slope and bend, and the same path is flagged.
+  CrackPathOptions o = Options({0, 100, 240, 100});
+  o.error_correlation_px = 0;
+  const CrackPathResult r = FindCrackPath(CrackAlong(Wander), o);
+  ASSERT_TRUE(r.found) << r.why_not_found;
+  EXPECT_TRUE(r.curved || r.disagrees_with_hint) << r.BriefReport();
+}
+
+TEST(CrackFlags, LineOffAWanderingPathIsFlagged) {
+  for (const CrackLine& hint : {CrackLine{0, 110, 240, 110}, CrackLine{0, 90, 240, 90}}) {
+    const CrackPathResult r = FindCrackPath(CrackAlong(Wander), Options(hint));
+    ASSERT_TRUE(r.found) << r.why_not_found;
+    EXPECT_TRUE(r.disagrees_with_hint) << hint.y0 << ": " << r.BriefReport();
+    EXPECT_LT(std::abs(r.line.y0 - 100), 1.5) << r.BriefReport();  // the path is the crack's
+    EXPECT_LT(std::abs(r.line.y1 - 100), 1.5) << r.BriefReport();
+  }
+}
+
+TEST(CrackFlags, LineTiltedTwoDegreesStaysNearTheWanderingCrack) {
+  // 7 px of tilt over the 200 px crack against +-3 px of wander correlated
+  // over 30 px: not resolved, so the path keeps the line's direction through
+  // the crack points - within 5 px of the crack over the cracked length (the
+  // tip methods read outside a band of half a subset about it).
+  const double tilt = 240 * std::tan(2 * std::numbers::pi / 180);
+  for (const CrackLine& hint : {CrackLine{0, 100, 240, 100 + tilt}, CrackLine{0, 100, 240, 100 - tilt}}) {
+    const CrackPathResult r = FindCrackPath(CrackAlong(Wander), Options(hint));
+    ASSERT_TRUE(r.found) << r.why_not_found;
+    const double slope = (r.line.y1 - r.line.y0) / (r.line.x1 - r.line.x0);
+    for (double x : {0.0, 100.0, 200.0})
+      EXPECT_LT(std::abs(r.line.y0 + slope * (x - r.line.x0) - 100), 5.0) << x << ": " << r.BriefReport();
+  }
+}
+
+TEST(CrackFlags, BentPathIsCurvedOverItsWander) {
+  // 8 px of bend (from the middle to the ends of the 200 px crack), plus
+  // the wander.
+  auto bent = [](double x) { return Wander(x) + 8e-4 * (x - 100) * (x - 100) - 4.0; };
+  const CrackPathResult r = FindCrackPath(CrackAlong(bent), Options({0, 100, 240, 100}));
+  ASSERT_TRUE(r.found) << r.why_not_found;
+  std::printf("%s | curvature %.2e +- %.2e /px\n", r.BriefReport().c_str(), r.curvature_per_px,
+              r.curvature_se_per_px);
+  EXPECT_TRUE(r.curved) << r.BriefReport();
+  EXPECT_NEAR(r.curvature_per_px, 8e-4, 3e-4);
+}
+
+// Tips as the methods state them; band 16 px, stations 5 px (sigma floor
+// 1.44 px): 2 sqrt(1.44^2 + 1.44^2) = 4.1 px apart is the k = 2 limit.
+CrackTipResult Tips(double williams, double sqrt_cod, double jump) {
+  CrackTipResult r;
+  auto set = [](TipEstimate& t, double s) {
+    t.found = std::isfinite(s);
+    t.s_px = s;
+    t.uncertainty_px = 0.5;
+  };
+  set(r.williams, williams);
+  set(r.sqrt_cod, sqrt_cod);
+  set(r.jump, jump);
+  r.sqrt_near_tip_share = 1;  // a short crack: every sqrt station near the tip
+  return r;
+}
+
+TEST(CrackFlags, MethodsDisagreeInUnitsOfTheirUncertainty) {
+  CrackTipOptions o;
+  o.line = {0, 100, 300, 100};
+  o.station_spacing_px = 5;
+  o.band_half_width_px = 16;
+  const double nan = std::nan("");
+  // Agree: within 2 sigma, or a COD tip ahead by less than band + 2 sigma.
+  EXPECT_FALSE(MethodsDisagree(Tips(100, 103.5, nan), o));
+  EXPECT_FALSE(MethodsDisagree(Tips(100, 96.5, nan), o));
+  EXPECT_FALSE(MethodsDisagree(Tips(100, 115, 119), o));
+  EXPECT_FALSE(MethodsDisagree(Tips(100, nan, 119), o));
+  // Disagree: a COD tip behind by more than 2 sigma, ahead by more than
+  // band + 2 sigma (a Williams tip short by that much: a second crack, a
+  // wrong window), or the jump behind the sqrt tip.
+  EXPECT_TRUE(MethodsDisagree(Tips(100, 95, nan), o));
+  EXPECT_TRUE(MethodsDisagree(Tips(100, nan, 95), o));
+  EXPECT_TRUE(MethodsDisagree(Tips(100, 121, nan), o));
+  EXPECT_TRUE(MethodsDisagree(Tips(100, nan, 121), o));
+  EXPECT_TRUE(MethodsDisagree(Tips(nan, 110, 104), o));
+  // A long crack, its sqrt fit mostly far from the tip: little allowance.
+  CrackTipResult long_crack = Tips(100, 108, nan);
+  long_crack.sqrt_near_tip_share = 0.2;
+  EXPECT_TRUE(MethodsDisagree(long_crack, o));
+  long_crack.sqrt_cod.s_px = 107;
+  EXPECT_FALSE(MethodsDisagree(long_crack, o));
+  // One method alone cannot disagree.
+  EXPECT_FALSE(MethodsDisagree(Tips(100, nan, nan), o));
+}
+
+}  // namespace
+}  // namespace bridgefit::dic
