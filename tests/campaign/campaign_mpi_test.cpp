@@ -390,7 +390,8 @@ TEST(CampaignMpi, ASpecimensDicOnAnotherRankGivesTheSerialResultWithTheJointFit)
                                "[[specimen]]\nname = \"B\"\nrecord = \"b.csv\"\n"
                                "[[specimen]]\nname = \"MDF\"\nrecord = \"a.csv\"\n"
                                "[specimen.dic]\nimages = \"images\"\n"
-                               "crack_line = [\"0 px\", \"150 px\", \"399 px\", \"150 px\"]\n"
+                               // 20 px off the crack: every frame flagged, so notes travel
+                               "crack_line = [\"0 px\", \"170 px\", \"399 px\", \"170 px\"]\n"
                                "scale = \"0.15 mm/px\"\noffset = \"20 mm\"\n";
   const ShellRun serial = c.RunCli("", "serial", "--jobs 1 --joint");
   ASSERT_EQ(serial.exit_code, 0) << serial.err;
