@@ -400,19 +400,28 @@ Scan ScanFrame(const DisplacementField& f, const Frame& frame, bool limit_to_hin
   return scan;
 }
 
+// The field's bounding box.
+struct FieldBox {
+  double xmin = 1e300, xmax = -1e300, ymin = 1e300, ymax = -1e300;
+};
+FieldBox BoxOf(const DisplacementField& field) {
+  FieldBox b;
+  for (size_t i = 0; i < field.size(); ++i) {
+    b.xmin = std::min(b.xmin, field.x[i]);
+    b.xmax = std::max(b.xmax, field.x[i]);
+    b.ymin = std::min(b.ymin, field.y[i]);
+    b.ymax = std::max(b.ymax, field.y[i]);
+  }
+  return b;
+}
+
 }  // namespace
 
 CrackPathResult FindCrackPath(const DisplacementField& field, const CrackPathOptions& o) {
   std::string why;
   if (!o.IsValid(&why)) throw Error(ErrorKind::kUsage, "invalid crack path options: " + why);
   CrackPathResult res;
-  double xmin = 1e300, xmax = -1e300, ymin = 1e300, ymax = -1e300;
-  for (size_t i = 0; i < field.size(); ++i) {
-    xmin = std::min(xmin, field.x[i]);
-    xmax = std::max(xmax, field.x[i]);
-    ymin = std::min(ymin, field.y[i]);
-    ymax = std::max(ymax, field.y[i]);
-  }
+  const auto [xmin, xmax, ymin, ymax] = BoxOf(field);
   if (field.size() == 0) {
     res.why_not_found = "empty displacement field";
     return res;
