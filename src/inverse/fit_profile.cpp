@@ -376,20 +376,51 @@ std::vector<ProfileRun> RunProfiles(const ForwardModel& model, const laws::LawSh
   for (std::size_t q = 0; q < runs.size(); ++q)
     if (!ranks || ranks->OwnerOf(q) == ranks->rank()) mine.push_back(q);
   const int profile_threads = options.threads > 0 ? options.threads : 2;
-  // The profiles are independent: they run side by side, each with its own
-  // objective (and counters).
+  // The profiles are independent, and so are a profile's two sides (each
+  // search starts from the optimum: ProfileSearch::Edge resets its warm
+  // start): every side is a task with its own objective (and counters), so
+  // three profiles fill two threads evenly; a profile's points are merged
+  // before its shape check.
+  struct Task {
+    std::size_t q;
+    double direction;
+  };
+  std::vector<Task> tasks;
+  for (std::size_t q : mine) {
+    if (lower_side) tasks.push_back({q, -1.0});
+    tasks.push_back({q, +1.0});
+  }
+  std::vector<Profile> side_points(tasks.size());
+  std::vector<ProfileEdge> edges(tasks.size());
+  std::vector<int> evaluations(tasks.size()), failures(tasks.size()), resolves(tasks.size());
 #pragma omp parallel for num_threads(profile_threads) \
-    schedule(dynamic) if (mine.size() > 1 && profile_threads > 1)
-  for (std::size_t m = 0; m < mine.size(); ++m) {
-    ProfileRun& run = runs[mine[m]];
+    schedule(dynamic) if (tasks.size() > 1 && profile_threads > 1)
+  for (std::size_t t = 0; t < tasks.size(); ++t) {
+    ProfileSearch search(model, shape, data, options, runs[tasks[t].q].k, best, full, threshold,
+                         covariance, side_points[t]);
+    edges[t] = search.Edge(tasks[t].direction);
+    evaluations[t] = search.objective().evaluations();
+    failures[t] = search.objective().failures();
+    resolves[t] = search.resolves();
+  }
+  for (std::size_t q : mine) {
+    ProfileRun& run = runs[q];
     Profile& profile = run.profile;
-    ProfileSearch search(model, shape, data, options, run.k, best, full, threshold, covariance,
-                         profile);
+    run.low = ProfileEdge{.x = 0.0};
+    for (std::size_t t = 0; t < tasks.size(); ++t) {
+      if (tasks[t].q != q) continue;
+      (tasks[t].direction < 0.0 ? run.low : run.high) = edges[t];
+      profile.points.insert(profile.points.end(), side_points[t].points.begin(),
+                            side_points[t].points.end());
+      profile.resolves += resolves[t];
+      run.evaluations += evaluations[t];
+      run.failures += failures[t];
+    }
+    const ProfileSearch search(model, shape, data, options, run.k, best, full, threshold,
+                               covariance, profile);
     const int index = search.objective().free()[run.k];
     profile.parameter = index;
     profile.chi2_threshold = threshold;
-    run.low = lower_side ? search.Edge(-1.0) : ProfileEdge{.x = 0.0};
-    run.high = search.Edge(+1.0);
     profile.points.push_back({full[index], best.chi2, true, {full[0], full[1], full[2]}});
     std::sort(profile.points.begin(), profile.points.end(),
               [](const ProfilePoint& a, const ProfilePoint& b) { return a.value < b.value; });
@@ -404,9 +435,6 @@ std::vector<ProfileRun> RunProfiles(const ForwardModel& model, const laws::LawSh
         profile.status_reason += (profile.status_reason.empty() ? "" : "; ") + std::string(side) + e->reason;
       }
     }
-    profile.resolves = search.resolves();
-    run.evaluations = search.objective().evaluations();
-    run.failures = search.objective().failures();
   }
   if (ranks) ShareProfileRuns(*ranks, runs);
   return runs;
