@@ -271,19 +271,10 @@ ModelErrorEstimate EstimateModelError(const ForwardModel& model, const ForwardMo
     if (!y_4h.empty()) step_coarse[i] = (y_4h[i] - y_2h[i]) / w;
   }
   const OrderChoice output_order = ChooseOrder(step_fine, step_coarse, order_problem, error_options);
-  e.output_bias.resize(y_h.size());
-  double sum2 = 0.0;
-  e.output_bias_max = e.output_bias_max_relative = 0.0;
-  for (std::size_t i = 0; i < y_h.size(); ++i) {
-    e.output_bias[i] = (y_2h[i] - y_h[i]) / output_order.denominator;
-    sum2 += e.output_bias[i] * e.output_bias[i];
-    const double magnitude = std::abs(e.output_bias[i]);
-    if (magnitude > e.output_bias_max) {
-      e.output_bias_max = magnitude;
-      e.output_bias_max_relative = magnitude / std::max(std::abs(y_h[i]), 1e-300);
-    }
-  }
-  e.output_bias_rms = std::sqrt(sum2 / std::max<std::size_t>(1, y_h.size()));
+  std::vector<double> bias(y_h.size());
+  for (std::size_t i = 0; i < y_h.size(); ++i)
+    bias[i] = (y_2h[i] - y_h[i]) / output_order.denominator;
+  SetOutputBias(std::move(bias), y_h, e);
   NoiseRelativeBias(used, fit, e);
 
   // The parameters: the fit re-run locally from its optimum with each
@@ -371,6 +362,23 @@ std::array<double, 2> TotalInterval(double low, double high, double bias, double
       std::isfinite(low) ? std::max(0.0, std::min(low, low - bias) - margin) : low;
   const double total_high = std::isfinite(high) ? std::max(high, high - bias) + margin : high;
   return {total_low, total_high};
+}
+
+void SetOutputBias(std::vector<double> bias, const std::vector<double>& prediction,
+                   ModelErrorEstimate& e) {
+  e.output_bias = std::move(bias);
+  double sum2 = 0.0;
+  e.output_bias_max = e.output_bias_max_relative = 0.0;
+  for (std::size_t i = 0; i < e.output_bias.size(); ++i) {
+    sum2 += e.output_bias[i] * e.output_bias[i];
+    const double magnitude = std::abs(e.output_bias[i]);
+    if (magnitude > e.output_bias_max) {
+      e.output_bias_max = magnitude;
+      const double there = i < prediction.size() ? std::abs(prediction[i]) : 0.0;
+      e.output_bias_max_relative = magnitude / std::max(there, 1e-300);
+    }
+  }
+  e.output_bias_rms = std::sqrt(sum2 / std::max<std::size_t>(1, e.output_bias.size()));
 }
 
 void ApplyModelError(const ModelErrorEstimate& estimate, FitSummary& fit) {

@@ -257,18 +257,7 @@ inverse::ModelErrorEstimate MpmCorrectionError(const FitModels& models,
   e.coarse_resolution = run.mpm_error_from_cell;
   e.order_used = 1.0;
   e.safety_factor = inverse::ModelErrorOptions{}.unverified_safety_factor;
-  e.output_bias = run.mpm_error_R;
-  double sum2 = 0.0;
-  e.output_bias_max = 0.0, e.output_bias_max_relative = 0.0;
-  for (std::size_t i = 0; i < e.output_bias.size(); ++i) {
-    const double b = e.output_bias[i];
-    sum2 += b * b;
-    if (std::abs(b) > e.output_bias_max) e.output_bias_max = std::abs(b);
-    if (i < c.R_accurate.size() && c.R_accurate[i] != 0.0)
-      e.output_bias_max_relative =
-          std::max(e.output_bias_max_relative, std::abs(b / c.R_accurate[i]));
-  }
-  e.output_bias_rms = std::sqrt(sum2 / std::max<std::size_t>(1, e.output_bias.size()));
+  inverse::SetOutputBias(run.mpm_error_R, c.R_accurate, e);
   e.parameter_bias = inverse::CorrectedFitBias(models.model(), c, run.shape, data, options,
                                                run.summary, run.mpm_error_R, &e.runs);
   if (!std::isfinite(e.parameter_bias[inverse::kJTipC])) {

@@ -108,6 +108,12 @@ ModelErrorEstimate EstimateModelError(const ForwardModel& model, const ForwardMo
                                       const FitOptions& options, const FitSummary& fit,
                                       const ModelErrorOptions& error_options = {});
 
+// The predicted bias of the model's prediction at each data point into `e`:
+// output_bias, its rms, its largest magnitude and that relative to the
+// prediction there.
+void SetOutputBias(std::vector<double> bias, const std::vector<double>& prediction,
+                   ModelErrorEstimate& e);
+
 // The total interval of one estimate from its statistical interval [low,
 // high] (an open end stays open), the predicted bias and the safety factor.
 std::array<double, 2> TotalInterval(double low, double high, double bias, double safety_factor);
