@@ -192,14 +192,7 @@ void CalibrateAlongCrack(const ComplianceCalibrationOptions& options,
   std::array<double, 2> previous_F{}, previous_g{};
   for (int round = 0; round < options.max_rounds; ++round) {
     const ForwardModel* model = factory(out.modulus_factor, out.series_compliance);
-    // The first round from the caller's starts: one start from a poor
-    // initial law can stop in a local minimum whose crack barely grows
-    // (validation #192: chi^2 26368 at J_B = 0 against 339 from the R-curve
-    // fit's start), and every later round, started from it, follows it
-    // away. Later rounds move (f, C_s) a little: one start from the last.
-    FitOptions round_options = quick;
-    if (round == 0) round_options.starts = std::max(1, fit_options.starts);
-    const FitSummary q = FitBridgingLaw(*model, shape, load_data, round_options);
+    const FitSummary q = FitBridgingLaw(*model, shape, load_data, quick);
     ++out.fits;
     out.evaluations += q.evaluations;
     out.wall_s += q.wall_s;
