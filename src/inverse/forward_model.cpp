@@ -161,8 +161,8 @@ ForwardPrediction SimulationForwardModel::PredictLoadInSeries(
       out.status = RunStatus::kInvalidInput;
       out.message = fmt::format(
           "the law reaches steady state after {:.3g} mm of growth, fewer than {} model steps of "
-          "{:.3g} mm: not resolved at this resolution", growth * 1e3, kMinStepsToSteadyState,
-          step * 1e3);
+          "{:.3g} mm: {}", growth * 1e3, kMinStepsToSteadyState, step * 1e3,
+          kNotResolvedAtThisResolution);
       return out;
     }
   }

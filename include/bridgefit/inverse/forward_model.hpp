@@ -22,6 +22,12 @@ enum class RKind { kEnergy, kElasticZone, kAsData };
 const char* RKindName(RKind kind);
 RKind ParseRKind(const std::string& name);
 
+// The end of a forward run's message when the law reaches steady state
+// within too few of the model's crack-length steps (a load-displacement
+// prediction refuses it): the model's element size is too coarse for the
+// law, and a finer one resolves it (pipeline::RunFit retries there).
+inline constexpr const char* kNotResolvedAtThisResolution = "not resolved at this resolution";
+
 // The fitted parameters; delta_c = J_B / (k sigma_c) with k the shape area.
 struct LawParameters {
   double sigma_c = 0.0;  // [Pa]
