@@ -70,6 +70,26 @@ nlohmann::json ResultJson(const campaign::CampaignResult& r, const std::string& 
                   ? NumberOrNull(r.joint->consistency_without_flagged.p_value)
                   : nlohmann::json()},
              {"wall_s", r.joint->wall_s}};
+    // The parameters shared; each specimen's own values of the others (SI);
+    // who carries each shared one, by the stated rule.
+    nlohmann::json shared = nlohmann::json::array(), own = nlohmann::json::array(),
+                   carriers = nlohmann::json::object();
+    for (int i = 0; i < inverse::kParameterCount; ++i)
+      if (r.joint->shared[i]) shared.push_back(inverse::ParameterName(i));
+    for (const pipeline::OwnParameterValue& v : r.joint->own_values)
+      own.push_back({{"specimen", v.specimen}, {"parameter", inverse::ParameterName(v.parameter)},
+                     {"unit", v.parameter == inverse::kSigmaC ? "Pa" : "J/m^2"},
+                     {"value", NumberOrNull(v.value)}, {"ci95_low", NumberOrNull(v.ci95_low)},
+                     {"ci95_high", NumberOrNull(v.ci95_high)},
+                     {"conditional_ci95_low", NumberOrNull(v.conditional_ci95_low)},
+                     {"conditional_ci95_high", NumberOrNull(v.conditional_ci95_high)}});
+    for (const pipeline::ParameterCarriers& c : r.joint->carriers)
+      carriers[inverse::ParameterName(c.parameter)] = {{"specimens", c.specimens},
+                                                       {"reasons", c.reasons}};
+    joint["shared"] = shared;
+    joint["own_values_si"] = own;
+    joint["carriers"] = carriers;
+    joint["carrier_rule"] = pipeline::kCarrierRule;
   } else if (!r.joint_error.empty()) {
     joint = {{"error", r.joint_error}};
   }

@@ -133,6 +133,48 @@ TEST(CampaignManifest, EachFaultIsFoundBeforeAnyFitNamingTheLine) {
   EXPECT_NE(m.find("bad2.toml:9"), std::string::npos) << m;
 }
 
+// [campaign] joint: the parameters the joint fit shares. Absent: all; a
+// subset by name; an unknown name, delta_c (not a parameter of its own), a
+// name twice, an empty list or a bare string are errors naming the line
+// (6 here) and the allowed names - before any fit.
+TEST(CampaignManifest, JointParametersAreCheckedNamingTheLine) {
+  WorkDir dir;
+  const auto with = [&](const std::string& name, const std::string& list) {
+    std::string text = kHead;
+    text.replace(text.find("profile = false\n"), 16, "profile = false\njoint = " + list + "\n");
+    return io::ReadCampaignManifest(dir.Write(name, text));
+  };
+  EXPECT_EQ(JointSharedParameters(io::ReadCampaignManifest(dir.Write("all.toml", kHead))),
+            inverse::kAllShared);
+  EXPECT_EQ(JointSharedParameters(with("two.toml", "[\"J_B\", \"sigma_c\"]")),
+            (inverse::SharedParameters{true, true, false}));
+  struct Case {
+    std::string list, what;
+  };
+  const Case cases[] = {{"[\"sigma_c\", \"G_c\"]", "unknown parameter"},
+                        {"[]", "is empty"},
+                        {"[\"delta_c\"]", "follows from J_B and sigma_c"},
+                        {"[\"J_B\", \"J_B\"]", "named twice"}};
+  for (const Case& c : cases) {
+    std::string m;
+    try {
+      JointSharedParameters(with("bad.toml", c.list));
+      ADD_FAILURE() << "no error for joint = " << c.list;
+    } catch (const Error& e) {
+      m = e.what();
+    }
+    EXPECT_NE(m.find("bad.toml:6"), std::string::npos) << m;
+    EXPECT_NE(m.find(c.what), std::string::npos) << m;
+    EXPECT_NE(m.find("sigma_c, J_B, J_tip_c"), std::string::npos) << m;
+  }
+  try {
+    with("bare.toml", "\"sigma_c\"");
+    ADD_FAILURE() << "a bare string was taken for a list";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("bare.toml:6"), std::string::npos) << e.what();
+  }
+}
+
 inverse::ParameterEstimate Value(double v) {
   inverse::ParameterEstimate e;
   e.value = v;

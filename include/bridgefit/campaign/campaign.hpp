@@ -137,6 +137,10 @@ struct CampaignResult {
 // fit (names of methods, laws and targets, the request's own IsValid). An
 // error names the manifest, the specimen and the line.
 std::vector<pipeline::FitRequest> BuildRequests(const io::CampaignManifest& manifest);
+// The law parameters the joint fit shares ([campaign] joint; all when
+// absent). An unknown name, delta_c, a name given twice or an empty list is
+// an error naming the manifest, the line and the allowed names.
+inverse::SharedParameters JointSharedParameters(const io::CampaignManifest& manifest);
 // Per specimen (manifest order) its DIC request, or none without
 // [specimen.dic]: the folder holds at least two images and the settings
 // make valid options. An error names the manifest, the line and the key.
