@@ -129,26 +129,32 @@ std::vector<ParameterCarriers> Carriers(const std::vector<std::string>& names,
         Closed(shared) ? shared.ci95_high - shared.ci95_low : static_cast<double>(NAN);
     for (std::size_t k = 0; k < runs.size(); ++k) {
       const inverse::ParameterEstimate& e = Estimate(runs[k]->summary, i);
-      std::string why;
-      if (!Closed(e)) {
-        why = std::isfinite(e.lower_bound) ? fmt::format("its own fit gives only a lower bound")
-                                           : "its own fit does not close the interval";
-      } else if (std::isfinite(joint_width) &&
-                 e.ci95_high - e.ci95_low > kCarrierWidthRatio * joint_width) {
-        why = fmt::format("its own interval is {:.3g} times the joint one (> {:g})",
-                          (e.ci95_high - e.ci95_low) / joint_width, kCarrierWidthRatio);
-      } else if (i == inverse::kJB && !(k < past_steady_state.size() && past_steady_state[k])) {
-        why = "not past steady state at the joint law";
-      }
-      if (why.empty()) {
-        c.specimens.push_back(names[k]);
-        c.reasons.push_back(
-            std::isfinite(joint_width)
-                ? fmt::format("carries it: its own interval {:.3g} times the joint one",
-                              (e.ci95_high - e.ci95_low) / joint_width)
-                : "carries it: its own fit closes the interval (the joint one is not closed)");
+      const double ratio = (e.ci95_high - e.ci95_low) / joint_width;  // NaN: either open
+      std::string carries, not_why;
+      if (i == inverse::kJB) {
+        const bool past = k < past_steady_state.size() && past_steady_state[k];
+        const std::string alone = Closed(e) ? fmt::format("its own fit closes it too")
+                                  : std::isfinite(e.lower_bound)
+                                      ? std::string("alone it gives only a lower bound")
+                                      : std::string("alone it does not close it");
+        if (past) carries = "past steady state at the joint law (" + alone + ")";
+        else not_why = "not past steady state at the joint law (" + alone + ")";
+      } else if (!Closed(e)) {
+        not_why = std::isfinite(e.lower_bound) ? "its own fit gives only a lower bound"
+                                               : "its own fit does not close the interval";
+      } else if (std::isfinite(joint_width) && ratio > kCarrierWidthRatio) {
+        not_why = fmt::format("its own interval is {:.3g} times the joint one (> {:g})", ratio,
+                              kCarrierWidthRatio);
       } else {
-        c.reasons.push_back("does not carry it: " + why);
+        carries = std::isfinite(joint_width)
+                      ? fmt::format("its own interval {:.3g} times the joint one", ratio)
+                      : std::string("its own fit closes the interval (the joint one is not closed)");
+      }
+      if (!carries.empty()) {
+        c.specimens.push_back(names[k]);
+        c.reasons.push_back("carries it: " + carries);
+      } else {
+        c.reasons.push_back("does not carry it: " + not_why);
       }
     }
     out.push_back(std::move(c));

@@ -44,10 +44,11 @@ struct ParameterCarriers {
 };
 inline constexpr double kCarrierWidthRatio = 10.0;
 inline constexpr const char* kCarrierRule =
-    "a specimen carries a shared parameter when its own fit closes that parameter's 95% interval "
-    "(identified, both ends finite, not open or ending on the box) no wider than 10 times the "
-    "joint interval (it holds at least 1% of the joint information); J_B also needs the "
-    "specimen past steady state at the joint law";
+    "a specimen carries J_B when its data reach past its steady state at the joint law (the "
+    "plateau bounds J_B from above; before it only a lower bound, PHYSICS 7); sigma_c or "
+    "J_tip,c when its own fit closes that parameter's 95% interval (identified, both ends "
+    "finite, not open or ending on the box) no wider than 10 times the joint interval (it holds "
+    "at least 1% of the joint information)";
 
 struct JointFitRun {
   std::vector<std::string> specimens;      // those joined, in order
