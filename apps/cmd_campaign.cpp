@@ -119,6 +119,10 @@ class CampaignCommand final : public Command {
     sub.add_flag("--joint", joint_,
                  "Also fit one law to every converged specimen at once, with a likelihood-ratio "
                  "test of whether one law describes them all (joint.csv)");
+    sub.add_option("--joint-parameters", joint_parameters_,
+                   "The parameters the joint fit shares, e.g. sigma_c,J_B (the others each "
+                   "specimen's own); over the manifest's joint key; default all")
+        ->delimiter(',');
   }
 
   int Run(const CommonOptions& common) override {
@@ -126,6 +130,15 @@ class CampaignCommand final : public Command {
     campaign::CampaignOptions options;
     options.jobs = jobs_;
     options.joint = joint_;
+    if (!joint_parameters_.empty()) {
+      try {
+        options.joint_parameters = inverse::ParseSharedParameters(joint_parameters_);
+      } catch (const Error& e) {
+        throw Error(ErrorKind::kUsage, e.message(),
+                    {.field = "--joint-parameters", .value = e.context().value,
+                     .expected = e.context().expected});
+      }
+    }
     const std::string prefix = comm->size() > 1 ? fmt::format("rank {}: ", comm->rank()) : "";
     if (!common.quiet)
       // One write per line: the ranks' lines are not cut into each other.
@@ -154,6 +167,7 @@ class CampaignCommand final : public Command {
   std::string manifest_, out_;
   int jobs_ = 0;
   bool joint_ = false;
+  std::vector<std::string> joint_parameters_;
 };
 
 }  // namespace

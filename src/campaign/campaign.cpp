@@ -461,7 +461,9 @@ CampaignResult RunCampaign(const io::CampaignManifest& manifest, const CampaignO
   parallel::Communicator& comm = options.communicator ? *options.communicator : *serial;
   std::vector<pipeline::FitRequest> requests = BuildRequests(manifest);  // before any work
   std::vector<std::optional<DicRequest>> dics = BuildDicRequests(manifest);
-  const inverse::SharedParameters shared = JointSharedParameters(manifest);
+  const inverse::SharedParameters manifest_shared = JointSharedParameters(manifest);
+  const inverse::SharedParameters shared =
+      options.joint_parameters ? *options.joint_parameters : manifest_shared;
   CampaignResult result;
   result.manifest = manifest;
   result.ranks = comm.size();

@@ -290,7 +290,9 @@ class JointFitter {
     std::vector<double> chi2;
     std::vector<int> dof;
     for (std::size_t k : members) chi2.push_back(chi2_[k]), dof.push_back(dof_[k]);
-    r.consistency = inverse::TestConsistency(r.summary.chi2, chi2, dof, free_, weighted_);
+    // Like with like: the joint fit's bridged optimum too (its summary's chi^2 is the
+    // flat model's where it found no bridging, the fits alone's their bridged ones).
+    r.consistency = inverse::TestConsistency(OptimumChi2(r.summary), chi2, dof, free_, weighted_);
     // Each member's chi^2 at the joint law over its own optimum's.
     for (std::size_t k : members) {
       const double at_joint = best ? Chi2(*joint_models_[k], shape_, data_[k], best->end) : NAN;

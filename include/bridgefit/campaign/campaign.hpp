@@ -38,6 +38,9 @@ struct CampaignOptions {
   // After the separate fits: one law for every specimen that converged
   // (pipeline::RunJointFit) with the likelihood-ratio consistency test.
   bool joint = false;
+  // The parameters the joint fit shares, over the manifest's `joint` key
+  // (`campaign --joint-parameters`); none: the manifest's, else all.
+  std::optional<inverse::SharedParameters> joint_parameters;
   // Profile threads of each fit (inverse::FitOptions::threads); 0: the
   // machine's cores / jobs, at least 1 (a request that sets its own wins).
   int fit_threads = 0;
