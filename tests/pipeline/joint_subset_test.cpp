@@ -5,7 +5,8 @@
 // toughnesses 20% apart (boards of different tip toughness): the all-shared
 // joint fit is rejected, the fit sharing sigma_c and J_B is accepted with
 // k_shared (n - 1) degrees of freedom, covers the shared truth, and gives
-// each specimen its own J_tip,c within its stated interval of its truth.
+// each specimen its own J_tip,c within its stated interval of its truth;
+// the wrong subset (J_tip,c shared, sigma_c not) is rejected.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
@@ -124,7 +125,15 @@ TEST(JointSubset, TipToughnessOfEachBoardSigmaCAndJBShared) {
   // Every specimen reaches steady state here: each carries both shared ones.
   ASSERT_EQ(subset.carriers.size(), 2u);
   for (const ParameterCarriers& carriers : subset.carriers) EXPECT_EQ(carriers.specimens, c.names);
-  std::printf("both joint fits with the fits alone: %.1f s\n", clock.Seconds());
+
+  // The wrong subset - J_tip,c shared, sigma_c each board's own - is
+  // rejected: what differs must not be shared (on 2 x 2 dof too).
+  const JointFitRun wrong = c.Joint({false, true, true});
+  std::printf("wrong subset: %s\n", wrong.consistency.Summary().c_str());
+  EXPECT_EQ(wrong.consistency.degrees_of_freedom, 4);
+  EXPECT_FALSE(wrong.consistency.consistent());
+  EXPECT_LT(wrong.consistency.p_value, 1e-6);
+  std::printf("three joint fits with the fits alone: %.1f s\n", clock.Seconds());
 }
 
 // The profiled own values are the specimen's least chi^2 at the shared
