@@ -419,6 +419,27 @@ std::string Names(const std::vector<std::string>& names) {
   return text;
 }
 
+// Who carries each shared parameter of the fit of every specimen (its
+// final intervals; the specimens past steady state at its law: the fitter's
+// last fit), and each specimen's own values of the others.
+void CarriersAndOwnValues(const JointFitter& fitter, const std::vector<const FitRun*>& runs,
+                          const std::vector<std::string>& names, JointFitRun& out) {
+  std::vector<bool> past(runs.size(), false);
+  if (out.summary.steady_state_reached)
+    for (std::size_t j : fitter.reached()) past[j] = true;
+  out.carriers = detail::Carriers(names, runs, out.summary, past, out.shared);
+  if (!fitter.any_own()) return;
+  std::vector<const inverse::ForwardModel*> own_base, own_profiled;
+  std::vector<inverse::FitData> own_data;
+  for (std::size_t k = 0; k < runs.size(); ++k) {
+    own_base.push_back(&fitter.model(k));
+    own_profiled.push_back(&fitter.joint_model(k));
+    own_data.push_back(fitter.data(k));
+  }
+  out.own_values = detail::OwnValues(names, own_base, own_profiled, own_data, out.shape,
+                                     out.summary, fitter.alone_options(), out.shared);
+}
+
 }  // namespace
 
 JointFitRun RunJointFit(const std::vector<FitRequest>& requests,
@@ -505,23 +526,7 @@ JointFitRun RunJointFit(const std::vector<FitRequest>& requests,
   out.model_error =
       fitter.ModelError(members, coarse, coarser, runs.front()->resolution, out.summary);
   inverse::ApplyModelError(out.model_error, out.summary);
-  // Who carries each shared parameter (the final joint intervals; the
-  // specimens past steady state at the joint law), and each specimen's own
-  // values of the others.
-  std::vector<bool> past(runs.size(), false);
-  if (out.summary.steady_state_reached)
-    for (std::size_t j : fitter.reached()) past[j] = true;
-  out.carriers = detail::Carriers(names, runs, out.summary, past, out.shared);
-  std::vector<const inverse::ForwardModel*> own_base, own_profiled;
-  std::vector<inverse::FitData> own_data;
-  for (std::size_t k = 0; k < runs.size(); ++k) {
-    own_base.push_back(&fitter.model(k));
-    own_profiled.push_back(&fitter.joint_model(k));
-    own_data.push_back(fitter.data(k));
-  }
-  if (fitter.any_own())
-    out.own_values = detail::OwnValues(names, own_base, own_profiled, own_data, out.shape,
-                                       out.summary, fitter.alone_options(), out.shared);
+  CarriersAndOwnValues(fitter, runs, names, out);
   out.consistency = all.consistency;
   out.specimen_statistic = all.statistic;
   out.specimen_p_value = all.p_value;
