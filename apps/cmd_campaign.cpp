@@ -70,6 +70,26 @@ nlohmann::json ResultJson(const campaign::CampaignResult& r, const std::string& 
                   ? NumberOrNull(r.joint->consistency_without_flagged.p_value)
                   : nlohmann::json()},
              {"wall_s", r.joint->wall_s}};
+    // The parameters shared; each specimen's own values of the others (SI);
+    // who carries each shared one, by the stated rule.
+    nlohmann::json shared = nlohmann::json::array(), own = nlohmann::json::array(),
+                   carriers = nlohmann::json::object();
+    for (int i = 0; i < inverse::kParameterCount; ++i)
+      if (r.joint->shared[i]) shared.push_back(inverse::ParameterName(i));
+    for (const pipeline::OwnParameterValue& v : r.joint->own_values)
+      own.push_back({{"specimen", v.specimen}, {"parameter", inverse::ParameterName(v.parameter)},
+                     {"unit", v.parameter == inverse::kSigmaC ? "Pa" : "J/m^2"},
+                     {"value", NumberOrNull(v.value)}, {"ci95_low", NumberOrNull(v.ci95_low)},
+                     {"ci95_high", NumberOrNull(v.ci95_high)},
+                     {"conditional_ci95_low", NumberOrNull(v.conditional_ci95_low)},
+                     {"conditional_ci95_high", NumberOrNull(v.conditional_ci95_high)}});
+    for (const pipeline::ParameterCarriers& c : r.joint->carriers)
+      carriers[inverse::ParameterName(c.parameter)] = {{"specimens", c.specimens},
+                                                       {"reasons", c.reasons}};
+    joint["shared"] = shared;
+    joint["own_values_si"] = own;
+    joint["carriers"] = carriers;
+    joint["carrier_rule"] = pipeline::kCarrierRule;
   } else if (!r.joint_error.empty()) {
     joint = {{"error", r.joint_error}};
   }
@@ -99,6 +119,10 @@ class CampaignCommand final : public Command {
     sub.add_flag("--joint", joint_,
                  "Also fit one law to every converged specimen at once, with a likelihood-ratio "
                  "test of whether one law describes them all (joint.csv)");
+    sub.add_option("--joint-parameters", joint_parameters_,
+                   "The parameters the joint fit shares, e.g. sigma_c,J_B (the others each "
+                   "specimen's own); over the manifest's joint key; default all")
+        ->delimiter(',');
   }
 
   int Run(const CommonOptions& common) override {
@@ -106,6 +130,15 @@ class CampaignCommand final : public Command {
     campaign::CampaignOptions options;
     options.jobs = jobs_;
     options.joint = joint_;
+    if (!joint_parameters_.empty()) {
+      try {
+        options.joint_parameters = inverse::ParseSharedParameters(joint_parameters_);
+      } catch (const Error& e) {
+        throw Error(ErrorKind::kUsage, e.message(),
+                    {.field = "--joint-parameters", .value = e.context().value,
+                     .expected = e.context().expected});
+      }
+    }
     const std::string prefix = comm->size() > 1 ? fmt::format("rank {}: ", comm->rank()) : "";
     if (!common.quiet)
       // One write per line: the ranks' lines are not cut into each other.
@@ -134,6 +167,7 @@ class CampaignCommand final : public Command {
   std::string manifest_, out_;
   int jobs_ = 0;
   bool joint_ = false;
+  std::vector<std::string> joint_parameters_;
 };
 
 }  // namespace

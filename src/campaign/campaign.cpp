@@ -187,6 +187,20 @@ std::vector<pipeline::FitRequest> BuildRequests(const io::CampaignManifest& mani
   return requests;
 }
 
+inverse::SharedParameters JointSharedParameters(const io::CampaignManifest& manifest) {
+  if (!manifest.joint) return inverse::kAllShared;
+  try {
+    return inverse::ParseSharedParameters(*manifest.joint);
+  } catch (const Error& e) {
+    const auto line = manifest.lines.find("joint");
+    throw Error(ErrorKind::kInput, e.message(),
+                {.file = manifest.path.string(),
+                 .line = line == manifest.lines.end() ? 0 : line->second,
+                 .field = "campaign.joint", .value = e.context().value,
+                 .expected = e.context().expected});
+  }
+}
+
 std::vector<std::optional<DicRequest>> BuildDicRequests(const io::CampaignManifest& manifest) {
   std::vector<std::optional<DicRequest>> requests;
   for (const io::ManifestSpecimen& sp : manifest.specimens) {
@@ -325,7 +339,7 @@ namespace {
 // rank makes it (its parts dealt over them, pipeline::RunJointFit) and
 // rank 0's result is the campaign's.
 void RunJoint(CampaignResult& result, const CampaignOptions& options,
-              parallel::Communicator& comm) {
+              const inverse::SharedParameters& shared, parallel::Communicator& comm) {
   std::vector<pipeline::FitRequest> requests;
   std::vector<const pipeline::FitRun*> runs;
   std::vector<std::string> names;
@@ -352,7 +366,7 @@ void RunJoint(CampaignResult& result, const CampaignOptions& options,
     options.progress(fmt::format("joint fit of {} converged specimens{} ...", runs.size(),
                                  comm.size() > 1 ? fmt::format(" on {} ranks", comm.size()) : ""));
   try {
-    result.joint = pipeline::RunJointFit(requests, runs, names, &comm);
+    result.joint = pipeline::RunJointFit(requests, runs, names, &comm, shared);
   } catch (const Error& e) {
     // Over ranks, an error that only this rank has (or an interrupt) ends
     // the job (the others wait for it); one every rank has stays the
@@ -447,6 +461,9 @@ CampaignResult RunCampaign(const io::CampaignManifest& manifest, const CampaignO
   parallel::Communicator& comm = options.communicator ? *options.communicator : *serial;
   std::vector<pipeline::FitRequest> requests = BuildRequests(manifest);  // before any work
   std::vector<std::optional<DicRequest>> dics = BuildDicRequests(manifest);
+  const inverse::SharedParameters manifest_shared = JointSharedParameters(manifest);
+  const inverse::SharedParameters shared =
+      options.joint_parameters ? *options.joint_parameters : manifest_shared;
   CampaignResult result;
   result.manifest = manifest;
   result.ranks = comm.size();
@@ -485,7 +502,7 @@ CampaignResult RunCampaign(const io::CampaignManifest& manifest, const CampaignO
   if (options.joint) {
     // Every rank joins the joint fit with every specimen's outcome.
     if (comm.size() > 1) wire::ShareOutcomes(result, mine, comm);
-    RunJoint(result, options, comm);
+    RunJoint(result, options, shared, comm);
   }
   return result;
 }

@@ -117,7 +117,7 @@ namespace {
 std::string JointCsv(const pipeline::JointFitRun& joint) {
   std::ostringstream out;
   out << "parameter,unit,value,ci95_low,ci95_high,lower_bound,specimens,likelihood_ratio,"
-         "degrees_of_freedom,p_value,consistent\n";
+         "degrees_of_freedom,p_value,consistent,shared,carried_by\n";
   const inverse::FitSummary& f = joint.summary;
   const std::tuple<const char*, const char*, double, const inverse::ParameterEstimate*> rows[] = {
       {"sigma_c", "MPa", 1e-6, &f.sigma_c}, {"J_B", "J/m^2", 1.0, &f.J_B},
@@ -126,12 +126,43 @@ std::string JointCsv(const pipeline::JointFitRun& joint) {
     return std::isfinite(v) ? fmt::format("{:.6g}", v * scale) : std::string();
   };
   const inverse::ConsistencyTest& t = joint.consistency;
-  for (const auto& [name, unit, scale, e] : rows)
-    out << fmt::format("{},{},{},{},{},{},{},{},{},{},{}\n", name, unit, number(e->value, scale),
-                       number(e->ci95_low, scale), number(e->ci95_high, scale),
-                       number(e->lower_bound, scale), joint.specimens.size(),
-                       number(t.statistic, 1.0), t.degrees_of_freedom, number(t.p_value, 1.0),
-                       t.consistent() ? 1 : 0);
+  for (const auto& [name, unit, scale, e] : rows) {
+    // delta_c is shared when J_B and sigma_c are; carriers are the shared
+    // parameters' (";"-separated specimens).
+    const std::string n = name;
+    const bool shared = n == "delta_c" ? joint.shared[inverse::kJB] && joint.shared[inverse::kSigmaC]
+                                       : joint.shared[n == "sigma_c" ? inverse::kSigmaC
+                                                      : n == "J_B"   ? inverse::kJB
+                                                                     : inverse::kJTipC];
+    std::string carriers;
+    for (const pipeline::ParameterCarriers& c : joint.carriers)
+      if (n == inverse::ParameterName(c.parameter))
+        for (const std::string& sp : c.specimens) carriers += (carriers.empty() ? "" : ";") + sp;
+    out << fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{}\n", name, unit,
+                       number(e->value, scale), number(e->ci95_low, scale),
+                       number(e->ci95_high, scale), number(e->lower_bound, scale),
+                       joint.specimens.size(), number(t.statistic, 1.0), t.degrees_of_freedom,
+                       number(t.p_value, 1.0), t.consistent() ? 1 : 0, shared ? 1 : 0, carriers);
+  }
+  return out.str();
+}
+
+// Each specimen's own values of the parameters the joint fit does not share.
+std::string JointOwnCsv(const pipeline::JointFitRun& joint) {
+  std::ostringstream out;
+  out << "specimen,parameter,unit,value,ci95_low,ci95_high,conditional_ci95_low,"
+         "conditional_ci95_high\n";
+  auto number = [](double v, double scale) {
+    return std::isfinite(v) ? fmt::format("{:.6g}", v * scale) : std::string();
+  };
+  for (const pipeline::OwnParameterValue& v : joint.own_values) {
+    const bool stress = v.parameter == inverse::kSigmaC;
+    const double scale = stress ? 1e-6 : 1.0;
+    out << fmt::format("{},{},{},{},{},{},{},{}\n", v.specimen, inverse::ParameterName(v.parameter),
+                       stress ? "MPa" : "J/m^2", number(v.value, scale), number(v.ci95_low, scale),
+                       number(v.ci95_high, scale), number(v.conditional_ci95_low, scale),
+                       number(v.conditional_ci95_high, scale));
+  }
   return out.str();
 }
 
@@ -177,6 +208,39 @@ namespace {
 // SI unit of a parameter's values in campaign.h5.
 const char* SiUnit(const std::string& parameter) {
   return parameter == "sigma_c" ? "Pa" : parameter == "delta_c" ? "m" : "J/m^2";
+}
+
+// The joint fit's shared parameters, each specimen's own values of the
+// others (/campaign/joint/own/NAME/*, over /campaign/joint/specimens) and the
+// carriers of the shared ones (/campaign/joint/carriers/NAME/*).
+void WriteJointSubset(io::H5Writer& file, const std::string& g, const pipeline::JointFitRun& j) {
+  file.WriteAttribute(g, "shared_parameters", inverse::SharedParametersText(j.shared));
+  for (int i = 0; i < inverse::kParameterCount; ++i) {
+    const std::string name = inverse::ParameterName(i);
+    file.WriteAttribute(g + "/parameters/" + name, "shared", j.shared[i] ? 1.0 : 0.0);
+    if (j.shared[i]) continue;
+    std::vector<double> value, low, high, cond_low, cond_high;
+    for (const std::string& sp : j.specimens)
+      for (const pipeline::OwnParameterValue& v : j.own_values)
+        if (v.specimen == sp && v.parameter == i) {
+          value.push_back(v.value), low.push_back(v.ci95_low), high.push_back(v.ci95_high);
+          cond_low.push_back(v.conditional_ci95_low), cond_high.push_back(v.conditional_ci95_high);
+        }
+    if (value.size() != j.specimens.size()) continue;  // fixed by the user: none
+    const std::string og = g + "/own/" + name;
+    const std::string unit = SiUnit(name);
+    file.WriteVector(og + "/value", value, unit, "per joint specimen, at the joint optimum");
+    file.WriteVector(og + "/ci95_low", low, unit, "95%, the shared parameters' uncertainty included");
+    file.WriteVector(og + "/ci95_high", high, unit, "95%, the shared parameters' uncertainty included");
+    file.WriteVector(og + "/conditional_ci95_low", cond_low, unit, "95%, shared held at the joint values");
+    file.WriteVector(og + "/conditional_ci95_high", cond_high, unit, "95%, shared held at the joint values");
+  }
+  file.WriteAttribute(g, "carrier_rule", std::string(pipeline::kCarrierRule));
+  for (const pipeline::ParameterCarriers& c : j.carriers) {
+    const std::string cg = g + "/carriers/" + inverse::ParameterName(c.parameter);
+    file.WriteStrings(cg + "/specimens", c.specimens);
+    file.WriteStrings(cg + "/reasons", c.reasons);
+  }
 }
 
 // campaign.h5: every specimen's fit file (its own layout, copied from
@@ -259,6 +323,7 @@ void WriteCampaignH5(const CampaignResult& result, const std::filesystem::path& 
       file.WriteAttribute(pg, "lower_bound", e->lower_bound);
       file.WriteAttribute(pg, "identified", e->identified ? 1.0 : 0.0);
     }
+    WriteJointSubset(file, g, j);
   }
   file.Commit();
 }
@@ -344,6 +409,8 @@ void WriteCampaignOutputs(const CampaignResult& result, const std::filesystem::p
   }
   WriteTextFileAtomic(dir / "statistics.csv", StatisticsCsv(result));
   if (result.joint) WriteTextFileAtomic(dir / "joint.csv", JointCsv(*result.joint));
+  if (result.joint && !result.joint->own_values.empty())
+    WriteTextFileAtomic(dir / "joint_own.csv", JointOwnCsv(*result.joint));
   WriteTextFileAtomic(dir / "summary.csv", SummaryCsv(result));
   WriteCampaignH5(result, dir);
   report::WriteCampaignReport(CampaignReportView(result), dir / "report");
@@ -388,6 +455,15 @@ pipeline::FittedLaw ReadCampaignLaw(const io::H5Reader& r, const std::filesystem
       e.lower_bound = r.ReadNumberAttribute(pg, "lower_bound");
       e.identified = r.ReadNumberAttribute(pg, "identified") == 1.0;
       e.decided_by = "joint fit";
+      // Not shared: the first joint specimen's own value at the joint optimum.
+      const std::string own = j + "/own/" + name;
+      if (!std::isfinite(e.value) && r.Exists(own + "/value")) {
+        e.value = r.ReadVector(own + "/value").at(0);
+        e.ci95_low = r.ReadVector(own + "/ci95_low").at(0);
+        e.ci95_high = r.ReadVector(own + "/ci95_high").at(0);
+        e.identified = std::isfinite(e.value);
+        e.decided_by = "joint fit, " + joint[0] + "'s own value (not shared)";
+      }
     };
     read("sigma_c", law.sigma_c);
     read("J_B", law.J_B);

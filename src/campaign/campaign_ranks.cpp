@@ -117,6 +117,7 @@ std::optional<int> ReadOnEveryRank(const std::string& path, parallel::Communicat
     manifest = io::ReadCampaignManifest(path);
     BuildRequests(manifest);
     BuildDicRequests(manifest);
+    JointSharedParameters(manifest);
   } catch (const Error& e) {
     own = e;
   }

@@ -7,6 +7,7 @@
 #include <numeric>
 
 #include "bridgefit/core/error.hpp"
+#include "brent.hpp"
 
 namespace bridgefit::inverse {
 
@@ -121,57 +122,12 @@ double ModulusProfiledLoadModel::ProfiledScale(const laws::LawShape& shape,
       sum += std::pow((q.load[i] - rows_.load[i]) / (weighted ? rows_.load_uncertainty[i] : 1.0), 2);
     return sum;
   };
-  // Brent's minimiser on ln g in [-span, span] (golden section with
-  // parabolic steps, Brent 1973 ch. 5; chi^2 is near-quadratic in ln g, so
-  // ~8-12 runs where golden section alone took 21), from g = 1 (the
+  // Brent's minimiser on ln g in [-span, span] (chi^2 is near-quadratic in
+  // ln g, so ~8-12 runs where golden section alone took 21), from g = 1 (the
   // specimen's own calibrated factor), to 1e-5 in ln g.
-  constexpr double kGold = 0.3819660112501051, kTol = 2.5e-6;
-  double a = -span_, b = span_;
-  double x = 0.0, w = 0.0, v = 0.0;
-  double fx = chi2(x), fw = fx, fv = fx;
-  double d = 0.0, e = 0.0;
-  for (int iteration = 0; iteration < 100; ++iteration) {
-    const double m = 0.5 * (a + b);
-    if (std::abs(x - m) <= 2.0 * kTol - 0.5 * (b - a)) break;
-    bool golden = true;
-    if (std::abs(e) > kTol) {  // the parabola through x, w, v
-      const double r = (x - w) * (fx - fv);
-      double q = (x - v) * (fx - fw);
-      double step = (x - v) * q - (x - w) * r;
-      q = 2.0 * (q - r);
-      if (q > 0.0) step = -step;
-      q = std::abs(q);
-      const double e_before = e;
-      e = d;
-      // Accepted only inside the bracket and shorter than half the step
-      // before last (NaN from a failed run fails every test: golden).
-      if (std::abs(step) < std::abs(0.5 * q * e_before) && step > q * (a - x) &&
-          step < q * (b - x)) {
-        d = step / q;
-        if (x + d - a < 2.0 * kTol || b - (x + d) < 2.0 * kTol) d = m > x ? kTol : -kTol;
-        golden = false;
-      }
-    }
-    if (golden) {
-      e = x >= m ? a - x : b - x;
-      d = kGold * e;
-    }
-    const double u = std::abs(d) >= kTol ? x + d : x + (d > 0.0 ? kTol : -kTol);
-    const double fu = chi2(u);
-    if (fu <= fx) {
-      (u >= x ? a : b) = x;
-      v = w, fv = fw, w = x, fw = fx, x = u, fx = fu;
-    } else {
-      (u < x ? a : b) = u;
-      if (fu <= fw || w == x) {
-        v = w, fv = fw, w = u, fw = fu;
-      } else if (fu <= fv || v == x || v == w) {
-        v = u, fv = fu;
-      }
-    }
-  }
-  if (!std::isfinite(fx)) return NAN;
-  return std::exp(x);
+  const detail::BrentMinimum best = detail::BrentMinimize(chi2, -span_, span_, 0.0, 2.5e-6);
+  if (!std::isfinite(best.f)) return NAN;
+  return std::exp(best.x);
 }
 
 ForwardPrediction ModulusProfiledLoadModel::PredictLoad(

@@ -221,7 +221,7 @@ CampaignManifest ParseCampaignManifest(std::string_view text, const fs::path& pa
 
   CampaignManifest m;
   m.path = path;
-  std::set<std::string> allowed = {"name", "scene", "law", "model", "resolution", "profile"};
+  std::set<std::string> allowed = {"name", "scene", "law", "model", "resolution", "profile", "joint"};
   for (const char* key : kChoiceKeys) allowed.insert(key);
   const Section campaign(root, file, "campaign", allowed);
   m.name = campaign.String("name", path.stem().string());
@@ -231,7 +231,8 @@ CampaignManifest ParseCampaignManifest(std::string_view text, const fs::path& pa
   m.model = campaign.String("model", m.model);
   if (campaign.has("resolution")) m.resolution = campaign.Quantity("resolution", Dimension::Length());
   m.profile = campaign.Bool("profile", true);
-  for (const char* key : {"name", "scene", "law", "model", "resolution", "profile"})
+  if (campaign.has("joint")) m.joint = campaign.Strings("joint");
+  for (const char* key : {"name", "scene", "law", "model", "resolution", "profile", "joint"})
     RecordLine(campaign, key, &m.lines);
   m.choices = ReadChoices(campaign, &m.lines);
 

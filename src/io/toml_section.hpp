@@ -173,6 +173,28 @@ class Section {
     return out;
   }
 
+  // An array of strings (possibly empty: the caller decides what an empty
+  // list means).
+  std::vector<std::string> Strings(const char* key) const {
+    const toml::node* node = table_ ? table_->get(key) : nullptr;
+    const toml::array* array = node ? node->as_array() : nullptr;
+    const std::string expected = "an array of strings, e.g. [\"a\", \"b\"]";
+    if (!array)
+      throw Error(ErrorKind::kInput, "wrong value",
+                  {.file = file_, .line = node ? LineOf(*node) : line(),
+                   .field = name_ + "." + key, .expected = expected});
+    std::vector<std::string> out;
+    for (const auto& element : *array) {
+      const auto v = element.value<std::string>();
+      if (!v)
+        throw Error(ErrorKind::kInput, "not a string",
+                    {.file = file_, .line = LineOf(element), .field = name_ + "." + key,
+                     .expected = expected});
+      out.push_back(*v);
+    }
+    return out;
+  }
+
  private:
   std::string file_;
   std::string name_;

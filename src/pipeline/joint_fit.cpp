@@ -15,6 +15,7 @@
 #include "bridgefit/parallel/bytes.hpp"
 #include "bridgefit/parallel/communicator.hpp"
 #include "fit_models.hpp"
+#include "joint_own.hpp"
 
 namespace bridgefit::pipeline {
 
@@ -163,9 +164,14 @@ class JointFitter {
   // `ranks` (may be null): the job's ranks, each making this same joint fit.
   // `starts` (empty, or one per specimen): where each specimen's fit alone
   // starts (its own single fit's optimum; load-displacement records).
+  // `shared`: the law parameters every specimen shares; the others (free in
+  // `options`) are each specimen's own, profiled out of the joint model
+  // (inverse::OwnParameterProfiledModel) and held fixed in the joint
+  // optimiser's box, their values there unused.
   JointFitter(std::vector<const inverse::ForwardModel*> models, std::vector<inverse::FitData> data,
               laws::LawShape shape, inverse::FitOptions options, parallel::Communicator* ranks,
-              std::vector<std::array<double, inverse::kParameterCount>> starts = {})
+              std::vector<std::array<double, inverse::kParameterCount>> starts = {},
+              inverse::SharedParameters shared = inverse::kAllShared)
       : models_(std::move(models)),
         data_(std::move(data)),
         shape_(std::move(shape)),
@@ -177,7 +183,16 @@ class JointFitter {
     alone_.profile_likelihood = false;
     alone_.progress = false;
     alone_.ranks = nullptr;  // a fit alone runs on one rank (Dealt)
+    for (int i = 0; i < inverse::kParameterCount; ++i) {
+      own_[i] = !shared[i] && !options_.fixed[i];  // a parameter the user fixed stays fixed for all
+      alone_free_ += !options_.fixed[i];
+      if (!own_[i]) continue;
+      options_.fixed[i] = true;  // profiled inside the joint model: the value is not used
+      options_.fixed_value[i] = std::sqrt(options_.lower[i] * options_.upper[i]);
+    }
     for (int i = 0; i < inverse::kParameterCount; ++i) free_ += !options_.fixed[i];
+    BF_CHECK_INPUT(free_ > 0, "a joint fit needs at least one shared parameter that is not fixed",
+                   {.field = "joint", .value = inverse::SharedParametersText(shared)});
     std::vector<inverse::FitData> parts = data_;
     std::vector<double> offsets;
     weighted_ = inverse::JoinFitData(parts, &offsets).weighted();
@@ -193,10 +208,42 @@ class JointFitter {
     });
     for (const AloneFit& a : alone) {
       chi2_.push_back(a.chi2);
-      dof_.push_back(std::max(1, a.data_points - free_));
+      dof_.push_back(std::max(1, a.data_points - alone_free_));
       optima_.push_back(a.optimum);
     }
     if (!data_.empty() && data_.front().target == inverse::FitTarget::kLoad) ScaleByOwnNoise();
+    // The value an own parameter is held at in the optimiser's box: unused by
+    // the profiled models, but the fit's checks read it (e.g. the bridging
+    // rise over J_tip,c): the specimens' own optima's geometric mean.
+    for (int i = 0; i < inverse::kParameterCount; ++i) {
+      if (!own_[i]) continue;
+      double sum = 0.0;
+      int count = 0;
+      for (const auto& optimum : optima_)
+        if (optimum[i] > 0.0 && std::isfinite(optimum[i])) sum += std::log(optimum[i]), ++count;
+      if (count > 0) options_.fixed_value[i] = std::exp(sum / count);
+    }
+    joint_models_ = Profiled(models_, &own_models_);
+  }
+
+  // `models` (one per specimen, any may be null) with each specimen's own
+  // parameters profiled out, the wrappers kept in `keep`; as they are when
+  // every parameter is shared.
+  std::vector<const inverse::ForwardModel*> Profiled(
+      const std::vector<const inverse::ForwardModel*>& models,
+      std::vector<std::unique_ptr<inverse::OwnParameterProfiledModel>>* keep) const {
+    if (!any_own()) return models;
+    std::vector<const inverse::ForwardModel*> out;
+    for (std::size_t k = 0; k < models.size(); ++k) {
+      if (!models[k]) {
+        out.push_back(nullptr);
+        continue;
+      }
+      keep->push_back(std::make_unique<inverse::OwnParameterProfiledModel>(
+          *models[k], data_[k], shared(), options_.lower, options_.upper, optima_[k]));
+      out.push_back(keep->back().get());
+    }
+    return out;
   }
 
   Result Fit(const std::vector<std::size_t>& members) {
@@ -204,7 +251,7 @@ class JointFitter {
     std::vector<inverse::FitData> parts;
     std::vector<std::size_t> counts;
     for (std::size_t k : members)
-      models.push_back(models_[k]), parts.push_back(data_[k]), counts.push_back(data_[k].size());
+      models.push_back(joint_models_[k]), parts.push_back(data_[k]), counts.push_back(data_[k].size());
     std::vector<double> offsets;
     const inverse::FitData joined = inverse::JoinFitData(parts, &offsets);
     const inverse::JointForwardModel joint(models, counts, offsets);
@@ -232,7 +279,10 @@ class JointFitter {
         if (!options_.fixed[i] && std::isfinite(best->end[i])) from_joint.initial[i] = best->end[i];
       const std::vector<AloneFit> again = Dealt(ranks_, members.size(), [&](std::size_t j) {
         const std::size_t k = members[j];
-        return AloneFit(inverse::FitBridgingLaw(*models_[k], shape_, data_[k], from_joint));
+        inverse::FitOptions own = from_joint;  // its own parameters from its own optimum
+        for (int i = 0; i < inverse::kParameterCount; ++i)
+          if (own_[i] && std::isfinite(optima_[k][i])) own.initial[i] = optima_[k][i];
+        return AloneFit(inverse::FitBridgingLaw(*models_[k], shape_, data_[k], own));
       });
       for (std::size_t j = 0; j < members.size(); ++j)
         chi2_[members[j]] = std::min(chi2_[members[j]], again[j].chi2);
@@ -240,10 +290,12 @@ class JointFitter {
     std::vector<double> chi2;
     std::vector<int> dof;
     for (std::size_t k : members) chi2.push_back(chi2_[k]), dof.push_back(dof_[k]);
-    r.consistency = inverse::TestConsistency(r.summary.chi2, chi2, dof, free_, weighted_);
+    // Like with like: the joint fit's bridged optimum too (its summary's chi^2 is the
+    // flat model's where it found no bridging, the fits alone's their bridged ones).
+    r.consistency = inverse::TestConsistency(OptimumChi2(r.summary), chi2, dof, free_, weighted_);
     // Each member's chi^2 at the joint law over its own optimum's.
     for (std::size_t k : members) {
-      const double at_joint = best ? Chi2(*models_[k], shape_, data_[k], best->end) : NAN;
+      const double at_joint = best ? Chi2(*joint_models_[k], shape_, data_[k], best->end) : NAN;
       const double statistic = std::max(0.0, at_joint - chi2_[k]) / r.consistency.noise_scale2;
       r.statistic.push_back(statistic);
       r.p_value.push_back(inverse::ChiSquareSurvival(statistic, free_));
@@ -281,12 +333,18 @@ class JointFitter {
       const std::vector<std::unique_ptr<inverse::ForwardModel>>& coarse,
       const std::vector<std::unique_ptr<inverse::ForwardModel>>& coarser, double resolution,
       const inverse::FitSummary& fit) const {
-    std::vector<const inverse::ForwardModel*> at_h, at_2h, at_4h;
+    std::vector<const inverse::ForwardModel*> at_h, at_2h, at_4h, coarse_all, coarser_all;
+    for (std::size_t k = 0; k < models_.size(); ++k)
+      coarse_all.push_back(coarse[k].get()), coarser_all.push_back(coarser[k].get());
+    // Each specimen's own parameters profiled at the coarser sizes too.
+    std::vector<std::unique_ptr<inverse::OwnParameterProfiledModel>> keep;
+    coarse_all = Profiled(coarse_all, &keep);
+    coarser_all = Profiled(coarser_all, &keep);
     std::vector<inverse::FitData> parts;
     std::vector<std::size_t> counts;
     bool have_coarse = true, have_coarser = true;
     for (std::size_t k : members) {
-      at_h.push_back(models_[k]), at_2h.push_back(coarse[k].get()), at_4h.push_back(coarser[k].get());
+      at_h.push_back(joint_models_[k]), at_2h.push_back(coarse_all[k]), at_4h.push_back(coarser_all[k]);
       have_coarse = have_coarse && coarse[k];
       have_coarser = have_coarser && coarser[k];
       parts.push_back(data_[k]), counts.push_back(data_[k].size());
@@ -325,6 +383,18 @@ class JointFitter {
   // Members (positions in the last Fit's list) past steady state at its law.
   const std::vector<std::size_t>& reached() const { return reached_; }
   int free() const { return free_; }
+  inverse::SharedParameters shared() const {
+    return {!own_[0], !own_[1], !own_[2]};
+  }
+  bool any_own() const { return own_[0] || own_[1] || own_[2]; }
+  // Specimen k's model with its own parameters profiled (its model as it is
+  // when all are shared), its data as the joint fit weighs it, the joint
+  // fit's options and a fit alone's.
+  const inverse::ForwardModel& joint_model(std::size_t k) const { return *joint_models_[k]; }
+  const inverse::ForwardModel& model(std::size_t k) const { return *models_[k]; }
+  const inverse::FitData& data(std::size_t k) const { return data_[k]; }
+  const inverse::FitOptions& options() const { return options_; }
+  const inverse::FitOptions& alone_options() const { return alone_; }
 
  private:
   std::vector<const inverse::ForwardModel*> models_;
@@ -332,7 +402,10 @@ class JointFitter {
   laws::LawShape shape_;
   inverse::FitOptions options_, alone_;
   parallel::Communicator* ranks_ = nullptr;
-  int free_ = 0;
+  int free_ = 0, alone_free_ = 0;
+  std::array<bool, inverse::kParameterCount> own_ = {false, false, false};
+  std::vector<std::unique_ptr<inverse::OwnParameterProfiledModel>> own_models_;
+  std::vector<const inverse::ForwardModel*> joint_models_;  // own parameters profiled
   bool weighted_ = false;
   std::vector<double> chi2_;  // each specimen alone, at its lowest optimum found
   std::vector<int> dof_;
@@ -346,11 +419,33 @@ std::string Names(const std::vector<std::string>& names) {
   return text;
 }
 
+// Who carries each shared parameter of the fit of every specimen (its
+// final intervals; the specimens past steady state at its law: the fitter's
+// last fit), and each specimen's own values of the others.
+void CarriersAndOwnValues(const JointFitter& fitter, const std::vector<const FitRun*>& runs,
+                          const std::vector<std::string>& names, JointFitRun& out) {
+  std::vector<bool> past(runs.size(), false);
+  if (out.summary.steady_state_reached)
+    for (std::size_t j : fitter.reached()) past[j] = true;
+  out.carriers = detail::Carriers(names, runs, out.summary, past, out.shared);
+  if (!fitter.any_own()) return;
+  std::vector<const inverse::ForwardModel*> own_base, own_profiled;
+  std::vector<inverse::FitData> own_data;
+  for (std::size_t k = 0; k < runs.size(); ++k) {
+    own_base.push_back(&fitter.model(k));
+    own_profiled.push_back(&fitter.joint_model(k));
+    own_data.push_back(fitter.data(k));
+  }
+  out.own_values = detail::OwnValues(names, own_base, own_profiled, own_data, out.shape,
+                                     out.summary, fitter.alone_options(), out.shared);
+}
+
 }  // namespace
 
 JointFitRun RunJointFit(const std::vector<FitRequest>& requests,
                         const std::vector<const FitRun*>& runs,
-                        const std::vector<std::string>& names, parallel::Communicator* ranks) {
+                        const std::vector<std::string>& names, parallel::Communicator* ranks,
+                        const inverse::SharedParameters& shared) {
   const Stopwatch clock;
   BF_CHECK_INPUT(requests.size() == runs.size() && runs.size() == names.size(),
                  "one request, run and name per specimen", {.field = "joint fit"});
@@ -403,7 +498,8 @@ JointFitRun RunJointFit(const std::vector<FitRequest>& requests,
     starts.push_back(runs[k]->summary.best_parameters);
     calibrated_factor.push_back(f0);
   }
-  JointFitter fitter(model_of, parts, out.shape, requests.front().fit, ranks, starts);
+  JointFitter fitter(model_of, parts, out.shape, requests.front().fit, ranks, starts, shared);
+  out.shared = fitter.shared();
   std::vector<std::size_t> members(runs.size());
   for (std::size_t k = 0; k < members.size(); ++k) members[k] = k;
   const JointFitter::Result all = fitter.Fit(members);
@@ -430,6 +526,7 @@ JointFitRun RunJointFit(const std::vector<FitRequest>& requests,
   out.model_error =
       fitter.ModelError(members, coarse, coarser, runs.front()->resolution, out.summary);
   inverse::ApplyModelError(out.model_error, out.summary);
+  CarriersAndOwnValues(fitter, runs, names, out);
   out.consistency = all.consistency;
   out.specimen_statistic = all.statistic;
   out.specimen_p_value = all.p_value;
@@ -437,8 +534,11 @@ JointFitRun RunJointFit(const std::vector<FitRequest>& requests,
   if (!profiled.empty()) {
     const inverse::LawParameters at = inverse::FittedLaw(out.summary);
     for (std::size_t k = 0; k < profiled.size(); ++k) {
+      // With its own parameters at their values at the joint law.
+      const auto* own = dynamic_cast<const inverse::OwnParameterProfiledModel*>(&fitter.joint_model(k));
+      const inverse::LawParameters law = own ? own->Profiled(out.shape, at) : at;
       out.specimen_modulus_factor.push_back(calibrated_factor[k] *
-                                            profiled[k]->ProfiledScale(out.shape, at));
+                                            profiled[k]->ProfiledScale(out.shape, law));
       out.specimen_calibrated_modulus_factor.push_back(calibrated_factor[k]);
     }
   }
@@ -474,40 +574,19 @@ JointFitRun RunJointFit(const std::vector<FitRequest>& requests,
     inverse::ApplyModelError(
         fitter.ModelError(members, coarse, coarser, runs.front()->resolution, rest.summary),
         *out.summary_without_flagged);
+    detail::MarkOwnEstimates(out.shared, *out.summary_without_flagged);
+    std::vector<std::string> rest_names;
+    std::vector<const FitRun*> rest_runs;
+    for (std::size_t k : members) rest_names.push_back(names[k]), rest_runs.push_back(runs[k]);
+    std::vector<bool> rest_past(members.size(), false);
+    if (rest.summary.steady_state_reached)
+      for (std::size_t j : fitter.reached()) rest_past[j] = true;
+    out.carriers_without_flagged =
+        detail::Carriers(rest_names, rest_runs, *out.summary_without_flagged, rest_past, out.shared);
   }
+  detail::MarkOwnEstimates(out.shared, out.summary);
   out.wall_s = clock.Seconds();
   return out;
-}
-
-std::string JointFitRun::BriefReport() const {
-  std::string text = fmt::format("joint fit of {} specimens ({}), one {} law, {:.2f} s:\n",
-                                 specimens.size(), Names(specimens),
-                                 laws::LawFamilyName(shape.family), wall_s);
-  text += summary.BriefReport();
-  text += "  consistency: " + consistency.Summary() + "\n";
-  for (std::size_t k = 0; k < specimen_p_value.size(); ++k)
-    text += fmt::format("  {:<16} chi^2 at the joint law - its own optimum's: {:.3g} s^2, p = {:.3g}{}\n",
-                        specimens[k], specimen_statistic[k], specimen_p_value[k],
-                        std::find(flagged.begin(), flagged.end(), specimens[k]) != flagged.end()
-                            ? "  FLAGGED: set aside, the others are one law without it"
-                            : "");
-  for (std::size_t k = 0; k < specimen_modulus_factor.size(); ++k)
-    text += fmt::format("  {:<16} modulus factor at the joint law {:.4f} (its own fit's {:.4f}; "
-                        "series compliance held at its own fit's)\n",
-                        specimens[k], specimen_modulus_factor[k],
-                        specimen_calibrated_modulus_factor[k]);
-  if (summary_without_flagged) {
-    std::vector<std::string> rest;
-    for (const std::string& s : specimens)
-      if (std::find(flagged.begin(), flagged.end(), s) == flagged.end()) rest.push_back(s);
-    text += fmt::format("  without {}: the joint fit of {}:\n", Names(flagged), Names(rest));
-    text += summary_without_flagged->BriefReport();
-    text += "  consistency without them: " + consistency_without_flagged.Summary() + "\n";
-  }
-  text += "  " + model_error.Summary() +
-          " (each specimen's reduced model at twice and four times its own element size)\n";
-  if (!model_error.warning.empty()) text += "  warning: " + model_error.warning + "\n";
-  return text;
 }
 
 }  // namespace bridgefit::pipeline

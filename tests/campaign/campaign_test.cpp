@@ -133,6 +133,48 @@ TEST(CampaignManifest, EachFaultIsFoundBeforeAnyFitNamingTheLine) {
   EXPECT_NE(m.find("bad2.toml:9"), std::string::npos) << m;
 }
 
+// [campaign] joint: the parameters the joint fit shares. Absent: all; a
+// subset by name; an unknown name, delta_c (not a parameter of its own), a
+// name twice, an empty list or a bare string are errors naming the line
+// (6 here) and the allowed names - before any fit.
+TEST(CampaignManifest, JointParametersAreCheckedNamingTheLine) {
+  WorkDir dir;
+  const auto with = [&](const std::string& name, const std::string& list) {
+    std::string text = kHead;
+    text.replace(text.find("profile = false\n"), 16, "profile = false\njoint = " + list + "\n");
+    return io::ReadCampaignManifest(dir.Write(name, text));
+  };
+  EXPECT_EQ(JointSharedParameters(io::ReadCampaignManifest(dir.Write("all.toml", kHead))),
+            inverse::kAllShared);
+  EXPECT_EQ(JointSharedParameters(with("two.toml", "[\"J_B\", \"sigma_c\"]")),
+            (inverse::SharedParameters{true, true, false}));
+  struct Case {
+    std::string list, what;
+  };
+  const Case cases[] = {{"[\"sigma_c\", \"G_c\"]", "unknown parameter"},
+                        {"[]", "is empty"},
+                        {"[\"delta_c\"]", "follows from J_B and sigma_c"},
+                        {"[\"J_B\", \"J_B\"]", "named twice"}};
+  for (const Case& c : cases) {
+    std::string m;
+    try {
+      JointSharedParameters(with("bad.toml", c.list));
+      ADD_FAILURE() << "no error for joint = " << c.list;
+    } catch (const Error& e) {
+      m = e.what();
+    }
+    EXPECT_NE(m.find("bad.toml:6"), std::string::npos) << m;
+    EXPECT_NE(m.find(c.what), std::string::npos) << m;
+    EXPECT_NE(m.find("sigma_c, J_B, J_tip_c"), std::string::npos) << m;
+  }
+  try {
+    with("bare.toml", "\"sigma_c\"");
+    ADD_FAILURE() << "a bare string was taken for a list";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("bare.toml:6"), std::string::npos) << e.what();
+  }
+}
+
 inverse::ParameterEstimate Value(double v) {
   inverse::ParameterEstimate e;
   e.value = v;
@@ -185,6 +227,9 @@ TEST(Campaign, IdenticalSpecimensGiveTheSingleFitAndAnUnreadableOneFailsAlone) {
   int lines = 0;
   options.progress = [&lines](const std::string&) { ++lines; };
   options.joint = true;
+  // sigma_c and J_B shared, J_tip,c each copy's own (as `campaign
+  // --joint-parameters sigma_c,J_B` sets it, over the manifest).
+  options.joint_parameters = inverse::SharedParameters{true, true, false};
   const CampaignResult r = RunCampaign(manifest, options);
   ASSERT_EQ(r.specimens.size(), 3u);
   EXPECT_EQ(lines, 7);  // started + finished, per specimen, and the joint fit
@@ -205,13 +250,19 @@ TEST(Campaign, IdenticalSpecimensGiveTheSingleFitAndAnUnreadableOneFailsAlone) {
   EXPECT_DOUBLE_EQ(jtip.sd, 0.0);
 
   // --joint on two copies of one record: one law describes them (the
-  // likelihood ratio is about 0), and the joint optimum is the single fit's.
+  // likelihood ratio is about 0, on 2 x 1 dof: the joint optimum's chi^2 is
+  // twice the single fit's), and each copy's own J_tip,c is the single fit's
+  // at its optimum (this record shows no significant bridging at 1 mm: the
+  // single fit reports the flat R curve's J_tip,c, its optimum is bridged).
   ASSERT_TRUE(r.joint.has_value()) << r.joint_error;
   EXPECT_EQ(r.joint->specimens, (std::vector<std::string>{"A", "B"}));
   EXPECT_TRUE(r.joint->consistency.consistent()) << r.joint->consistency.Summary();
-  EXPECT_GT(r.joint->consistency.p_value, 0.5);
-  EXPECT_NEAR(r.joint->summary.J_tip_c.value, single.summary.J_tip_c.value,
-              0.01 * single.summary.J_tip_c.value);
+  EXPECT_EQ(r.joint->consistency.degrees_of_freedom, 2);
+  EXPECT_LT(r.joint->consistency.statistic, 0.01);
+  ASSERT_EQ(r.joint->own_values.size(), 2u);
+  const double tip = single.summary.best_parameters[inverse::kJTipC];
+  for (const pipeline::OwnParameterValue& v : r.joint->own_values)
+    EXPECT_NEAR(v.value, tip, 0.01 * tip);
   EXPECT_NE(r.BriefReport().find("joint fit of 2 specimens (A, B)"), std::string::npos);
 
   WriteCampaignOutputs(r, dir.path / "out");
@@ -220,7 +271,13 @@ TEST(Campaign, IdenticalSpecimensGiveTheSingleFitAndAnUnreadableOneFailsAlone) {
   std::getline(joint_csv, joint_header);
   std::getline(joint_csv, joint_first);
   EXPECT_NE(joint_header.find("p_value"), std::string::npos) << joint_header;
+  EXPECT_NE(joint_header.find(",shared,carried_by"), std::string::npos) << joint_header;
   EXPECT_EQ(joint_first.rfind("sigma_c,MPa,", 0), 0u) << joint_first;
+  std::ifstream own_csv(dir.path / "out" / "joint_own.csv");
+  std::string own_header, own_a;
+  std::getline(own_csv, own_header);
+  std::getline(own_csv, own_a);
+  EXPECT_EQ(own_a.rfind("A,J_tip_c,J/m^2,", 0), 0u) << own_a;
   EXPECT_TRUE(fs::exists(dir.path / "out" / "specimens" / "A.h5"));
   EXPECT_TRUE(fs::exists(dir.path / "out" / "specimens" / "B.h5"));
   EXPECT_FALSE(fs::exists(dir.path / "out" / "specimens" / "broken.h5"));
@@ -253,8 +310,15 @@ TEST(Campaign, IdenticalSpecimensGiveTheSingleFitAndAnUnreadableOneFailsAlone) {
   EXPECT_TRUE(std::isnan(values[2]));
   EXPECT_EQ(units, "J/m^2");
   EXPECT_EQ(h5.ReadNumberAttribute("/campaign/joint", "consistent"), 1.0);
-  EXPECT_DOUBLE_EQ(h5.ReadNumberAttribute("/campaign/joint/parameters/J_tip_c", "value"),
-                   r.joint->summary.J_tip_c.value);
+  EXPECT_DOUBLE_EQ(h5.ReadNumberAttribute("/campaign/joint/parameters/J_B", "value"),
+                   r.joint->summary.J_B.value);
+  EXPECT_EQ(h5.ReadNumberAttribute("/campaign/joint/parameters/J_tip_c", "shared"), 0.0);
+  EXPECT_EQ(h5.ReadStringAttribute("/campaign/joint", "shared_parameters"), "sigma_c, J_B");
+  const std::vector<double> own_tip = h5.ReadVector("/campaign/joint/own/J_tip_c/value", &units);
+  ASSERT_EQ(own_tip.size(), 2u);
+  EXPECT_DOUBLE_EQ(own_tip[1], r.joint->own_values[1].value);
+  EXPECT_EQ(units, "J/m^2");
+  EXPECT_EQ(h5.ReadStrings("/campaign/joint/carriers/sigma_c/reasons").size(), 2u);
 
   // The campaign report: every R curve with its fit in one figure, the
   // specimen table (the failed one with its reason), statistics, joint fit.
@@ -286,6 +350,19 @@ namespace {
 
 // The CLI's own job: a manifest fault exits 1 before any fit, with the
 // manifest line, and writes nothing.
+// --joint-parameters: a name outside sigma_c, J_B, J_tip_c is a usage
+// error (exit 2) naming the flag and the allowed names, before any fit.
+TEST(CampaignCli, UnknownJointParameterExitsTwoNamingTheFlag) {
+  WorkDir dir;
+  const fs::path m = dir.Write("c.toml", kHead);
+  const auto r = testing::RunCli("campaign " + m.string() + " --out " +
+                                 (dir.path / "out").string() + " --joint --joint-parameters sigma_c,K");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("--joint-parameters"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("sigma_c, J_B, J_tip_c"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir.path / "out"));
+}
+
 TEST(CampaignCli, ManifestFaultExitsOneNamingTheLineAndWritesNothing) {
   WorkDir dir;
   const fs::path m = dir.Write(

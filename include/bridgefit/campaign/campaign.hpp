@@ -38,6 +38,9 @@ struct CampaignOptions {
   // After the separate fits: one law for every specimen that converged
   // (pipeline::RunJointFit) with the likelihood-ratio consistency test.
   bool joint = false;
+  // The parameters the joint fit shares, over the manifest's `joint` key
+  // (`campaign --joint-parameters`); none: the manifest's, else all.
+  std::optional<inverse::SharedParameters> joint_parameters;
   // Profile threads of each fit (inverse::FitOptions::threads); 0: the
   // machine's cores / jobs, at least 1 (a request that sets its own wins).
   int fit_threads = 0;
@@ -137,6 +140,10 @@ struct CampaignResult {
 // fit (names of methods, laws and targets, the request's own IsValid). An
 // error names the manifest, the specimen and the line.
 std::vector<pipeline::FitRequest> BuildRequests(const io::CampaignManifest& manifest);
+// The law parameters the joint fit shares ([campaign] joint; all when
+// absent). An unknown name, delta_c, a name given twice or an empty list is
+// an error naming the manifest, the line and the allowed names.
+inverse::SharedParameters JointSharedParameters(const io::CampaignManifest& manifest);
 // Per specimen (manifest order) its DIC request, or none without
 // [specimen.dic]: the folder holds at least two images and the settings
 // make valid options. An error names the manifest, the line and the key.

@@ -5,6 +5,7 @@
 // parameters shared; and the likelihood-ratio test of whether one law
 // describes them all.
 
+#include <array>
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -78,6 +79,52 @@ class ModulusProfiledLoadModel final : public ForwardModel {
   double span_;
 };
 
+// Which law parameters a joint fit shares (issue 19: "sigma_c, J_B,
+// delta_c, J_tip,c, or a subset named by the user"), in the fitter's order
+// (kSigmaC, kJB, kJTipC); the others are each specimen's own. delta_c is no
+// parameter of its own: it follows from J_B and sigma_c (shared when both are).
+using SharedParameters = std::array<bool, kParameterCount>;
+inline constexpr SharedParameters kAllShared = {true, true, true};
+// "sigma_c", "J_B", "J_tip_c" -> the mask; throws Error (kInput) naming the
+// allowed names for any other (delta_c included, with why) and for an empty
+// list or a name given twice.
+SharedParameters ParseSharedParameters(const std::vector<std::string>& names);
+std::string SharedParametersText(const SharedParameters& shared);  // "sigma_c, J_B"
+
+// A specimen's model with the law parameters it does not share profiled out
+// (the joint fit's per-specimen law parameters, docs/CAMPAIGN.md "A subset
+// shared"): for the shared values in p, its own ones (!shared[i]) are those
+// that minimise the chi^2 of its own `data` (R curve or load record, as
+// given to the joint fit), searched in ln p within the box [lower, upper]:
+// Brent's minimiser for one (first within a factor e of `start`, its own
+// fit's optimum, then over the whole box when that ends on an edge), Brent
+// sweeps over each in turn for two (until a sweep moves neither by more than
+// 1e-4 in ln p, at most 8). Stateless (safe on the profile threads).
+// Predict / PredictLoad must be asked at the data's own axis.
+class OwnParameterProfiledModel final : public ForwardModel {
+ public:
+  OwnParameterProfiledModel(const ForwardModel& base, FitData data, SharedParameters shared,
+                            std::array<double, kParameterCount> lower,
+                            std::array<double, kParameterCount> upper,
+                            std::array<double, kParameterCount> start);
+  std::string Name() const override { return base_.Name() + " (own parameters profiled)"; }
+  ForwardPrediction Predict(const laws::LawShape& shape, const LawParameters& p,
+                            const std::vector<double>& crack_lengths, RKind kind) const override;
+  ForwardPrediction PredictLoad(const laws::LawShape& shape, const LawParameters& p,
+                                const std::vector<double>& displacements) const override;
+  // p with its own (not shared) parameters at their profiled values (NaN
+  // there when every run failed).
+  LawParameters Profiled(const laws::LawShape& shape, const LawParameters& p) const;
+  // The specimen's chi^2 under the base model at p as it is.
+  double Chi2(const laws::LawShape& shape, const LawParameters& p) const;
+
+ private:
+  const ForwardModel& base_;
+  FitData data_;
+  SharedParameters shared_;
+  std::array<double, kParameterCount> lower_, upper_, start_;
+};
+
 // The specimens' data end to end (uncertainties kept only when every
 // specimen has them). R curves (same kind): a fit's crack-length axis
 // ascends, so block k is shifted by offsets[k] (>= 0) to start 1 mm past
@@ -89,7 +136,8 @@ FitData JoinFitData(const std::vector<FitData>& parts, std::vector<double>* offs
 // noise scale s^2 pooled from the separate fits (sum chi^2 / sum dof, at
 // least 1 for weighted data), LR = (chi^2_joint - sum chi^2_i) / s^2 is
 // chi^2-distributed with k (n - 1) degrees of freedom when one law describes
-// all n specimens (k free parameters). p < alpha: not consistent.
+// all n specimens (k free parameters shared; a parameter each specimen keeps
+// as its own costs no degree of freedom). p < alpha: not consistent.
 struct ConsistencyTest {
   double statistic = NAN;  // LR
   int degrees_of_freedom = 0;

@@ -65,6 +65,9 @@ struct CampaignManifest {
   std::string model = "reduced";     // reduced | analytic
   std::optional<double> resolution;  // reduced model element size [m]
   bool profile = true;               // profile-likelihood intervals
+  // The law parameters the joint fit (--joint) shares, as written (names
+  // checked by the campaign, naming lines["joint"]); absent: all.
+  std::optional<std::vector<std::string>> joint;
   ManifestChoices choices;           // defaults: energy R curve, r-curve fit
   std::vector<ManifestSpecimen> specimens;
   std::map<std::string, int> lines;  // [campaign] key -> line

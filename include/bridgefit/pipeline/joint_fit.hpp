@@ -17,9 +17,50 @@
 
 namespace bridgefit::pipeline {
 
+// A specimen's own value of a law parameter the joint fit does not share
+// (docs/CAMPAIGN.md "A subset shared"), at the joint optimum. Its interval
+// adds to the conditional one (the specimen's own profile with the shared
+// parameters held at the joint values) the shared parameters' uncertainty
+// carried through: in ln p, half-width^2 = conditional^2 + (sum_j |d ln v /
+// d ln s_j| h_j)^2, h_j the half-width of shared s_j's joint interval in ln
+// s_j, the sensitivities by central differences (+-1% in s_j) of the
+// profiled value; the sum bounds the correlated sum from above (|rho| <= 1).
+// Open (NaN) where a shared interval or the conditional one is open.
+struct OwnParameterValue {
+  std::string specimen;
+  int parameter = 0;  // inverse::ParameterIndex
+  double value = NAN;             // SI
+  double ci95_low = NAN, ci95_high = NAN;
+  double conditional_ci95_low = NAN, conditional_ci95_high = NAN;
+};
+
+// The specimens that carry a shared parameter's information (issue 19),
+// by the rule of kCarrierRule (docs/CAMPAIGN.md).
+struct ParameterCarriers {
+  int parameter = 0;  // inverse::ParameterIndex
+  std::vector<std::string> specimens;
+  // Per specimen of the joint fit (its order): why it does or does not carry.
+  std::vector<std::string> reasons;
+};
+inline constexpr double kCarrierWidthRatio = 10.0;
+inline constexpr const char* kCarrierRule =
+    "a specimen carries J_B when its data reach past its steady state at the joint law (the "
+    "plateau bounds J_B from above; before it only a lower bound, PHYSICS 7); sigma_c or "
+    "J_tip,c when its own fit closes that parameter's 95% interval (identified, both ends "
+    "finite, not open or ending on the box) no wider than 10 times the joint interval (it holds "
+    "at least 1% of the joint information)";
+
 struct JointFitRun {
   std::vector<std::string> specimens;      // those joined, in order
+  // The law parameters shared (the rest each specimen's own: profiled out
+  // of the joint model, their estimates in `summary` NaN with a note).
+  inverse::SharedParameters shared = inverse::kAllShared;
   inverse::FitSummary summary;             // the shared law's fit
+  // Each specimen's own values of the parameters not shared (specimen order,
+  // then parameter order); empty when all are shared.
+  std::vector<OwnParameterValue> own_values;
+  // Per shared parameter (free in the fit), who carries it (kCarrierRule).
+  std::vector<ParameterCarriers> carriers;
   laws::LawShape shape;
   inverse::ConsistencyTest consistency;
   // The joint model's discretisation error (issue 17): every specimen's
@@ -42,6 +83,7 @@ struct JointFitRun {
   std::vector<std::string> flagged;
   std::optional<inverse::FitSummary> summary_without_flagged;
   inverse::ConsistencyTest consistency_without_flagged;
+  std::vector<ParameterCarriers> carriers_without_flagged;  // names: the rest's
   double wall_s = 0.0;
   std::string BriefReport() const;
 };
@@ -67,9 +109,14 @@ struct JointFitRun {
 // (a message lost or garbled, ranks that reached different optima) is this
 // rank's alone, and the job must end (parallel::Communicator::Abort).
 inline constexpr const char* kRanksAgreeField = "joint fit over MPI ranks";
+// `shared`: the law parameters every specimen shares (default all); the
+// others are each specimen's own, profiled out of the joint model
+// (inverse::OwnParameterProfiledModel), and the likelihood ratio then has
+// k_shared (n - 1) degrees of freedom.
 JointFitRun RunJointFit(const std::vector<FitRequest>& requests,
                         const std::vector<const FitRun*>& runs,
                         const std::vector<std::string>& names,
-                        parallel::Communicator* ranks = nullptr);
+                        parallel::Communicator* ranks = nullptr,
+                        const inverse::SharedParameters& shared = inverse::kAllShared);
 
 }  // namespace bridgefit::pipeline
