@@ -15,6 +15,12 @@
 namespace bridgefit::inverse::fit_internal {
 
 inline constexpr double kFailedCost = 1e30;  // chi^2 of a failed forward run (infeasible)
+// A profile point whose chi^2 lies this far below the optimum's found a
+// better minimum (the fit stopped in a local one): one rule for the
+// profile's shape check and the fit's restart from that point.
+inline double BelowOptimumTolerance(double threshold, double optimum_chi2) {
+  return std::max(0.1 * threshold, 1e-9 * optimum_chi2);
+}
 
 // sigma_c and J_B span decades: their box coordinate is logarithmic.
 inline bool IsLogScale(int index) { return index == kSigmaC || index == kJB; }

@@ -129,7 +129,7 @@ class ProfileSearch {
   // chi^2 than the optimum's.
   ProfileEdge Monotonicity() const {
     const double v0 = full_[index_];
-    const double lower_tol = std::max(0.1 * threshold_, 1e-9 * best_.chi2);
+    const double lower_tol = BelowOptimumTolerance(threshold_, best_.chi2);
     for (const ProfilePoint& p : profile_.points)
       if (p.ok && p.chi2 < best_.chi2 - lower_tol)
         return {NAN, IntervalStatus::kUnreliableNonSmooth,

@@ -151,6 +151,52 @@ TEST_F(Profiles, OptimumOnTheBoxEdgeEndsOnBound) {
   EXPECT_NE(s.sigma_c.interval_reason.find("--bounds"), std::string::npos);
 }
 
+// A false basin: where sigma_c lies in [2.5, 3.5) MPa the model draws the
+// curve of sigma_c / 3 with every point moved by +-2% alternately, so a
+// search started there stops at about 3 MPa with a chi^2 about 160 above
+// the true basin's; outside the band it is the analytic model.
+class TrapModel final : public ForwardModel {
+ public:
+  TrapModel() : inner_(kModulus, kA0) {}
+  std::string Name() const override { return "trap-analytic"; }
+  ForwardPrediction Predict(const laws::LawShape& shape, const LawParameters& p,
+                            const std::vector<double>& crack_lengths, RKind kind) const override {
+    if (!(p.sigma_c >= 2.5e6 && p.sigma_c < 3.5e6)) return inner_.Predict(shape, p, crack_lengths, kind);
+    LawParameters q = p;
+    q.sigma_c = p.sigma_c / 3.0;
+    ForwardPrediction out = inner_.Predict(shape, q, crack_lengths, kind);
+    for (size_t i = 0; i < out.R.size(); ++i) out.R[i] *= i % 2 ? 1.02 : 0.98;
+    return out;
+  }
+
+ private:
+  AnalyticForwardModel inner_;
+};
+
+// One start inside the false basin: the profiles step out of it and find
+// the true basin's lower chi^2, and the fit restarts from that profile
+// point (it used to report the false optimum with its profile flagged
+// "the fit stopped in a local minimum"). The result is the smooth model's
+// fit (the trap lies far outside its intervals), the restart listed among
+// the starts.
+TEST_F(Profiles, AFalseBasinFoundByAProfileRestartsTheFit) {
+  FitOptions options = Options();
+  options.starts = 1;
+  options.initial = {3.0e6, smooth_->J_B.value, smooth_->J_tip_c.value};
+  const FitSummary s = Fit(TrapModel(), options);
+  ASSERT_TRUE(s.converged) << s.stop_reason;
+  EXPECT_NEAR(s.chi2, smooth_->chi2, 1e-3 * smooth_->chi2) << s.BriefReport();
+  EXPECT_NEAR(s.sigma_c.value, smooth_->sigma_c.value, 1e-3 * smooth_->sigma_c.value);
+  EXPECT_NEAR(s.J_tip_c.value, smooth_->J_tip_c.value, 1e-3 * smooth_->J_tip_c.value);
+  EXPECT_EQ(s.sigma_c.interval_status, IntervalStatus::kReliable) << s.sigma_c.interval_reason;
+  EXPECT_NEAR(s.sigma_c.ci95_low, smooth_->sigma_c.ci95_low, 2e-3 * smooth_->sigma_c.value);
+  EXPECT_NEAR(s.sigma_c.ci95_high, smooth_->sigma_c.ci95_high, 2e-3 * smooth_->sigma_c.value);
+  int restarts = 0;
+  for (const StartResult& start : s.starts) restarts += start.stop_reason.rfind("restart from", 0) == 0;
+  EXPECT_GE(restarts, 1);
+  EXPECT_NE(s.stop_reason.find("after a restart"), std::string::npos) << s.stop_reason;
+}
+
 TEST(IntervalStatus, Names) {
   EXPECT_STREQ(IntervalStatusName(IntervalStatus::kReliable), "reliable");
   EXPECT_STREQ(IntervalStatusName(IntervalStatus::kUnreliableZeroWidth), "unreliable_zero_width");

@@ -84,8 +84,10 @@ TEST(Validation, CiSubsetHasNoSilentFailureAndCovers) {
 // rises within a few R points, shorter than the coarse elements can draw:
 // #271 used to drop its rising first points as outliers and report "no
 // bridging" with J_tip,c 894 [871, 894] J/m^2 (truth 765) unwarned; #274's
-// run of 21 points off the model refines the size and stays flagged. Each
-// estimate is now within 2 half-widths of the truth or warned.
+// run of 21 points off the model refined the size and stayed flagged, and
+// its J_tip,c profile found chi^2 1995 against the optimum's 4091 (a local
+// minimum). Each estimate is now within 2 half-widths of the truth or
+// warned.
 TEST(Validation, RunsOfPointsTheModelMissesAreKeptAndWarned) {
   std::vector<CaseResult> results(2);
   std::thread a([&] { results[0] = RunCase(DrawCase(17, 271), 1); });
@@ -98,13 +100,19 @@ TEST(Validation, RunsOfPointsTheModelMissesAreKeptAndWarned) {
   }
   const ParameterCheck& tip = results[0].parameters[2];  // #271's J_tip,c
   EXPECT_TRUE(tip.covered || tip.warned) << FailureList(results, false);
-  // #274: the run off the model is found, and no interval is printed as
-  // reliable (since the as-data range fix its model error's coarser solves
-  // run and the fit differs: an interval its profile already flagged keeps
-  // that reason, inverse::MarkMisfit).
-  EXPECT_GT(results[1].misfit_points, 0) << FailureList(results, false);
-  for (const ParameterCheck& p : results[1].parameters)
-    EXPECT_NE(p.interval_status, "reliable") << FailureList(results, false);
+  // #274: the fit restarts from the profile's lower point (inverse::
+  // FitBridgingLaw, stage 6) and no profile finds a lower chi^2 any more
+  // (measured: chi^2 4091 -> below 1995, no run off the model left); at the
+  // finest size the ladder allows, the model error is still several noise
+  // standard deviations: every estimate is covered or carries the warning
+  // that names the size to refit at.
+  bool names_size = false;
+  for (const std::string& w : results[1].warnings)
+    names_size = names_size || w.find("refit with a finer --resolution") != std::string::npos;
+  for (const ParameterCheck& p : results[1].parameters) {
+    EXPECT_NE(p.interval_status, "unreliable_non_smooth") << FailureList(results, false);
+    EXPECT_TRUE(p.covered || (p.warned && names_size)) << FailureList(results, false);
+  }
 }
 
 // The images route (images -> DIC -> fit) on one CI case: the DIC's crack
