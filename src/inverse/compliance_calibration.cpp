@@ -213,9 +213,28 @@ void CalibrateAlongCrack(const ComplianceCalibrationOptions& options,
                   "calibrating the compliance along the crack: the fitted model failed: " +
                       p.message,
                   {.file = record.source, .field = "--calibrate-compliance"});
-    along.fit = FitComplianceAlongCrack(
-        ModelComplianceAlongPath(p, rows.displacement, out.series_compliance, notch),
-        rows.crack_length, rows.compliance, {}, record.source);
+    const ComplianceCurve model_curve =
+        ModelComplianceAlongPath(p, rows.displacement, out.series_compliance, notch);
+    // A fit whose law never grows the crack on the record's loading path
+    // has no compliance along the crack to compare (the rows' own crack
+    // lengths say it grew): said as such, not as rows outside a NaN range.
+    if (model_curve.crack_length.size() < 2)
+      throw Error(ErrorKind::kRuntime,
+                  fmt::format("calibrating the compliance along the crack: round {}'s fit (sigma_c "
+                              "{:.4g} MPa, J_B {:.4g} J/m^2, J_tip,c {:.4g} J/m^2) grows the crack "
+                              "beyond the notch at {} of the record's {} loading rows (up to {:.4g} "
+                              "mm), which measure {:.4g}..{:.4g} mm",
+                              round + 1, at.sigma_c * 1e-6, at.J_B, at.J_tip_c,
+                              model_curve.crack_length.size(), rows.displacement.size(),
+                              rows.displacement.empty() ? NAN : rows.displacement.back() * 1e3,
+                              *std::min_element(rows.crack_length.begin(), rows.crack_length.end()) * 1e3,
+                              *std::max_element(rows.crack_length.begin(), rows.crack_length.end()) * 1e3) +
+                      "; way out: rerun with more --starts, or calibrate on the initial slope "
+                      "alone (--calibrate-compliance without =crack)",
+                  {.file = record.source, .field = "--calibrate-compliance", .value = "crack",
+                   .expected = "a law fit whose crack grows over the record"});
+    along.fit = FitComplianceAlongCrack(model_curve, rows.crack_length, rows.compliance, {},
+                                        record.source);
     // The fixed point x = (ln f, C_s / C_ref) -> g(x), the values this
     // round's compliance fit asks for. The law's refit moves the bridged
     // compliance against them (on the MDF record plain updates overshoot by

@@ -197,6 +197,50 @@ TEST_F(Profiles, AFalseBasinFoundByAProfileRestartsTheFit) {
   EXPECT_NE(s.stop_reason.find("after a restart"), std::string::npos) << s.stop_reason;
 }
 
+// J_tip,c outside [2190, 2225] J/m^2 draws the curve of 2250 J/m^2 with
+// every point moved by +-5% alternately (a plateau no search can leave);
+// inside it is the analytic model.
+class PlateauModel final : public ForwardModel {
+ public:
+  PlateauModel() : inner_(kModulus, kA0) {}
+  std::string Name() const override { return "plateau-analytic"; }
+  ForwardPrediction Predict(const laws::LawShape& shape, const LawParameters& p,
+                            const std::vector<double>& crack_lengths, RKind kind) const override {
+    if (p.J_tip_c >= 2190.0 && p.J_tip_c <= 2225.0) return inner_.Predict(shape, p, crack_lengths, kind);
+    LawParameters q = p;
+    q.J_tip_c = 2250.0;
+    ForwardPrediction out = inner_.Predict(shape, q, crack_lengths, kind);
+    for (size_t i = 0; i < out.R.size(); ++i) out.R[i] *= i % 2 ? 1.05 : 0.95;
+    return out;
+  }
+
+ private:
+  AnalyticForwardModel inner_;
+};
+
+// A start 0.02 (box) from J_tip,c's lower bound: BOBYQA moves a start that
+// close to a bound onto it (Powell's rule), here onto the plateau, and used
+// to return the plateau's chi^2, far worse than the start's (only the
+// restart from a profile point could recover it, and not here: chi^2 953
+// against 49); the start is now kept when
+// the search does worse, and the fit is the smooth one's.
+TEST_F(Profiles, ASearchThatMovesItsStartOntoAPlateauKeepsTheStart) {
+  FitOptions options = Options();
+  options.starts = 1;
+  options.optimizer = Optimizer::kBobyqa;  // the CLI's default
+  options.lower[kJTipC] = 2000.0;
+  options.upper[kJTipC] = 2000.0 + (smooth_->J_tip_c.value - 2000.0) / 0.02;
+  options.initial = {smooth_->sigma_c.value, smooth_->J_B.value, smooth_->J_tip_c.value};
+  const FitSummary s = Fit(PlateauModel(), options);
+  // The start's own search ends there (no restart from a profile needed:
+  // before, the restart was what recovered it).
+  ASSERT_EQ(s.starts.size(), 1u) << s.starts.back().stop_reason;
+  EXPECT_NEAR(s.starts[0].cost, smooth_->chi2, 1e-3 * smooth_->chi2) << s.starts[0].stop_reason;
+  EXPECT_NEAR(s.chi2, smooth_->chi2, 1e-3 * smooth_->chi2) << s.BriefReport();
+  EXPECT_NEAR(s.J_tip_c.value, smooth_->J_tip_c.value, 1e-3 * smooth_->J_tip_c.value);
+  EXPECT_NEAR(s.sigma_c.value, smooth_->sigma_c.value, 1e-3 * smooth_->sigma_c.value);
+}
+
 TEST(IntervalStatus, Names) {
   EXPECT_STREQ(IntervalStatusName(IntervalStatus::kReliable), "reliable");
   EXPECT_STREQ(IntervalStatusName(IntervalStatus::kUnreliableZeroWidth), "unreliable_zero_width");
