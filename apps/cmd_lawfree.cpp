@@ -34,6 +34,11 @@ class LawFreeCommand final : public Command {
         "--onset", onset_,
         "J route: delta* at the onset of growth, e.g. '0.01 mm' (default: the last frame with "
         "delta* = 0, else detected from J_ff's shape with a warning)");
+    sub.add_option("--j-source", j_source_,
+                   "J route: J_ff per frame from the field-wide fit ('fit', the domains' where "
+                   "the fit failed) or the domain integral ('domains')")
+        ->check(CLI::IsMember({"fit", "domains"}))
+        ->default_val("fit");
     sub.add_option("--grid-points", grid_points_, "sigma nodes from 0 to the largest opening")
         ->default_val(41);
     sub.add_option("--out", out_, "Write /lawfree to this HDF5 file");
@@ -49,6 +54,8 @@ class LawFreeCommand final : public Command {
     if (!onset_.empty())
       request.onset_opening = ParseOptionQuantity(onset_, Dimension::Length(), "--onset");
     request.options.grid_points = grid_points_;
+    request.j_source = j_source_ == "domains" ? pipeline::LawFreeRequest::JSource::kDomains
+                                              : pipeline::LawFreeRequest::JSource::kFieldFit;
     std::string why;
     if (!request.IsValid(&why)) throw Error(ErrorKind::kUsage, why);
     const pipeline::LawFreeRun run = pipeline::RunLawFree(request);
@@ -65,7 +72,7 @@ class LawFreeCommand final : public Command {
   }
 
  private:
-  std::string dic_, rcurve_, jtip_, onset_, out_;
+  std::string dic_, rcurve_, jtip_, onset_, out_, j_source_ = "fit";
   int grid_points_ = 41;
   bool no_j_route_ = false;
 };

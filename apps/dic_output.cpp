@@ -54,6 +54,15 @@ nlohmann::json FrameJJson(const dic::FrameJ& j) {
        j.delta_star_ok ? NumberOrNull(j.delta_star_uncertainty) : nlohmann::json()},
       {"root_distance_m", j.root_distance_m}};
   if (!j.why.empty()) out["why"] = j.why;
+  const bool fit_ok = j.fit.status == dic::FieldFitJStatus::kOk;
+  out["field_fit"] = {
+      {"status", dic::FieldFitJStatusName(j.fit.status)},
+      {"J_ff_J_per_m2", fit_ok ? NumberOrNull(j.fit.J) : nlohmann::json()},
+      {"J_ff_uncertainty_J_per_m2", fit_ok ? NumberOrNull(j.fit.J_uncertainty) : nlohmann::json()},
+      {"residual_rms_m", NumberOrNull(j.fit.residual_rms_m)},
+      {"points", j.fit.points},
+      {"terms", j.fit.terms}};
+  if (!j.fit.why.empty()) out["field_fit"]["why"] = j.fit.why;
   if (!j.delta_star_ok && !j.delta_star_why.empty()) out["delta_star_why"] = j.delta_star_why;
   return out;
 }
@@ -143,17 +152,26 @@ void PrintDicResult(const dic::CrackSequenceResult& result, const dic::CrackSequ
     }
     std::cout << "(* = flagged: the length may be wrong by more than its uncertainty)\n";
     if (result.j_integral) {
-      std::cout << fmt::format("{:>5} {:>14} {:>10} {:>14} {:>12}  {}\n", "frame", "J_ff [J/m^2]",
-                               "spread [%]", "delta* [mm]", "+- [mm]", "status");
+      std::cout << fmt::format("{:>5} {:>14} {:>10} {:>14} {:>12} {:>14} {:>10}  {}\n", "frame",
+                               "J_ff [J/m^2]", "spread [%]", "delta* [mm]", "+- [mm]",
+                               "J_fit [J/m^2]", "+- [J/m^2]", "status");
       for (size_t k = 0; k < result.frames.size(); ++k) {
         const dic::FrameJ& j = result.frames[k].j;
         const bool ok = j.status == dic::FrameJStatus::kOk;
+        const bool fit_ok = j.fit.status == dic::FieldFitJStatus::kOk;
         std::cout << fmt::format(
-            "{:5} {:>14} {:>10} {:>14} {:>12}  {}{}\n", k, ok ? fmt::format("{:.5g}", j.J_ff) : "-",
+            "{:5} {:>14} {:>10} {:>14} {:>12} {:>14} {:>10}  {}{}{}\n", k,
+            ok ? fmt::format("{:.5g}", j.J_ff) : "-",
             ok ? fmt::format("{:.2f}", j.J_ff_spread_percent) : "-",
             j.delta_star_ok ? fmt::format("{:.5g}", j.delta_star * 1e3) : "-",
             j.delta_star_ok ? fmt::format("{:.2g}", j.delta_star_uncertainty * 1e3) : "-",
-            dic::FrameJStatusName(j.status), j.why.empty() ? "" : " (" + j.why + ")");
+            fit_ok ? fmt::format("{:.5g}", j.fit.J) : "-",
+            fit_ok ? fmt::format("{:.2g}", j.fit.J_uncertainty) : "-",
+            dic::FrameJStatusName(j.status), j.why.empty() ? "" : " (" + j.why + ")",
+            fit_ok || j.fit.status == dic::FieldFitJStatus::kNotRequested
+                ? ""
+                : fmt::format(" (fit: {}{})", dic::FieldFitJStatusName(j.fit.status),
+                              j.fit.why.empty() ? "" : ", " + j.fit.why));
       }
     }
   }

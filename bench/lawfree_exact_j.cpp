@@ -14,6 +14,7 @@
 //   lawfree_exact_j DIR SCENE [WIDTH HEIGHT]
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 
@@ -54,6 +55,9 @@ int main(int argc, char** argv) {
     dic::CrackSequenceOptions opt = dic::MakeSequenceOptions(settings);
     opt.keep_fields = true;
     opt.j_integral = pipeline::FrameJOptionsFromScene(scene);
+    if (const char* e = std::getenv("BF_FIT_LO")) opt.j_integral.fit.lowest_order = std::atoi(e);
+    if (const char* e = std::getenv("BF_FIT_HI")) opt.j_integral.fit.highest_order = std::atoi(e);
+    if (const char* e = std::getenv("BF_FIT_MARGIN")) opt.j_integral.fit_margin_points = std::atof(e);
     std::vector<fs::path> images;
     for (int k = 0; fs::exists(dir / "images" / fmt::format("frame_{:02d}.png", k)); ++k)
       images.push_back(dir / "images" / fmt::format("frame_{:02d}.png", k));
@@ -70,7 +74,7 @@ int main(int argc, char** argv) {
     std::printf(
         "frame  zone[mm]  tip err[px]  J err [%%]: DIC/DIC tip  DIC/true tip  exact/DIC tip  "
         "exact/true tip\n");
-    double ss[4] = {0, 0, 0, 0};
+    double ss[4] = {0, 0, 0, 0}, fss[4] = {0, 0, 0, 0}, zss[4] = {0, 0, 0, 0};
     int n = 0;
     for (size_t k = 1; k < run.frames.size() && k < J.size(); ++k) {
       const dic::FrameResult& f = run.frames[k];
@@ -112,10 +116,12 @@ int main(int argc, char** argv) {
           ++ok;
         }
       const dic::CrackLine& L = f.line_used;
+      std::vector<dic::FieldFitJResult> fits;
       auto j_of = [&](const dic::DisplacementField& field, double x, double y, double s) {
         const dic::FrameJ r =
             dic::ComputeFrameJ(field, x, y, s, L.x1 - L.x0, L.y1 - L.y0, opt.tip.band_half_width_px,
                                kScale, kOffset, opt.j_integral);
+        fits.push_back(r.fit);
         return r.status == dic::FrameJStatus::kOk ? 100 * (r.J_ff / J[k] - 1) : NAN;
       };
       const double true_s = std::hypot(tip_x[k] - L.x0, tip_y[k] - L.y0);
@@ -128,11 +134,30 @@ int main(int argc, char** argv) {
           k, zone_px * kScale * 1e3, f.tip.tip.x_px - tip_x[k], e[0], e[1], e[2], e[3],
           std::sqrt(du2 / ok), std::sqrt(dv2 / ok));
       for (int i = 0; i < 4; ++i) ss[i] += e[i] * e[i];
+      std::printf("       fit J err [%%] (u [%%], z, check, status):");
+      for (int i = 0; i < 4; ++i) {
+        const dic::FieldFitJResult& q = fits[i];
+        const double err = 100 * (q.J / J[k] - 1);
+        fss[i] += err * err;
+        zss[i] += std::pow(err / (100 * q.J_uncertainty / J[k]), 2);
+        std::printf("  %+6.2f (%.2f %+.1f %+.2f %s)", err, 100 * q.J_uncertainty / J[k],
+                    err / (100 * q.J_uncertainty / J[k]), 100 * (q.J_check / J[k] - 1),
+                    dic::FieldFitJStatusName(q.status));
+      }
+      std::printf("\n         fit stat %.2f%% corr %.1f res %.3g um signal %.3g um pts %d\n",
+                  100 * fits[0].J_statistical / J[k], fits[0].correlation_factor,
+                  fits[0].residual_rms_m * 1e6, fits[0].signal_rms_m * 1e6, fits[0].points);
       ++n;
     }
     std::printf("RMS [%%] over %d frames:      %+10.2f  %+12.2f  %+13.2f  %+13.2f\n", n,
                 std::sqrt(ss[0] / n), std::sqrt(ss[1] / n), std::sqrt(ss[2] / n),
                 std::sqrt(ss[3] / n));
+    std::printf("fit RMS [%%]:                  %+10.2f  %+12.2f  %+13.2f  %+13.2f\n",
+                std::sqrt(fss[0] / n), std::sqrt(fss[1] / n), std::sqrt(fss[2] / n),
+                std::sqrt(fss[3] / n));
+    std::printf("fit RMS z:                    %+10.2f  %+12.2f  %+13.2f  %+13.2f\n",
+                std::sqrt(zss[0] / n), std::sqrt(zss[1] / n), std::sqrt(zss[2] / n),
+                std::sqrt(zss[3] / n));
   } catch (const Error& e) {
     std::fprintf(stderr, "%s\n", e.what());
     return 1;

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 
 #include <fmt/format.h>
@@ -40,17 +41,24 @@ int main(int argc, char** argv) {
     const std::vector<double> true_j = truth.columns[truth.Find("J_ff")];
     const std::vector<double> true_d = truth.ColumnSi("delta_root", Dimension::Length());
     const pipeline::DicJSeries s = pipeline::ReadDicJSeries(dir / "dic.h5");
-    pipeline::LawFreeRequest request;  // the pipeline's uncertainty floor
+    pipeline::LawFreeRequest request;  // the pipeline's uncertainty floors and J source
+    if (const char* e = std::getenv("BF_J_SOURCE"); e && std::string(e) == "domains")
+      request.j_source = pipeline::LawFreeRequest::JSource::kDomains;
     std::printf(
-        "frame  J_ff meas/true-1 [%%]  spread [%%]  delta* meas [um]  true [um]  "
+        "frame  J_ff meas/true-1 [%%]  u [%%]  delta* meas [um]  true [um]  "
         "err [%%]  true J - J_tip - W(true delta) [J/m^2]\n");
     laws::FarFieldJSamples mm, tm, mt, tt;
     for (size_t k = 0; k < s.image.size(); ++k) {
       if (s.J_status[k] != "ok" || s.delta_star_status[k] != "ok") continue;
+      // As pipeline::RunLawFree takes J_ff: the field fit's where ok.
+      const bool fit = request.j_source == pipeline::LawFreeRequest::JSource::kFieldFit &&
+                       s.J_fit_status[k] == "ok";
       const double spread = std::isfinite(s.J_ff_spread_percent[k]) ? s.J_ff_spread_percent[k] : 0;
-      const double u = std::max(0.5 * spread / 100, request.j_relative_floor) * s.J_ff[k];
-      std::printf("%5zu  %+8.2f  %8.1f  %10.3f  %10.3f  %+7.2f  %+8.3f\n", k,
-                  100 * (s.J_ff[k] / true_j[k] - 1), spread, s.delta_star[k] * 1e6, true_d[k] * 1e6,
+      const double j = fit ? s.J_ff_fit[k] : s.J_ff[k];
+      const double u = fit ? std::max(s.J_ff_fit_uncertainty[k], request.j_fit_relative_floor * j)
+                           : std::max(0.5 * spread / 100, request.j_relative_floor) * j;
+      std::printf("%5zu  %+8.2f  %8.2f  %10.3f  %10.3f  %+7.2f  %+8.3f\n", k,
+                  100 * (j / true_j[k] - 1), 100 * u / j, s.delta_star[k] * 1e6, true_d[k] * 1e6,
                   true_d[k] > 0 ? 100 * (s.delta_star[k] / true_d[k] - 1) : 0.0,
                   true_j[k] - j_tip - law.Work(true_d[k]));
       auto add = [&](laws::FarFieldJSamples& o, double j, double d) {
@@ -58,9 +66,9 @@ int main(int argc, char** argv) {
         o.J_ff.push_back(j);
         o.uncertainty.push_back(u);
       };
-      add(mm, s.J_ff[k], s.delta_star[k]);
+      add(mm, j, s.delta_star[k]);
       add(tm, true_j[k], s.delta_star[k]);
-      add(mt, s.J_ff[k], true_d[k]);
+      add(mt, j, true_d[k]);
       add(tt, true_j[k], true_d[k]);
     }
     // The onset as the pipeline takes it: the frame with delta* = 0 (dic's

@@ -9,21 +9,10 @@
 #include <Eigen/Dense>
 
 #include "crack_impl.hpp"
+#include "williams_basis.hpp"
 
 namespace bridgefit::dic::detail {
 namespace {
-
-// Williams basis (Yoneyama et al. 2006 form without 1/(2 mu)), local frame.
-void WilliamsModeI(int n, double r, double t, double kappa, double* fx, double* fy) {
-  const double h = 0.5 * n, rn = std::pow(r, h), sgn = (n % 2 == 0) ? 1.0 : -1.0;
-  *fx = rn * (kappa * std::cos(h * t) - h * std::cos((h - 2) * t) + (h + sgn) * std::cos(h * t));
-  *fy = rn * (kappa * std::sin(h * t) + h * std::sin((h - 2) * t) - (h + sgn) * std::sin(h * t));
-}
-void WilliamsModeII(int n, double r, double t, double kappa, double* fx, double* fy) {
-  const double h = 0.5 * n, rn = std::pow(r, h), sgn = (n % 2 == 0) ? 1.0 : -1.0;
-  *fx = -rn * (kappa * std::sin(h * t) - h * std::sin((h - 2) * t) + (h - sgn) * std::sin(h * t));
-  *fy = rn * (kappa * std::cos(h * t) + h * std::cos((h - 2) * t) - (h - sgn) * std::cos(h * t));
-}
 
 struct WilliamsFit {
   double ssr = std::numeric_limits<double>::infinity();

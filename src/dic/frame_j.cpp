@@ -27,6 +27,8 @@ bool FrameJOptions::IsValid(std::string* why) const {
   } catch (const Error& e) {
     return fail("elastic constants: " + e.message());
   }
+  if (field_fit && !fit.IsValid(why)) return false;
+  if (!(fit_margin_points >= 0)) return fail("fit_margin_points must be >= 0");
   JIntegralOptions probe = integral;
   probe.domains.clear();
   return probe.IsValid(why);
@@ -137,6 +139,9 @@ FrameJ ComputeFrameJ(const DisplacementField& field, double tip_x_px, double tip
       out.why += fmt::format("{}r {:.0f}-{:.0f} pt: {}", out.why.empty() ? "" : "; ", d.spec.r_in,
                              d.spec.r_out, DomainStatusName(d.status));
   }
+  if (options.field_fit)
+    out.fit = FitFarFieldJ(banded, cx, cy, c, s, (r_in0 + options.fit_margin_points) * step,
+                           options.elastic, scale_m_per_px, options.fit);
   out.delta_star_ok = r.root_opening.ok;
   if (root_points < 1) {
     // The tip has not left the notch root by a grid step: the root is the

@@ -151,15 +151,29 @@ std::string DeltaStarStatus(const dic::FrameJ& j) {
   return "failed: " + j.delta_star_why;
 }
 
-// /dic/J_ff, J_ff_spread, J_domains_ok, J_status, delta_star,
+// The field-wide fit's status ("ok", "not_requested", or the status and why).
+std::string FitStatus(const dic::FrameJ& j) {
+  std::string s = dic::FieldFitJStatusName(j.fit.status);
+  if (!j.fit.why.empty()) s += ": " + j.fit.why;
+  return s;
+}
+
+// /dic/J_ff, J_ff_spread, J_domains_ok, J_status, J_ff_fit,
+// J_ff_fit_uncertainty, J_fit_status, delta_star,
 // delta_star_uncertainty, delta_star_status and the inputs as attributes.
 void WriteDicJ(io::H5Writer& h5, const dic::CrackSequenceResult& r,
                const dic::CrackSequenceOptions& opt) {
   const size_t n = r.frames.size();
   std::vector<double> j(n, NAN), spread(n, NAN), ok(n, 0), delta(n, NAN), u(n, NAN), root(n, NAN);
-  std::vector<std::string> status, delta_status;
+  std::vector<double> jfit(n, NAN), jfit_u(n, NAN);
+  std::vector<std::string> status, delta_status, fit_status;
   for (size_t k = 0; k < n; ++k) {
     const dic::FrameJ& f = r.frames[k].j;
+    if (f.fit.status == dic::FieldFitJStatus::kOk) {
+      jfit[k] = f.fit.J;
+      jfit_u[k] = f.fit.J_uncertainty;
+    }
+    fit_status.push_back(FitStatus(f));
     if (f.status == dic::FrameJStatus::kOk) {
       j[k] = f.J_ff;
       spread[k] = f.J_ff_spread_percent;
@@ -180,6 +194,10 @@ void WriteDicJ(io::H5Writer& h5, const dic::CrackSequenceResult& r,
   h5.WriteVector("/dic/J_ff_spread", spread, "%", "(max - min) / mean over the ok far-field domains");
   h5.WriteVector("/dic/J_domains_ok", ok, "1", "far-field domains that gave a J");
   h5.WriteStrings("/dic/J_status", status);
+  h5.WriteVector("/dic/J_ff_fit", jfit, "J/m^2",
+                 "far-field J of the field-wide Williams fit (NaN: see J_fit_status)");
+  h5.WriteVector("/dic/J_ff_fit_uncertainty", jfit_u, "J/m^2", "one standard deviation");
+  h5.WriteStrings("/dic/J_fit_status", fit_status);
   h5.WriteVector("/dic/delta_star", delta, "m",
                  "opening at the initial notch root (NaN: see delta_star_status)");
   h5.WriteVector("/dic/delta_star_uncertainty", u, "m", "one standard deviation");
@@ -207,7 +225,8 @@ void WriteDicCsv(const std::string& path, const dic::CrackSequenceResult& r) {
   // its status (a number only where the status is ok).
   if (r.j_integral)
     text += ", J_ff [J/m^2], J_ff_spread [%], J_domains_ok, J_status, delta_star [mm], "
-            "delta_star_uncertainty [mm], delta_star_status";
+            "delta_star_uncertainty [mm], delta_star_status, J_ff_fit [J/m^2], "
+            "J_ff_fit_uncertainty [J/m^2], J_fit_status";
   text += "\n";
   auto num = [](bool ok, double v) {
     return ok && std::isfinite(v) ? fmt::format("{:.6g}", v) : std::string();
@@ -243,6 +262,10 @@ void WriteDicCsv(const std::string& path, const dic::CrackSequenceResult& r) {
                           dic::FrameJStatusName(f.j.status), num(f.j.delta_star_ok, f.j.delta_star * 1e3),
                           num(f.j.delta_star_ok, f.j.delta_star_uncertainty * 1e3),
                           DeltaStarStatus(f.j));
+      text.pop_back();
+      const bool fit_ok = f.j.fit.status == dic::FieldFitJStatus::kOk;
+      text += fmt::format(", {}, {}, {}\n", num(fit_ok, f.j.fit.J), num(fit_ok, f.j.fit.J_uncertainty),
+                          dic::FieldFitJStatusName(f.j.fit.status));
     }
   }
   WriteTextFileAtomic(path, text);
@@ -374,6 +397,11 @@ DicJSeries ReadDicJSeries(const std::filesystem::path& path) {
   s.J_status = r.ReadStrings("/dic/J_status");
   s.delta_star_status = r.ReadStrings("/dic/delta_star_status");
   s.J_status.resize(n, "missing");
+  // The field-wide fit's J (files before 2026-12-03 have none: "missing").
+  s.J_ff_fit = vec("J_ff_fit");
+  s.J_ff_fit_uncertainty = vec("J_ff_fit_uncertainty");
+  if (r.Exists("/dic/J_fit_status")) s.J_fit_status = r.ReadStrings("/dic/J_fit_status");
+  s.J_fit_status.resize(n, "missing");
   s.delta_star_status.resize(n, "missing");
   s.notch_length = NumberAttr(r, "/dic", "notch_length_m");
   return s;

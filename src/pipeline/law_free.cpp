@@ -49,7 +49,7 @@ bool LawFreeRequest::IsValid(std::string* why) const {
   if (dic_file.empty()) return fail("a DIC file (dic.h5 with the J integral) is needed");
   if (!far_field_route && rcurve_file.empty())
     return fail("no route: the J_ff route is off and no R curve is given");
-  if (!(j_relative_floor > 0) || !(r_relative_floor > 0))
+  if (!(j_relative_floor > 0) || !(r_relative_floor > 0) || !(j_fit_relative_floor > 0))
     return fail("the relative uncertainty floors must be > 0");
   if (J_tip_c && !(std::isfinite(*J_tip_c) && *J_tip_c >= 0))
     return fail("J_tip_c must be finite and >= 0");
@@ -95,9 +95,12 @@ laws::FarFieldJSamples JSamples(const DicJSeries& s, const LawFreeRequest& reque
                                 std::vector<std::string>& notes) {
   laws::FarFieldJSamples out;
   const int onset = request.onset_opening ? -1 : OnsetFrame(s);
-  int before = 0;
+  int before = 0, from_domains = 0;
+  const bool want_fit = request.j_source == LawFreeRequest::JSource::kFieldFit;
   for (size_t k = 0; k < s.image.size(); ++k) {
-    const bool j_ok = s.J_status[k] == "ok" && std::isfinite(s.J_ff[k]);
+    const bool fit_ok = want_fit && s.J_fit_status[k] == "ok" && std::isfinite(s.J_ff_fit[k]) &&
+                        std::isfinite(s.J_ff_fit_uncertainty[k]);
+    const bool j_ok = fit_ok || (s.J_status[k] == "ok" && std::isfinite(s.J_ff[k]));
     const bool d_ok = s.delta_star_status[k] == "ok" && std::isfinite(s.delta_star[k]);
     if (static_cast<int>(k) < onset && j_ok && d_ok) {
       ++before;
@@ -122,12 +125,30 @@ laws::FarFieldJSamples JSamples(const DicJSeries& s, const LawFreeRequest& reque
     }
     if (static_cast<int>(k) >= onset && onset >= 0 && !out.onset_index)
       out.onset_index = static_cast<int>(out.opening.size());
-    const double spread = std::isfinite(s.J_ff_spread_percent[k]) ? s.J_ff_spread_percent[k] : 0;
     out.opening.push_back(s.delta_star[k]);
-    out.J_ff.push_back(s.J_ff[k]);
-    out.uncertainty.push_back(std::max(0.5 * spread / 100, request.j_relative_floor) *
-                              std::abs(s.J_ff[k]));
+    if (fit_ok) {
+      out.J_ff.push_back(s.J_ff_fit[k]);
+      out.uncertainty.push_back(std::max(s.J_ff_fit_uncertainty[k],
+                                         request.j_fit_relative_floor * std::abs(s.J_ff_fit[k])));
+    } else {
+      // A fit that ran and failed is noted per frame; a file without fits
+      // (older, or the fit off) only in the count below.
+      const std::string& fs = s.J_fit_status[k];
+      if (want_fit && fs != "missing" && fs != "not_requested")
+        notes.push_back(fmt::format("frame {} ({}): J_ff from the domains (field fit: {})", k,
+                                    s.image[k], fs));
+      from_domains += want_fit;
+      const double spread =
+          std::isfinite(s.J_ff_spread_percent[k]) ? s.J_ff_spread_percent[k] : 0;
+      out.J_ff.push_back(s.J_ff[k]);
+      out.uncertainty.push_back(std::max(0.5 * spread / 100, request.j_relative_floor) *
+                                std::abs(s.J_ff[k]));
+    }
   }
+  notes.push_back(want_fit ? fmt::format("J_ff per frame: the field-wide fit's ({} of {} frames "
+                                         "from the domains)",
+                                         from_domains, out.J_ff.size())
+                           : std::string("J_ff per frame: the domains' (--j-source domains)"));
   out.onset_opening = request.onset_opening;
   if (request.onset_opening) return out;
   if (onset >= 0) {

@@ -17,22 +17,23 @@
 //    least, dic/frame_j.hpp; measured -1.5 .. +0.2 % here), exactly 0 at the
 //    onset frame;
 //  - J_ff per frame within 8 % of the generator's (measured 0.1-3.8 %: the
-//    domain integral on DIC gradients scatters a few percent);
+//    domain integral on DIC gradients scatters a few percent), and the
+//    field-wide fit's J_ff (dic/j_fit.hpp, what lawfree uses) within 3 %
+//    (measured -0.8 .. +1.2 %, RMS 0.5 %), its uncertainty holding the
+//    error within 2 u on all but at most 3 frames (measured 15 of 15);
 //  - the onset of growth at frame 1, the delta* = 0 frame (not a kink in
 //    J_ff(delta*), which a drift of the J scatter can fake);
 //  - J_tip,c within 5 %;
 //  - the mean sigma over the covered openings, W(delta_max) / delta_max,
-//    within 10 % of the law's (measured -1.3 %).
-// What does not hold and is only printed: sigma(delta) pointwise within
-// 10 % over the covered range (0 to the largest delta*, 41 nodes). Measured
-// worst 10.9 % here, 6.7-6.9 % on two other runs, 15.8-63.7 % on four more
-// (seeds, the exponential law, 480 x 400 px frames): the J scatter (1.5-3 %
-// RMS per frame; the DIC's response to the image noise, 0.1-0.2 % on the
-// generator's exact field: bench/lawfree_exact_j) differentiated over a
-// rise J_ff - J_tip,c of about 55 % of J_tip,c moves the ends of the curve
-// by 7-63 % on its own (bench/lawfree_split, docs/LAW_FREE.md "Where the
-// pointwise error comes from"). The delta* part was cut (worst 10-26 % with the true J_ff
-// before the shorter stretch ahead of the root, 1-12 % now).
+//    within 10 % of the law's.
+// What does not hold on every run and is only printed: sigma(delta)
+// pointwise within 10 % over the covered range (0 to the largest delta*, 41
+// nodes). With the fit's J_ff (2026-12-03, bench/lawfree_split): worst 1.9 %
+// here, 2.3-9.5 % on four more runs (seeds 2, 4, 6, exponential seed 3),
+// 20.2 % on the exponential seed-7 run, whose J errors drift together
+// across frames (the reference image's noise is common to all of them).
+// With the domains' J_ff (1.5-3 % RMS per frame) it was 4.1-75.5 % on the
+// same six runs (docs/LAW_FREE.md "The field-wide fit").
 // Asserted too: the data stop far before steady state, so J_B and delta_c
 // are lower bounds below the truth (the J route used to take the J scatter
 // for a plateau and print J_B about 100 J/m^2 as a value; the plateau rule
@@ -101,6 +102,7 @@ max_crack_length = "45 mm"
   const std::vector<double> true_delta = truth.ColumnSi("delta_root", Dimension::Length());
   const DicJSeries dic = ReadDicJSeries(dir / "dic.h5");
   ASSERT_EQ(dic.image.size(), true_j.size());
+  int fit_within_2u = 0, fit_frames = 0;
   for (size_t k = 1; k < dic.image.size(); ++k) {
     ASSERT_EQ(dic.J_status[k], "ok") << "frame " << k;
     if (dic.delta_star_status[k] != "ok") {
@@ -120,6 +122,17 @@ max_crack_length = "45 mm"
                 k, dic.J_ff[k], true_j[k], 100 * j_err, dic.J_ff_spread_percent[k],
                 dic.delta_star[k] * 1e3, true_delta[k] * 1e3);
     EXPECT_LT(std::abs(j_err), 0.08) << "frame " << k;
+    // The field-wide fit's J_ff, the one lawfree uses (dic/j_fit.hpp):
+    // measured -0.8 .. +1.2 % here (RMS 0.5 %), -2.4 .. +1.9 % over six
+    // runs (docs/LAW_FREE.md "The field-wide fit"); its uncertainty holds
+    // the error within 2 u on 15 of 15 frames here, 13-15 of 15 there.
+    ASSERT_EQ(dic.J_fit_status[k], "ok") << "frame " << k;
+    const double fit_err = dic.J_ff_fit[k] / true_j[k] - 1;
+    std::printf("          J_ff fit %7.2f (%+5.2f %%, u %.2f %%)\n", dic.J_ff_fit[k], 100 * fit_err,
+                100 * dic.J_ff_fit_uncertainty[k] / dic.J_ff_fit[k]);
+    EXPECT_LT(std::abs(fit_err), 0.03) << "frame " << k;
+    fit_within_2u += std::abs(dic.J_ff_fit[k] - true_j[k]) <= 2 * dic.J_ff_fit_uncertainty[k];
+    ++fit_frames;
     // The stretch ahead of the root is 0.35 of the zone, 2 grid points at
     // least (the near-tip curvature read it 5-8 % low on 2.5-5 mm zones
     // when it reached 0.9 of the zone); on zones under 3 mm the 2 points
@@ -129,6 +142,8 @@ max_crack_length = "45 mm"
     EXPECT_NEAR(dic.delta_star[k], true_delta[k], tolerance * true_delta[k] + 1e-6)
         << "frame " << k << ", zone " << zone * 1e3 << " mm";
   }
+
+  EXPECT_GE(fit_within_2u, fit_frames - 3) << "of " << fit_frames;
 
   // The law.
   const LawFreeRun out = ReadLawFreeH5(dir / "lawfree.h5");
@@ -141,7 +156,8 @@ max_crack_length = "45 mm"
   EXPECT_EQ(r.onset_index, 0);
   EXPECT_NE(lawfree.out.find("onset of growth: frame 1 ("), std::string::npos) << lawfree.out;
   // Pointwise over the covered range (the grid runs from the onset frame's
-  // opening, 0, to the largest measured delta*): printed, not asserted.
+  // opening, 0, to the largest measured delta*): printed, not asserted
+  // (within 10 % on 5 of the 6 runs measured, not the exponential seed 7).
   double worst = 0;
   int misses = 0;
   for (size_t j = 0; j < r.delta.size(); ++j) {

@@ -21,6 +21,7 @@
 #include <string>
 
 #include "bridgefit/dic/correlation.hpp"
+#include "bridgefit/dic/j_fit.hpp"
 #include "bridgefit/dic/j_integral.hpp"
 
 namespace bridgefit::dic {
@@ -40,6 +41,11 @@ struct FrameJOptions {
   // Gradient window, fit order, valid fraction, opening rows and half
   // length; `domains`, `metres_per_unit` and `domain_units` are set per frame.
   JIntegralOptions integral;
+  // The field-wide fit (dic/j_fit.hpp) about the same centre, outside the
+  // domains' inner circle plus fit_margin_points: J_ff beside the domains'.
+  bool field_fit = true;
+  double fit_margin_points = 0;
+  FieldFitJOptions fit;
   bool IsValid(std::string* why) const;
 };
 
@@ -62,6 +68,7 @@ struct FrameJ {
   std::string delta_star_why;     // when !delta_star_ok
   double delta_star = 0;          // opening at the notch root [m] (0 unless ok)
   double delta_star_uncertainty = 0;  // standard uncertainty [m]
+  FieldFitJResult fit;                // the field-wide fit's J_ff (status kNotRequested when off)
 };
 
 // `field` in px (reference positions); tip and line from a located frame.

@@ -11,8 +11,11 @@
 // Frames whose J or delta* has a status other than ok are skipped with a
 // note; so are R points outside the crack lengths the frames cover (delta*
 // is interpolated linearly in crack length between frames, never
-// extrapolated). Per-sample uncertainties: J_ff's is half its contour spread,
-// at least `j_relative_floor` of J_ff (one domain has no spread); R's is the
+// extrapolated). J_ff per frame is the field-wide fit's (dic/j_fit.hpp) where
+// its status is ok (its standard uncertainty, at least `j_fit_relative_floor`
+// of J_ff), else the domains' (with a note) - `j_source` chooses; the
+// domains' uncertainty is half their contour spread, at least
+// `j_relative_floor` of J_ff (one domain has no spread); R's is the
 // file's R_uncertainty over its coverage factor, or `r_relative_floor` of
 // the median R when the file has none (both routes choose their penalty by
 // GCV, which does not trust the stated scale, and widen the band when the
@@ -49,7 +52,10 @@ struct LawFreeRequest {
   // frames before it are left out (a note); without such a frame the onset
   // is detected from J_ff's shape, with a warning note.
   std::optional<double> onset_opening;
+  enum class JSource { kFieldFit, kDomains };
+  JSource j_source = JSource::kFieldFit;
   double j_relative_floor = 0.01;
+  double j_fit_relative_floor = 0.0025;
   double r_relative_floor = 0.02;
   laws::LawFreeOptions options;
   // Files given, a route asked for, floors > 0, options valid.

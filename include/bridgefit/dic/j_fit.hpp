@@ -1,0 +1,82 @@
+#pragma once
+// Far-field J from a field-wide fit (issue 21's J route; PHYSICS sections
+// 3 and 10): the displacement field outside a circle that holds the
+// bridging zone and the near-tip region is, for a linear elastic body with
+// traction-free crack faces outside the circle, a Laurent-Williams series
+// about the circle's centre c on the crack line (crack frame x1 along the
+// growth, faces at t = +-pi):
+//   u(r, t) = rigid motion + sum_{n = lo..hi, n != 0} r^(n/2) [a_n f_n^I(t) + b_n f_n^II(t)]
+// (f_n the Williams eigenfunctions, dic/crack.hpp's kWilliams basis; the
+// negative n are the terms singular at c: the zone's closing tractions and
+// the tip's offset from c; the positive n the applied K and the body's
+// geometry). The series is fitted by least squares to ALL valid points
+// outside the circle (not an annulus), and J is the contour integral
+//   J = int_G (W n_1 - sigma_ij n_j u_i,1) ds
+// of the fitted field on the circle: every term is an exact traction-free
+// solution, so J is path independent for the fit and equals J_ff (the
+// circle encloses the zone), cross terms (n, 2 - n) included. J is a
+// quadratic form c^T Q c of the coefficients; its standard uncertainty is
+// 2 Q c propagated through the fit with the residuals' own spatial
+// correlation and unequal size (a spatial HAC estimate, Bartlett weights
+// over correlation_lag grid lags: DIC errors are correlated over a subset
+// and larger where the strain varies), combined with the change of J when the circle grows by `check_points`
+// (truncation and near-zone error). Isotropic plane stress only (the
+// orthotropic Williams basis is not in the project): an orthotropic
+// material is a status.
+
+#include <string>
+
+#include "bridgefit/dic/correlation.hpp"
+#include "bridgefit/dic/j_integral.hpp"
+
+namespace bridgefit::dic {
+
+struct FieldFitJOptions {
+  int lowest_order = -13;  // n from lowest_order to highest_order, n != 0,
+  int highest_order = 4;   // mode I and II (mode II n = 2 is the rotation)
+  // The check fit: the exclusion radius larger by this many grid points.
+  double check_points = 4;
+  int min_points = 200;    // valid points outside the circle
+  // Poor fit: the residual RMS above this fraction of the RMS of the fitted
+  // displacement less the rigid motion (a wrong line, centre or field).
+  double max_residual_fraction = 0.05;
+  // Grid lags (x and y) over which the residuals' correlation is summed.
+  int correlation_lag = 12;
+  bool IsValid(std::string* why) const;
+};
+
+enum class FieldFitJStatus {
+  kNotRequested,
+  kOk,
+  kNotIsotropic,  // no orthotropic Williams basis
+  kTooFewPoints,  // fewer than min_points valid points outside the circle
+  kPoorFit,       // residual RMS above max_residual_fraction of the fitted displacement
+};
+const char* FieldFitJStatusName(FieldFitJStatus status);  // "ok", "not_isotropic", ...
+
+struct FieldFitJResult {
+  FieldFitJStatus status = FieldFitJStatus::kNotRequested;
+  std::string why;
+  double J = 0;               // J_ff of the fit [J/m^2]
+  double J_uncertainty = 0;   // standard uncertainty [J/m^2]
+  double J_statistical = 0;   // its part from the fit's covariance (correlation-scaled) [J/m^2]
+  double J_check = 0;         // the check fit's J (circle check_points larger) [J/m^2]
+  double K_I = 0;             // n = 1 mode I coefficient as K [Pa m^0.5]
+  double residual_rms_m = 0;  // RMS displacement residual per component [m]
+  double signal_rms_m = 0;    // RMS of the fitted displacement less the rigid motion [m]
+  double correlation_factor = 1;  // J's variance over the white-noise estimate's
+  int points = 0;             // valid points fitted
+  int terms = 0;              // coefficients fitted
+};
+
+// `field` in its own units (px with metres_per_unit the scale); centre and
+// direction of the crack line in those units; `exclusion_radius` too.
+// Points whose status is not ok (the caller marks the crack band) are left
+// out. Never throws for a field that cannot be fitted (a status); throws
+// Error(kUsage) for invalid options.
+FieldFitJResult FitFarFieldJ(const DisplacementField& field, double centre_x, double centre_y,
+                             double direction_x, double direction_y, double exclusion_radius,
+                             const ElasticConstants& elastic, double metres_per_unit,
+                             const FieldFitJOptions& options);
+
+}  // namespace bridgefit::dic

@@ -1,0 +1,285 @@
+// Far-field J from a field-wide Laurent-Williams fit (dic/j_fit.hpp).
+#include "bridgefit/dic/j_fit.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include <Eigen/Dense>
+#include <fmt/format.h>
+
+#include "bridgefit/core/error.hpp"
+#include "williams_basis.hpp"
+
+namespace bridgefit::dic {
+
+bool FieldFitJOptions::IsValid(std::string* why) const {
+  auto fail = [&](const std::string& m) {
+    if (why) *why = m;
+    return false;
+  };
+  if (lowest_order > -1 || lowest_order < -21) return fail("lowest_order must be in [-21, -1]");
+  if (highest_order < 1 || highest_order > 9) return fail("highest_order must be in [1, 9]");
+  if (!(check_points > 0)) return fail("check_points must be > 0");
+  if (min_points < 50) return fail("min_points must be >= 50");
+  if (!(max_residual_fraction > 0 && max_residual_fraction < 1))
+    return fail("max_residual_fraction must be in (0, 1)");
+  if (correlation_lag < 0 || correlation_lag > 40) return fail("correlation_lag must be in [0, 40]");
+  return true;
+}
+
+const char* FieldFitJStatusName(FieldFitJStatus status) {
+  switch (status) {
+    case FieldFitJStatus::kNotRequested: return "not_requested";
+    case FieldFitJStatus::kOk: return "ok";
+    case FieldFitJStatus::kNotIsotropic: return "not_isotropic";
+    case FieldFitJStatus::kTooFewPoints: return "too_few_points";
+    case FieldFitJStatus::kPoorFit: return "poor_fit";
+  }
+  return "unknown";
+}
+
+namespace {
+
+// The basis in the crack frame about the centre, lengths in units of the
+// exclusion radius: columns translation 1, 2, rotation, mode I n (n != 0),
+// mode II n (n != 0, 2; n = 2 is the rotation).
+struct Basis {
+  int lo = -3, hi = 5;
+  double kappa = 0;
+  int Size() const { return 3 + 2 * (hi - lo) - 1; }
+  // Displacement (u1, u2) of every column at polar (r, t).
+  void Eval(double r, double t, Eigen::Ref<Eigen::VectorXd> u1, Eigen::Ref<Eigen::VectorXd> u2) const {
+    const double x = r * std::cos(t), y = r * std::sin(t);
+    u1(0) = 1; u2(0) = 0;
+    u1(1) = 0; u2(1) = 1;
+    u1(2) = -y; u2(2) = x;
+    int c = 3;
+    for (int n = lo; n <= hi; ++n) {
+      if (n == 0) continue;
+      detail::WilliamsModeI(n, r, t, kappa, &u1(c), &u2(c));
+      ++c;
+    }
+    for (int n = lo; n <= hi; ++n) {
+      if (n == 0 || n == 2) continue;
+      detail::WilliamsModeII(n, r, t, kappa, &u1(c), &u2(c));
+      ++c;
+    }
+  }
+};
+
+// Plane-stress isotropic J integrand (W n1 - sigma_ij n_j u_i,1) as a
+// quadratic form h^T M h of h = (u1,1, u1,2, u2,1, u2,2), outward normal n.
+Eigen::Matrix4d IntegrandForm(double E, double nu, double n1, double n2) {
+  auto integrand = [&](const Eigen::Vector4d& h) {
+    const double e11 = h(0), e22 = h(3), g12 = h(1) + h(2);
+    const double f = E / (1 - nu * nu);
+    const double s11 = f * (e11 + nu * e22), s22 = f * (e22 + nu * e11),
+                 s12 = E / (2 * (1 + nu)) * g12;
+    const double W = 0.5 * (s11 * e11 + s22 * e22 + s12 * g12);
+    return W * n1 - (s11 * n1 + s12 * n2) * h(0) - (s12 * n1 + s22 * n2) * h(2);
+  };
+  Eigen::Matrix4d M;
+  for (int a = 0; a < 4; ++a)
+    for (int b = a; b < 4; ++b) {
+      const Eigen::Vector4d ea = Eigen::Vector4d::Unit(a), eb = Eigen::Vector4d::Unit(b);
+      M(a, b) = M(b, a) = 0.5 * (integrand(ea + eb) - integrand(ea) - integrand(eb));
+    }
+  return M;
+}
+
+// Q of J = c^T Q c on the circle of radius rho (units of the exclusion
+// radius), per unit radius: J [Pa x unit] = c^T Q c / R_unit. Composite
+// 5-point Gauss-Legendre over t in (-pi, pi) (nodes stay off the faces).
+Eigen::MatrixXd ContourForm(const Basis& basis, double E, double nu, double rho) {
+  static const double x5[5] = {-0.9061798459386640, -0.5384693101056831, 0.0,
+                               0.5384693101056831, 0.9061798459386640};
+  static const double w5[5] = {0.2369268850561891, 0.4786286704993665, 0.5688888888888889,
+                               0.4786286704993665, 0.2369268850561891};
+  const int p = basis.Size(), panels = 64;
+  const double width = 2 * std::numbers::pi / panels, dt = 1e-6;
+  Eigen::MatrixXd Q = Eigen::MatrixXd::Zero(p, p);
+  Eigen::VectorXd u1(p), u2(p), a1(p), a2(p), b1(p), b2(p);
+  Eigen::MatrixXd G(4, p);
+  for (int k = 0; k < panels; ++k)
+    for (int g = 0; g < 5; ++g) {
+      const double t = -std::numbers::pi + width * (k + 0.5 + 0.5 * x5[g]);
+      const double w = 0.5 * width * w5[g] * rho;  // ds = rho dt
+      basis.Eval(rho, t, u1, u2);
+      // d/dr by a relative step (r^h g(t) terms and the rigid motion are
+      // smooth off the centre), d/dt centrally (t stays inside (-pi, pi)).
+      const double dr = 1e-6 * rho;
+      basis.Eval(rho + dr, t, a1, a2);
+      basis.Eval(rho - dr, t, b1, b2);
+      const Eigen::VectorXd ur1 = (a1 - b1) / (2 * dr), ur2 = (a2 - b2) / (2 * dr);
+      basis.Eval(rho, t + dt, a1, a2);
+      basis.Eval(rho, t - dt, b1, b2);
+      const Eigen::VectorXd ut1 = (a1 - b1) / (2 * dt * rho), ut2 = (a2 - b2) / (2 * dt * rho);
+      const double c = std::cos(t), s = std::sin(t);
+      G.row(0) = (c * ur1 - s * ut1).transpose();  // u1,1
+      G.row(1) = (s * ur1 + c * ut1).transpose();  // u1,2
+      G.row(2) = (c * ur2 - s * ut2).transpose();  // u2,1
+      G.row(3) = (s * ur2 + c * ut2).transpose();  // u2,2
+      Q += w * G.transpose() * IntegrandForm(E, nu, c, s) * G;
+    }
+  return Q;
+}
+
+struct FitOutcome {
+  bool ok = false;
+  Eigen::VectorXd coef;
+  Eigen::MatrixXd covariance_unit;  // (A^T A)^-1
+  std::vector<std::size_t> index;   // field points used
+  std::vector<double> res_u, res_v;
+  Eigen::MatrixXd A;  // design rows (u, v per point)
+  double ssr = 0;
+  double signal_rms = 0;  // RMS of the fitted displacement less the rigid motion
+};
+
+FitOutcome FitSeries(const DisplacementField& f, double cx, double cy, double c, double s,
+                     double radius, const Basis& basis, int min_points) {
+  FitOutcome out;
+  for (std::size_t i = 0; i < f.size(); ++i)
+    if (f.ok(i) && std::hypot(f.x[i] - cx, f.y[i] - cy) >= radius) out.index.push_back(i);
+  const int n = static_cast<int>(out.index.size()), p = basis.Size();
+  if (n < min_points || 2 * n < 4 * p) return out;
+  Eigen::MatrixXd A(2 * n, p);
+  Eigen::VectorXd b(2 * n), u1(p), u2(p);
+  for (int k = 0; k < n; ++k) {
+    const std::size_t i = out.index[k];
+    const double ex = (f.x[i] - cx) / radius, ey = (f.y[i] - cy) / radius;
+    const double x1 = c * ex + s * ey, x2 = -s * ex + c * ey;
+    basis.Eval(std::hypot(x1, x2), std::atan2(x2, x1), u1, u2);
+    A.row(2 * k) = u1.transpose();
+    A.row(2 * k + 1) = u2.transpose();
+    b(2 * k) = c * f.u[i] + s * f.v[i];
+    b(2 * k + 1) = -s * f.u[i] + c * f.v[i];
+  }
+  const Eigen::VectorXd scale = A.colwise().norm().transpose().cwiseMax(1e-300);
+  const Eigen::MatrixXd As = A * scale.cwiseInverse().asDiagonal();
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(As);
+  if (qr.rank() < p) return out;
+  out.coef = qr.solve(b).cwiseQuotient(scale);
+  const Eigen::MatrixXd ata = As.transpose() * As;
+  out.covariance_unit = scale.cwiseInverse().asDiagonal() * ata.inverse() *
+                        scale.cwiseInverse().asDiagonal();
+  const Eigen::VectorXd r = b - A * out.coef;
+  out.res_u.resize(n);
+  out.res_v.resize(n);
+  for (int k = 0; k < n; ++k) {
+    out.res_u[k] = r(2 * k);
+    out.res_v[k] = r(2 * k + 1);
+  }
+  out.ssr = r.squaredNorm();
+  out.signal_rms = std::sqrt((A.rightCols(p - 3) * out.coef.tail(p - 3)).squaredNorm() / (2.0 * n));
+  out.A = std::move(A);
+  out.ok = true;
+  return out;
+}
+
+// The variance of a linear functional g^T c of the fit under spatially
+// correlated, unequal point errors (a spatial HAC / sandwich estimate): with
+// h = (A^T A)^-1 g, point i's share e_i = h . (a_u,i r_u,i + a_v,i r_v,i),
+//   Var = sum_i sum_j e_i e_j  over pairs within max_lag grid lags in x and y
+// (uniform weights: Bartlett's taper read a box-correlated noise's variance
+// 1.4x low in SD; max_lag well beyond the correlation length). DIC errors
+// are correlated over a subset and larger where the strain varies.
+double CorrelatedVariance(const DisplacementField& f, const FitOutcome& fit,
+                          const Eigen::VectorXd& g, int max_lag) {
+  const Eigen::VectorXd h = fit.covariance_unit * g;
+  const Eigen::VectorXd ah = fit.A * h;
+  std::vector<double> e(f.size(), 0.0);
+  std::vector<char> used(f.size(), 0);
+  for (std::size_t k = 0; k < fit.index.size(); ++k) {
+    e[fit.index[k]] = ah(2 * k) * fit.res_u[k] + ah(2 * k + 1) * fit.res_v[k];
+    used[fit.index[k]] = 1;
+  }
+  double var = 0;
+  for (int ly = -max_lag; ly <= max_lag; ++ly)
+    for (int lx = -max_lag; lx <= max_lag; ++lx) {
+      double acc = 0;
+      for (std::size_t i : fit.index) {
+        const int ix = static_cast<int>(i % f.nx) + lx, iy = static_cast<int>(i / f.nx) + ly;
+        if (ix < 0 || iy < 0 || ix >= f.nx || iy >= f.ny) continue;
+        const std::size_t j = static_cast<std::size_t>(iy) * f.nx + ix;
+        if (used[j]) acc += e[i] * e[j];
+      }
+      var += acc;
+    }
+  return std::max(0.0, var);
+}
+
+}  // namespace
+
+FieldFitJResult FitFarFieldJ(const DisplacementField& field, double centre_x, double centre_y,
+                             double direction_x, double direction_y, double exclusion_radius,
+                             const ElasticConstants& elastic, double metres_per_unit,
+                             const FieldFitJOptions& options) {
+  std::string why;
+  if (!options.IsValid(&why)) throw Error(ErrorKind::kUsage, "invalid J fit options: " + why);
+  FieldFitJResult out;
+  if (elastic.kind != ElasticConstants::Kind::kIsotropic) {
+    out.status = FieldFitJStatus::kNotIsotropic;
+    out.why = "orthotropic material: no orthotropic Williams basis (the domain J stands)";
+    return out;
+  }
+  const double length = std::hypot(direction_x, direction_y);
+  if (!(length > 0) || !(exclusion_radius > 0) || field.nx < 3 || field.ny < 3) {
+    out.status = FieldFitJStatus::kTooFewPoints;
+    out.why = "no crack direction, exclusion radius or grid";
+    return out;
+  }
+  const double c = direction_x / length, s = direction_y / length;
+  const double step = field.x[1] - field.x[0];
+  Basis basis;
+  basis.lo = options.lowest_order;
+  basis.hi = options.highest_order;
+  basis.kappa = (3 - elastic.nu) / (1 + elastic.nu);
+  out.terms = basis.Size();
+  const Eigen::MatrixXd Q = ContourForm(basis, elastic.E, elastic.nu, 1.0);
+  auto j_of = [&](const FitOutcome& fit, double radius) {
+    return fit.coef.dot(Q * fit.coef) * metres_per_unit / radius;
+  };
+  const FitOutcome fit = FitSeries(field, centre_x, centre_y, c, s, exclusion_radius, basis,
+                                   options.min_points);
+  out.points = static_cast<int>(fit.index.size());
+  if (!fit.ok) {
+    out.status = FieldFitJStatus::kTooFewPoints;
+    out.why = fmt::format("{} valid points outside the circle of {:.1f} grid points (need {})",
+                          out.points, exclusion_radius / step, options.min_points);
+    return out;
+  }
+  out.J = j_of(fit, exclusion_radius);
+  const double to_j = metres_per_unit / exclusion_radius;
+  const Eigen::VectorXd grad = 2 * Q * fit.coef * to_j;
+  const double white = fit.ssr / std::max(1, 2 * out.points - out.terms) *
+                       grad.dot(fit.covariance_unit * grad);
+  const double correlated = CorrelatedVariance(field, fit, grad, options.correlation_lag);
+  out.J_statistical = std::sqrt(correlated);
+  out.correlation_factor = white > 0 ? correlated / white : 1;
+  out.residual_rms_m = std::sqrt(fit.ssr / (2.0 * out.points)) * metres_per_unit;
+  out.signal_rms_m = fit.signal_rms * metres_per_unit;
+  // K_I of the n = 1 term: u = a1 (r / R)^1/2 f_1, K_I / (2 mu) = a1 sqrt(2 pi / R).
+  const double mu = elastic.E / (2 * (1 + elastic.nu));
+  const int n1 = 3 + (1 - basis.lo) - 1;  // column of mode I n = 1
+  out.K_I = 2 * mu * fit.coef(n1) * std::sqrt(2 * std::numbers::pi / exclusion_radius) *
+            std::sqrt(metres_per_unit);
+  const double check_radius = exclusion_radius + options.check_points * step;
+  const FitOutcome check =
+      FitSeries(field, centre_x, centre_y, c, s, check_radius, basis, options.min_points);
+  out.J_check = check.ok ? j_of(check, check_radius) : NAN;
+  const double shift = std::isfinite(out.J_check) ? out.J_check - out.J : 0;
+  out.J_uncertainty = std::hypot(out.J_statistical, shift);
+  out.status = FieldFitJStatus::kOk;
+  if (out.residual_rms_m > options.max_residual_fraction * out.signal_rms_m) {
+    out.status = FieldFitJStatus::kPoorFit;
+    out.why = fmt::format(
+        "residual RMS {:.3g} um is {:.1f} % of the fitted displacement's {:.3g} um (at most {:.1f} %)",
+        out.residual_rms_m * 1e6, 100 * out.residual_rms_m / out.signal_rms_m,
+        out.signal_rms_m * 1e6, 100 * options.max_residual_fraction);
+  }
+  return out;
+}
+
+}  // namespace bridgefit::dic
