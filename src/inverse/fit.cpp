@@ -24,10 +24,6 @@ namespace {
 // Restarts of the local search from a profile point below the optimum.
 constexpr int kProfileRestarts = 2;
 
-ParameterEstimate& EstimateOf(FitSummary& s, int index) {
-  return index == kSigmaC ? s.sigma_c : index == kJB ? s.J_B : s.J_tip_c;
-}
-
 // A profile's ends and checks into its parameter's estimate: an end that
 // cannot be trusted is NaN (open), never the optimum itself.
 void ApplyProfile(const ProfileRun& run, bool lower_side, const FitOptions& options,
@@ -331,48 +327,6 @@ void ProfileIntervals(const FitContext& c, const LocalResult& best, const std::v
   }
 }
 
-// Stage 6: a profile point below the optimum means the search stopped in a
-// local minimum (the profile re-optimises the other parameters from other
-// starts). The fit restarts there: a full local search from that point's
-// parameters; nullopt when no point is lower or the search does not beat
-// the optimum. The restart is listed among the starts.
-std::optional<LocalResult> RestartFromProfiles(const FitContext& c, const LocalResult& best,
-                                               double threshold, FitSummary& s) {
-  const ProfilePoint* lowest = nullptr;
-  const Profile* owner = nullptr;
-  const double below = best.chi2 - BelowOptimumTolerance(threshold, best.chi2);
-  for (const Profile& profile : s.profiles)
-    for (const ProfilePoint& p : profile.points)
-      if (p.ok && p.chi2 < below && (!lowest || p.chi2 < lowest->chi2)) {
-        lowest = &p;
-        owner = &profile;
-      }
-  if (!lowest) return std::nullopt;
-  std::vector<double> x0(c.n_free);
-  for (int k = 0; k < c.n_free; ++k)
-    x0[k] = ToBox(c.free[k], lowest->parameters[c.free[k]], c.options);
-  // A local search (a global optimizer's own polish, BOBYQA, for those).
-  const Optimizer optimizer = c.options.optimizer == Optimizer::kDirect || c.options.optimizer == Optimizer::kCrs2
-                                  ? Optimizer::kBobyqa
-                                  : c.options.optimizer;
-  LocalResult r = MinimizeLocal(c.objective, optimizer, x0, c.options.max_evaluations);
-  StartResult start;
-  for (int k = 0; k < c.n_free; ++k) {
-    start.start[c.free[k]] = lowest->parameters[c.free[k]];
-    start.end[c.free[k]] = FromBox(c.free[k], r.x[k], c.options);
-  }
-  start.cost = r.chi2;
-  start.evaluations = r.evaluations;
-  const bool stress = owner->parameter == kSigmaC;
-  start.stop_reason = fmt::format(
-      "restart from the {} profile's point at {:.5g} {} (chi^2 {:.5g}, below the optimum's {:.5g}): {}",
-      ParameterName(owner->parameter), lowest->value * (stress ? 1e-6 : 1.0),
-      stress ? "MPa" : "J/m^2", lowest->chi2, best.chi2, r.stop_reason);
-  s.starts.push_back(start);
-  if (!(r.chi2 < below)) return std::nullopt;
-  return r;
-}
-
 // Stage 7: steady state in the data? The fitted model must reach it inside
 // the data window, with the J_B profile bounded above; delta_c from J_B and
 // sigma_c, and the PHYSICS 7 bounds when it is not reached.
@@ -530,6 +484,7 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
     return finish();
   }
   // Stages 2-6 from the optimum; again from a restart's better one.
+  std::vector<ProfilePoint> earlier;  // the profile points of the rounds before
   for (int round = 0;; ++round) {
     const std::vector<double> full = objective.Expand(best.x.data());
     for (int i = 0; i < kParameterCount; ++i) s.best_parameters[i] = full[i];
@@ -550,12 +505,15 @@ FitSummary FitBridgingLaw(const ForwardModel& model, const laws::LawShape& shape
     ProfileIntervals(c, best, full, threshold, covariance, s);
     if (round < kProfileRestarts) {
       if (std::optional<LocalResult> better = RestartFromProfiles(c, best, threshold, s)) {
+        for (const Profile& profile : s.profiles)
+          earlier.insert(earlier.end(), profile.points.begin(), profile.points.end());
         best = *better;
         s.converged = best.converged;
         s.stop_reason = best.stop_reason + " (after a restart from a profile point)";
         continue;
       }
     }
+    WidenToEarlierPoints(c, earlier, best.chi2, threshold, s);
     if (!RecordNoBridging(c, best, full, prediction, scale2, s))
       SteadyStateAndBounds(c, best, full, prediction, threshold, covariance, s);
     MarkMisfit(misfit, s);

@@ -6,6 +6,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -161,6 +162,22 @@ struct FitContext {
   int n_free, m;                 // free parameters, data points
   bool weighted, load_fit;
 };
+
+inline ParameterEstimate& EstimateOf(FitSummary& s, int index) {
+  return index == kSigmaC ? s.sigma_c : index == kJB ? s.J_B : s.J_tip_c;
+}
+
+// The restart stage of FitBridgingLaw (fit_restart.cpp). A profile point
+// below the optimum means the search stopped in a local minimum: a full
+// local search from that point's parameters (listed among the starts);
+// nullopt when none is lower or the search does not beat the optimum.
+std::optional<LocalResult> RestartFromProfiles(const FitContext& c, const LocalResult& best,
+                                               double threshold, FitSummary& s);
+// After a restart: the earlier rounds' profile points within the threshold
+// of the new optimum widen the intervals that do not reach them (marked
+// non-smooth).
+void WidenToEarlierPoints(const FitContext& c, const std::vector<ProfilePoint>& earlier,
+                          double optimum_chi2, double threshold, FitSummary& s);
 
 // Stage 6 of FitBridgingLaw (fit_flat.cpp): the flat R curve (J_B = 0)
 // against the bridged optimum; true when no bridging is reported (the

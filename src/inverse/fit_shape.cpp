@@ -286,10 +286,6 @@ JointResult RunJoint(const ForwardModel& model, const ShapeLayout& layout, const
 
 namespace {
 
-ParameterEstimate& EstimateOf(FitSummary& s, int index) {
-  return index == kSigmaC ? s.sigma_c : index == kJB ? s.J_B : s.J_tip_c;
-}
-
 // The hull of an estimate's interval and value -+ 1.96 sd (an open or
 // untrusted end stays NaN); true when it widened.
 bool Widen(ParameterEstimate& e, double sd) {
