@@ -107,7 +107,9 @@ LocalResult MinimizeNlopt(const Objective& objective, Optimizer optimizer, std::
   // onto the bound or a step inside (Powell's rule), so its answer can be
   // worse than the start itself (a restart from a profile point at J_tip,c
   // 0.018 box: chi^2 1694 in, 806307 out, validation #192). The start's
-  // chi^2 is then kept as a candidate.
+  // chi^2 is then a candidate, and where it beats the search the search is
+  // repeated from it with each first step no longer than the distance to
+  // the nearer bound (NLopt rescales by the steps: the start then stays).
   const std::vector<double> start = x0;
   bool moved = false;
   if (optimizer == Optimizer::kBobyqa)
@@ -124,9 +126,31 @@ LocalResult MinimizeNlopt(const Objective& objective, Optimizer optimizer, std::
     result.stop_reason = std::string("nlopt stopped: ") + e.what();
   }
   if (start_chi2 < value) {
-    x0 = start;
-    value = start_chi2;
-    result.stop_reason += " (its moved start did worse: the start kept)";
+    std::vector<double> steps(n), again = start;
+    for (int i = 0; i < n; ++i)
+      steps[i] = start[i] > 0.0 && start[i] < 1.0
+                     ? std::clamp(std::min(start[i], 1.0 - start[i]), 1e-4, kInitialStep)
+                     : kInitialStep;
+    opt.set_initial_step(steps);
+    opt.set_maxeval(std::max(1, max_evaluations - (objective.evaluations() - before)));
+    double again_value = kFailedCost;
+    std::string again_reason;
+    bool again_converged = false;
+    try {
+      const nlopt::result r = opt.optimize(again, again_value);
+      again_reason = NloptReason(r);
+      again_converged = r == nlopt::SUCCESS || r == nlopt::FTOL_REACHED ||
+                        r == nlopt::XTOL_REACHED || r == nlopt::STOPVAL_REACHED;
+    } catch (const std::exception& e) {
+      again_reason = std::string("nlopt stopped: ") + e.what();
+    }
+    const bool better = again_value <= start_chi2;
+    x0 = better ? again : start;
+    value = better ? again_value : start_chi2;
+    result.converged = better && again_converged;
+    result.stop_reason = (better ? again_reason : std::string("the start kept")) +
+                         " (the first search moved its start onto worse ground: searched again "
+                         "with steps within the bounds)";
   }
   result.x = x_full;
   for (int i = 0, j = 0; i < n_full; ++i)
