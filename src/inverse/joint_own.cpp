@@ -30,6 +30,19 @@ bool SameAxis(const std::vector<double>& asked, const std::vector<double>& own) 
   return true;
 }
 
+ForwardPrediction Refused(RunStatus status, const char* message) {
+  ForwardPrediction out;
+  out.status = status;
+  out.message = message;
+  return out;
+}
+
+bool AllFinite(const LawParameters& q) {
+  return std::isfinite(q.sigma_c) && std::isfinite(q.J_B) && std::isfinite(q.J_tip_c);
+}
+
+constexpr const char* kNoOwnValue = "no value of the specimen's own parameters gave a valid run";
+
 }  // namespace
 
 SharedParameters ParseSharedParameters(const std::vector<std::string>& names) {
@@ -145,37 +158,23 @@ ForwardPrediction OwnParameterProfiledModel::Predict(const laws::LawShape& shape
                                                      const LawParameters& p,
                                                      const std::vector<double>& crack_lengths,
                                                      RKind kind) const {
-  ForwardPrediction out;
   if (data_.target != FitTarget::kRCurve || !SameAxis(crack_lengths, data_.crack_length) ||
-      kind != data_.kind) {
-    out.status = RunStatus::kInvalidInput;
-    out.message = "a model with its own parameters profiled predicts its specimen's own R curve only";
-    return out;
-  }
+      kind != data_.kind)
+    return Refused(RunStatus::kInvalidInput,
+                   "a model with its own parameters profiled predicts its specimen's own R curve only");
   const LawParameters q = Profiled(shape, p);
-  if (!std::isfinite(q.sigma_c) || !std::isfinite(q.J_B) || !std::isfinite(q.J_tip_c)) {
-    out.status = RunStatus::kFailed;
-    out.message = "no value of the specimen's own parameters gave a valid run";
-    return out;
-  }
+  if (!AllFinite(q)) return Refused(RunStatus::kFailed, kNoOwnValue);
   return base_.Predict(shape, q, crack_lengths, kind);
 }
 
 ForwardPrediction OwnParameterProfiledModel::PredictLoad(
     const laws::LawShape& shape, const LawParameters& p,
     const std::vector<double>& displacements) const {
-  ForwardPrediction out;
-  if (data_.target != FitTarget::kLoad || !SameAxis(displacements, data_.displacement)) {
-    out.status = RunStatus::kInvalidInput;
-    out.message = "a model with its own parameters profiled predicts its specimen's own rows only";
-    return out;
-  }
+  if (data_.target != FitTarget::kLoad || !SameAxis(displacements, data_.displacement))
+    return Refused(RunStatus::kInvalidInput,
+                   "a model with its own parameters profiled predicts its specimen's own rows only");
   const LawParameters q = Profiled(shape, p);
-  if (!std::isfinite(q.sigma_c) || !std::isfinite(q.J_B) || !std::isfinite(q.J_tip_c)) {
-    out.status = RunStatus::kFailed;
-    out.message = "no value of the specimen's own parameters gave a valid run";
-    return out;
-  }
+  if (!AllFinite(q)) return Refused(RunStatus::kFailed, kNoOwnValue);
   return base_.PredictLoad(shape, q, displacements);
 }
 

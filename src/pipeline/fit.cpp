@@ -457,7 +457,7 @@ std::string FitAtChosenSize(FitRequest& request, const FitRun& chosen, FitRun& r
     std::exception_ptr thrown;
     try {
       FitAtResolution(request, run);
-      if (run.summary.best_parameters[inverse::kJTipC] == run.summary.best_parameters[inverse::kJTipC])
+      if (!std::isnan(run.summary.best_parameters[inverse::kJTipC]))
         return given_up;  // a fit with an optimum (NaN: every forward run failed)
       why = run.summary.stop_reason;
     } catch (const Error& e) {
