@@ -443,6 +443,8 @@ bool RCurveOptions::IsValid(std::string* why) const {
   if (specimen.type == SpecimenType::kDCB && !(specimen.height > 0) &&
       (method == RMethod::kLefm || method == RMethod::kEquivalentCrack))
     return fail("DCB lefm/equivalent need the arm thickness h (specimen.height)");
+  if (std::isinf(given_mbt_delta) || !(std::isnan(given_cc_exponent) || given_cc_exponent > 0))
+    return fail("a given compliance calibration needs a finite Delta and n > 0 (NaN: fitted)");
   if (!(load_block_offset >= 0) || !(load_block_half_length >= 0))
     return fail("load-block offset t and half length L' must be >= 0");
   if (large_displacement_correction &&

@@ -123,7 +123,9 @@ void BeamMethod(const Prepared& p, RCurveResult& result) {
   const LinearFit mbt_fit = FitLine(x_mbt, y_mbt);
   const LinearFit cc_fit = FitLine(x_cc, y_cc);
   const LinearFit& fit = method == RMethod::kMbt ? mbt_fit : cc_fit;
-  if (!(fit.slope > 0))
+  const bool given = method == RMethod::kMbt ? std::isfinite(options.given_mbt_delta)
+                                             : std::isfinite(options.given_cc_exponent);
+  if (!given && !(fit.slope > 0))
     throw Error(ErrorKind::kInput,
                 fmt::format("R curve ({} method), stage 'compliance fit': the compliance does not "
                             "grow with the crack length",
@@ -133,9 +135,18 @@ void BeamMethod(const Prepared& p, RCurveResult& result) {
                  .expected = "compliance increasing with crack length over the propagation rows; "
                              "way out: check the crack_length column, or --method energy"});
   const double b = options.specimen.width;
-  const double mbt_delta = mbt_fit.intercept / mbt_fit.slope;  // x-intercept at a = -delta
+  // x-intercept at a = -Delta; both taken as given where the options say so
+  const double mbt_delta = std::isfinite(options.given_mbt_delta)
+                               ? options.given_mbt_delta
+                               : mbt_fit.intercept / mbt_fit.slope;
   const double abs_delta = std::abs(mbt_delta);
-  const double nexp = cc_fit.slope;
+  const double nexp =
+      std::isfinite(options.given_cc_exponent) ? options.given_cc_exponent : cc_fit.slope;
+  if (given)
+    result.notes.push_back(fmt::format(
+        "compliance calibration given, not fitted on this record: {}",
+        method == RMethod::kMbt ? fmt::format("Delta = {}", Mm(mbt_delta))
+                                : fmt::format("n = {:.4g}", nexp)));
   const Formula G_mbt = [=](double P, double d, double a) {
     return 3.0 * P * d / (2.0 * b * (a + abs_delta)) * F_of(d, a) / N_of(d, a);
   };
@@ -153,7 +164,9 @@ void BeamMethod(const Prepared& p, RCurveResult& result) {
   }
   const Formula crack_of = [](double, double, double a) { return a; };
   PointwiseCurve(p, result, method == RMethod::kMbt ? G_mbt : G_cc, crack_of, p.first_growth);
-  if (method != RMethod::kComplianceCalibration || !(mbt_fit.slope > 0)) return;
+  if (method != RMethod::kComplianceCalibration ||
+      !(mbt_fit.slope > 0 || std::isfinite(options.given_mbt_delta)))
+    return;
 
   // cc against mbt at every point (same rows, same crack lengths).
   double sum_abs = 0.0, worst = 0.0, worst_a = NAN;

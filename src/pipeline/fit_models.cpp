@@ -24,8 +24,22 @@ Scene ScaledModuli(const Scene& scene, double factor) {
 }
 
 inverse::SimulationForwardModel::Reducer ModelRecordReducer(
-    const experiment::RCurveOptions& data_options) {
+    const experiment::RCurveOptions& data_options, const experiment::RCurveResult* data) {
   experiment::RCurveOptions options = data_options;
+  // The data's compliance calibration, not the model record's own: a
+  // calibration error of the data then cancels (RCurveOptions::given_*).
+  // Issue 17, validation #269 (DCB, MBT, noise-free record at the model's
+  // own size): the model record's own Delta put its R 3.3 J/m^2 above the
+  // data's at the truth, and J_tip,c came out 872.5 for 876.3 J/m^2.
+  if (data) {
+    auto figure = [&](const char* name) {
+      const auto it = data->figures.find(name);
+      return it == data->figures.end() ? NAN : it->second;
+    };
+    if (options.method == experiment::RMethod::kMbt) options.given_mbt_delta = figure("mbt_delta_m");
+    if (options.method == experiment::RMethod::kComplianceCalibration)
+      options.given_cc_exponent = figure("cc_n");
+  }
   options.load_noise = 1e-3;            // [N]: the model has none; small, not zero
   options.displacement_noise = 1e-9;    // [m]
   options.crack_length_noise = 1e-6;    // [m]
@@ -173,7 +187,7 @@ std::unique_ptr<inverse::ForwardModel> FitModels::MpmAt(double cell) const {
       "mpm", [model_scene, growth](const laws::BridgingLaw* law, double J_tip_c) {
         return mpm::SimulateGrowth(model_scene, law, J_tip_c, growth).result;
       });
-  if (kind_ == inverse::RKind::kAsData) mpm->SetReducer(ModelRecordReducer(input_.reduction_options));
+  if (kind_ == inverse::RKind::kAsData) mpm->SetReducer(ModelRecordReducer(input_.reduction_options, input_.reduction ? &*input_.reduction : nullptr));
   mpm->SetSeriesCompliance(series_compliance_);
   return mpm;
 }
@@ -194,7 +208,7 @@ std::unique_ptr<inverse::SimulationForwardModel> FitModels::MakeReduced(const Sc
                         ? inverse::MakeReducedForwardModel(cache_->Get(scene, reduced.mesh), reduced)
                         : inverse::MakeReducedForwardModel(scene, reduced);
   if (kind_ == inverse::RKind::kAsData)
-    simulation->SetReducer(ModelRecordReducer(input_.reduction_options));
+    simulation->SetReducer(ModelRecordReducer(input_.reduction_options, input_.reduction ? &*input_.reduction : nullptr));
   simulation->SetSeriesCompliance(series_compliance_);
   return simulation;
 }

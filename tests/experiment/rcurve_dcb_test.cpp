@@ -215,6 +215,49 @@ TEST_P(RealDcb, EnergyMethodGivesTenPointsNearMbtOnAverage) {
   EXPECT_LT(std::abs(sum / compared), 0.05);
 }
 
+// A given compliance calibration replaces the fitted one (the fit reduces
+// the model's own record with the data's constants): with the record's own
+// Delta given, every R is the fitted reduction's; with Delta 1 mm larger,
+// every R is 3 P d / (2 b (a + |Delta|)) with that Delta, i.e. the fitted R
+// times (a + |Delta|) / (a + |Delta| + 1 mm); the same for cc's n.
+TEST_P(RealDcb, AGivenComplianceCalibrationIsUsedAsGiven) {
+  const DcbData data = ReadDcb(GetParam());
+  const RCurveResult fitted = ComputeRCurve(data.record, PaperOptions(RMethod::kMbt));
+  const double delta = fitted.figures.at("mbt_delta_m");
+  RCurveOptions same = PaperOptions(RMethod::kMbt), shifted = same;
+  same.given_mbt_delta = delta;
+  shifted.given_mbt_delta = delta + (delta < 0 ? -1e-3 : 1e-3);
+  const RCurveResult r_same = ComputeRCurve(data.record, same);
+  const RCurveResult r_shifted = ComputeRCurve(data.record, shifted);
+  ASSERT_EQ(r_same.curve.size(), fitted.curve.size());
+  ASSERT_EQ(r_shifted.curve.size(), fitted.curve.size());
+  for (std::size_t i = 0; i < fitted.curve.size(); ++i) {
+    const double a = fitted.curve.crack_length[i];
+    EXPECT_DOUBLE_EQ(r_same.curve.R[i], fitted.curve.R[i]) << i;
+    EXPECT_NEAR(r_shifted.curve.R[i] / fitted.curve.R[i],
+                (a + std::abs(delta)) / (a + std::abs(delta) + 1e-3), 1e-12)
+        << i;
+  }
+  EXPECT_DOUBLE_EQ(r_shifted.figures.at("mbt_delta_m"), shifted.given_mbt_delta);
+  EXPECT_TRUE(std::any_of(r_shifted.notes.begin(), r_shifted.notes.end(), [](const std::string& n) {
+    return n.find("compliance calibration given") != std::string::npos;
+  }));
+
+  const RCurveResult cc = ComputeRCurve(data.record, PaperOptions(RMethod::kComplianceCalibration));
+  RCurveOptions cc_given = PaperOptions(RMethod::kComplianceCalibration);
+  cc_given.given_cc_exponent = 1.1 * cc.figures.at("cc_n");
+  const RCurveResult r_cc = ComputeRCurve(data.record, cc_given);
+  ASSERT_EQ(r_cc.curve.size(), cc.curve.size());
+  for (std::size_t i = 0; i < cc.curve.size(); ++i)
+    EXPECT_NEAR(r_cc.curve.R[i] / cc.curve.R[i], 1.1, 1e-12) << i;
+
+  RCurveOptions bad = PaperOptions(RMethod::kMbt);
+  bad.given_cc_exponent = -1.0;
+  std::string why;
+  EXPECT_FALSE(bad.IsValid(&why));
+  EXPECT_NE(why.find("given compliance calibration"), std::string::npos) << why;
+}
+
 INSTANTIATE_TEST_SUITE_P(Specimens, RealDcb,
                          ::testing::Values("DCB-01_Toughness.csv", "DCB-02_Toughness.csv"));
 

@@ -97,6 +97,14 @@ struct RCurveOptions {
   bool large_displacement_correction = false;
   double load_block_offset = 0.0;       // t: loading-pin centre to arm mid-plane [m]
   double load_block_half_length = 0.0;  // L': loading-pin centre to the block's inner edge [m]
+  // DCB mbt/cc: the compliance calibration taken as given instead of fitted
+  // on this record (NaN: fitted). A fit reduces the model's own record with
+  // the data's constants (as-data R), so the calibration's error - noise in
+  // the data's compliance fit, or a row distribution unlike the model's -
+  // is the same on both sides and cancels: R = 3 P d / (2 b (a + |Delta|))
+  // differs between them only through P d at the crack length.
+  double given_mbt_delta = NAN;     // [m], Delta as fitted (signed)
+  double given_cc_exponent = NAN;   // n of C = k a^n
 
   bool IsValid(std::string* why) const;
 };
