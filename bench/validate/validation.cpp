@@ -135,6 +135,7 @@ ParameterCheck CheckParameter(const inverse::ParameterEstimate& e, double truth,
   c.lower_bound = e.lower_bound;
   c.identified = e.identified;
   c.interval_status = inverse::IntervalStatusName(e.interval_status);
+  c.interval_reason = e.interval_reason;
   // An interval that is not reliable is a warning on stderr (an open one
   // is printed as NaN ends: no claim, so no coverage either).
   c.warned = case_warned || !e.interval_reliable();

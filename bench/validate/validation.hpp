@@ -80,6 +80,7 @@ struct ParameterCheck {
   bool failure = false;        // error_ratio > 2, or a bound above the truth
   bool silent_failure = false;
   std::string interval_status;
+  std::string interval_reason;  // the fit's reason when the interval is not reliable
 };
 
 struct CaseResult {
