@@ -399,10 +399,12 @@ void StartFromChosenSize(const FitRequest& request, const FitRun& run, double h,
   options.starts = 1;
 }
 
+}  // namespace
+
 // Every stage after the element size is known: the models, the compliance
 // calibration, the fit, the model error. `from`: see StartFromChosenSize.
 void FitAtResolution(const FitRequest& request, FitRun& run,
-                     const std::array<double, inverse::kParameterCount>* from = nullptr) {
+                     const std::array<double, inverse::kParameterCount>* from) {
   const inverse::FitData& fit_data = run.load_data ? *run.load_data : run.data;
   const laws::LawShape start_shape = run.shape;
   FitModels models(request, run.input, run.data, run.load_data.has_value(), run.r_kind,
@@ -443,43 +445,6 @@ void FitAtResolution(const FitRequest& request, FitRun& run,
   run.resolution = models.resolution();
 }
 
-// The fit at the size --resolution auto chose. Where the law is refused as
-// unresolved at that size (it reaches steady state within a few of the
-// model's crack-length steps: every forward run of the fit, or of the
-// compliance calibration's, failed so; validation #241, a CT whose law
-// does it in 2.8 mm, at 0.695 mm elements), the size is halved, down to
-// half the ladder's finest. Returns the sizes given up, for the choice's
-// reason ("" for none); a refusal that halving cannot mend is rethrown.
-std::string FitAtChosenSize(FitRequest& request, const FitRun& chosen, FitRun& run) {
-  std::string given_up;
-  while (true) {
-    std::string why;
-    std::exception_ptr thrown;
-    try {
-      FitAtResolution(request, run);
-      if (!std::isnan(run.summary.best_parameters[inverse::kJTipC]))
-        return given_up;  // a fit with an optimum (NaN: every forward run failed)
-      why = run.summary.stop_reason;
-    } catch (const Error& e) {
-      why = e.what();
-      thrown = std::current_exception();
-    }
-    const bool unresolved = why.find(inverse::kNotResolvedAtThisResolution) != std::string::npos;
-    const bool can_halve =
-        chosen.resolution_choice &&
-        0.5 * request.resolution >= 0.5 * chosen.resolution_choice->finest * (1.0 - 1e-9);
-    if (!unresolved || !can_halve) {
-      if (thrown) std::rethrow_exception(thrown);
-      return given_up;
-    }
-    given_up += fmt::format("{}{:.3g} mm", given_up.empty() ? "" : ", ", request.resolution * 1e3);
-    request.resolution /= 2.0;
-    run = chosen;
-  }
-}
-
-}  // namespace
-
 FitRun RunFit(const FitRequest& given) {
   given.Check();
   FitRequest request = given;  // the element size becomes the chosen one (--resolution auto)
@@ -502,56 +467,7 @@ FitRun RunFit(const FitRequest& given) {
         "; the law was not resolved at {} (steady state within a few elements): refined to "
         "{:.3g} mm",
         given_up, request.resolution * 1e3);
-  // --resolution auto chose the size at the pilot's parameters; where the
-  // answer's own model error is visible in the data (the warning), or the
-  // model does not follow a run of R points (FitSummary::misfit: a rise
-  // shorter than its elements), the fit is repeated at half the size, down
-  // to half the ladder's finest (one rung beyond it: the ladder halves from
-  // its coarsest, so its last rung may sit up to twice above the finest).
-  // The reason for the next halving, empty for none.
-  const auto why_refine = [&]() -> std::string {
-    const double h = request.resolution, floor = 0.5 * run.resolution_choice->finest;
-    const bool biased = !run.model_error.warning.empty();
-    const bool misfit = run.summary.misfit.points > 0;
-    if ((!biased && !misfit) || 0.5 * h < floor * (1.0 - 1e-9)) return "";
-    return misfit ? fmt::format("{:.3g} mm ({} R points in runs off the model)", h * 1e3,
-                                run.summary.misfit.points)
-                  : fmt::format("{:.3g} mm (predicted data bias {:.2g} noise sd rms)", h * 1e3,
-                                run.model_error.output_bias_noise_rms);
-  };
-  double spent_s = 0.0;
-  int spent_runs = 0;
-  std::string refined, failed;
-  while (run.resolution_choice) {
-    const std::string why = why_refine();
-    if (why.empty()) break;
-    // Each attempt's summary holds the choice's own time once.
-    spent_s += run.summary.wall_s - run.resolution_choice->wall_s;
-    spent_runs += run.summary.evaluations - run.resolution_choice->runs;
-    refined += (refined.empty() ? "" : ", ") + why;
-    FitRequest finer = request;
-    finer.resolution /= 2.0;
-    FitRun attempt = chosen;
-    const std::array<double, inverse::kParameterCount> answer = run.summary.best_parameters;
-    try {
-      FitAtResolution(finer, attempt, &answer);
-    } catch (const Error& e) {  // the coarser fit stands, with its warning
-      failed = fmt::format("; the fit at {:.3g} mm failed ({}): the {:.3g} mm fit is kept",
-                           finer.resolution * 1e3, e.what(), request.resolution * 1e3);
-      spent_s -= run.summary.wall_s - run.resolution_choice->wall_s;
-      spent_runs -= run.summary.evaluations - run.resolution_choice->runs;
-      break;
-    }
-    request = std::move(finer);
-    run = std::move(attempt);
-  }
-  if (!refined.empty()) {
-    run.resolution_choice->reason +=
-        fmt::format("; after the fit the model's error showed in the data at {}", refined) +
-        (failed.empty() ? fmt::format(": refined to {:.3g} mm", request.resolution * 1e3) : failed);
-    run.summary.wall_s += spent_s;
-    run.summary.evaluations += spent_runs;
-  }
+  RefineWhereTheErrorShows(request, chosen, run);
   return run;
 }
 

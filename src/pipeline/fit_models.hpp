@@ -107,6 +107,19 @@ std::string FittedShapeText(const FittedShape& f, const inverse::FitSummary& s);
 // run.resolution_choice. Otherwise leaves both as they are.
 void ChooseAutoResolution(FitRequest& request, const laws::LawShape& shape, FitRun& run);
 
+// Every stage after the element size is known (fit.cpp): the models, the
+// compliance calibration, the fit, the model error; `from` (optional): a
+// fit's answer at another size to start the local search from.
+void FitAtResolution(const FitRequest& request, FitRun& run,
+                     const std::array<double, inverse::kParameterCount>* from = nullptr);
+
+// After ChooseAutoResolution (fit_resolution.cpp): the fit at the chosen
+// size, halved where the law is not resolved there (returns the sizes given
+// up, "" for none), and halved again after the fit where its own model
+// error shows in the data. `chosen`: the run as the choice left it.
+std::string FitAtChosenSize(FitRequest& request, const FitRun& chosen, FitRun& run);
+void RefineWhereTheErrorShows(FitRequest& request, const FitRun& chosen, FitRun& run);
+
 // MPM's validity limits on its cell (fit_model_auto.cpp; docs/MPM.md): the
 // coarsest cell [m] for a specimen whose data end at crack length
 // `data_end` [m]: 2.5 mm at most, 8 cells through a DCB arm, 10 over the
