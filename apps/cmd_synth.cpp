@@ -31,6 +31,10 @@ class SynthCommand final : public Command {
     sub.add_option("--out", out_, "Output folder")->required();
     sub.add_option("--seed", seed_, "Random seed (noise and speckle)")->default_val(1);
     sub.add_option("--resolution", resolution_, "Reduced model element size, e.g. '0.5 mm'");
+    sub.add_option("--far-field", far_field_,
+                   "Reduced model's far-field element as a multiple of its default (W/40 CT, h "
+                   "DCB); below 1 refines the far field too")
+        ->default_val(1.0);
     sub.add_option("--loading-points", loading_points_, "Rows before initiation")->default_val(20);
     sub.add_option("--growth-points", growth_points_, "Rows during growth")->default_val(400);
     sub.add_option("--load-noise", load_noise_, "Relative load noise, 1 sigma")->default_val(0.005);
@@ -59,6 +63,7 @@ class SynthCommand final : public Command {
     request.seed = seed_;
     if (!resolution_.empty())
       request.resolution = ParseOptionQuantity(resolution_, Dimension::Length(), "--resolution");
+    request.far_field = far_field_;
     request.loading_rows = loading_points_;
     request.growth_rows = growth_points_;
     request.load_noise = load_noise_;
@@ -109,7 +114,7 @@ class SynthCommand final : public Command {
   std::uint64_t seed_ = 1;
   int loading_points_ = 20, growth_points_ = 400, frames_ = 10, image_width_ = 400,
       image_height_ = 300;
-  double load_noise_ = 0.005;
+  double load_noise_ = 0.005, far_field_ = 1.0;
   bool bridged_field_ = false;
 };
 

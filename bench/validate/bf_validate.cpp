@@ -34,12 +34,18 @@ int main(int argc, char** argv) {
     std::printf(
         "usage: bf_validate [cases=300 | i,j,k] [seed=17] [jobs=2] [out_dir=out/validate] "
         "[first=0] [max_wall_s=0]\n       bf_validate --scene SEED INDEX\n"
-        "BF_VALIDATE_IMAGES=N: the first N CT energy cases also run as images -> DIC -> fit\n");
+        "BF_VALIDATE_IMAGES=N: the first N CT energy cases also run as images -> DIC -> fit\n"
+        "BF_VALIDATE_FAR_FIELD=F: the generator's far-field element, a multiple of the model's "
+        "default (1; 0.5: finer than the fit's everywhere)\n");
     return 0;
   }
+  DrawOptions draw;
+  if (const char* far = std::getenv("BF_VALIDATE_FAR_FIELD")) draw.far_field = std::atof(far);
   if (argc == 4 && std::string(argv[1]) == "--scene") {  // bf_validate --scene SEED INDEX
-    std::fputs(ReproductionToml(DrawCase(std::strtoull(argv[2], nullptr, 10), std::atoi(argv[3]))).c_str(),
-               stdout);
+    std::fputs(
+        ReproductionToml(DrawCase(std::strtoull(argv[2], nullptr, 10), std::atoi(argv[3]), draw))
+            .c_str(),
+        stdout);
     return 0;
   }
   // The first argument is a count, or a list of case indices ("22,37,40").
@@ -63,7 +69,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   std::vector<ValidationCase> specs;
-  for (int index : indices) specs.push_back(DrawCase(seed, index));
+  for (int index : indices) specs.push_back(DrawCase(seed, index, draw));
   const char* images_env = std::getenv("BF_VALIDATE_IMAGES");
   int images_left = images_env ? std::atoi(images_env) : 0;
   for (int i = 0; i < cases && images_left > 0; ++i) {

@@ -331,6 +331,7 @@ ValidationCase DrawCase(std::uint64_t campaign_seed, int index, const DrawOption
   c.displacement_noise = d.LogUniform(0.3e-6, 3e-6);
   c.crack_noise = d.LogUniform(0.05e-3, 0.3e-3);
   c.generation_resolution = specimen::DefaultResolution(c.scene.specimen) / 4.0;
+  c.generation_far_field = options.far_field;
   c.scene.Validate();
   return c;
 }
@@ -344,6 +345,7 @@ CaseResult RunCase(const ValidationCase& spec, int threads) {
     synth.scene = spec.scene;
     synth.seed = spec.seed;
     synth.resolution = spec.generation_resolution;
+    synth.far_field = spec.generation_far_field;
     synth.load_noise = spec.load_noise;
     synth.displacement_noise = spec.displacement_noise;
     synth.crack_noise = spec.crack_noise;

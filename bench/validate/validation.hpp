@@ -47,6 +47,11 @@ struct ValidationCase {
   // The generating model's element size [m]: a quarter of the finest size
   // `--resolution auto` tries (specimen::DefaultResolution).
   double generation_resolution = 0.0;
+  // Its far-field element as a multiple of the model's default
+  // (pipeline::SynthRequest::far_field): 1 shares the fit's far field, which
+  // refining h does not refine (docs/REDUCED.md section 5); 0.5 makes the
+  // generator finer than the fit everywhere.
+  double generation_far_field = 1.0;
   std::string Label() const;  // "#12 CT W=80mm iso cubic energy"
 };
 
@@ -55,6 +60,7 @@ struct ValidationCase {
 struct DrawOptions {
   double dcb_fraction = 0.12;  // DCB cases cost ~10x a CT (longer record, finer mesh)
   bool energy_only = false;    // every case on the energy route
+  double far_field = 1.0;      // ValidationCase::generation_far_field
 };
 
 // Case `index` of the campaign `campaign_seed` (independent of the others).

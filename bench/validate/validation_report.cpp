@@ -236,11 +236,13 @@ std::string ReproductionToml(const ValidationCase& c) {
   std::string t = fmt::format(
       "# Validation case {} (seed {}): {}\n"
       "#   bridgefit synth case.toml --out case --seed {} --resolution '{:.17g} mm' --frames 0 "
-      "--load-noise {:.17g} --displacement-noise '{:.17g} um' --crack-noise '{:.17g} mm'\n"
+      "--far-field {:.17g} --load-noise {:.17g} --displacement-noise '{:.17g} um' --crack-noise "
+      "'{:.17g} mm'\n"
       "#   bridgefit fit case/record.csv --scene case.toml --law {}{}\n"
       "# (the fit reads only [specimen] and [material] from the scene; the CLI's synth\n"
       "# draws its noise as the library does, seeded by --seed)\n",
-      c.index, c.seed, c.Label(), c.seed, c.generation_resolution * 1e3, c.load_noise,
+      c.index, c.seed, c.Label(), c.seed, c.generation_resolution * 1e3, c.generation_far_field,
+      c.load_noise,
       c.displacement_noise * 1e6, c.crack_noise * 1e3,
       laws::LawFamilyName(c.scene.bridging->shape.family), route);
   t += fmt::format("[specimen]\ntype = \"{}\"\nwidth = \"{:.17g} mm\"\nheight = \"{:.17g} mm\"\n",

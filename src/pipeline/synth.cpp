@@ -26,6 +26,10 @@ void SynthRequest::Check() const {
   if (!std::isnan(scale) && !(scale > 0 && std::isfinite(scale)))
     throw Error(ErrorKind::kUsage, "the image scale must be a positive length per pixel",
                 {.field = "--scale", .value = fmt::format("{} m", scale), .expected = "e.g. 0.15 mm"});
+  if (!(far_field > 0 && far_field <= 1))
+    throw Error(ErrorKind::kUsage, "the far-field factor must be in (0, 1]",
+                {.field = "--far-field", .value = fmt::format("{}", far_field),
+                 .expected = "1 (the model's default far field) or less (refined)"});
   if (bridged_field && !scene.bridging)
     throw Error(ErrorKind::kInput, "a bridged field needs a [bridging] table",
                 {.file = scene.source, .field = "bridging"});
@@ -274,6 +278,7 @@ SynthTest MakeSyntheticTest(const SynthRequest& request) {
                                    request.scale);
   models::ReducedOptions options;
   if (std::isfinite(request.resolution)) options.mesh.resolution = request.resolution;
+  options.mesh.coarse_factor = request.far_field;
   options.progress = request.progress;
   test.simulation = models::SimulateReduced(request.scene, options);
   const SimulationResult& sim = test.simulation;

@@ -22,6 +22,12 @@ struct SynthRequest {
   Scene scene;  // the truth; needs [fracture]
   std::uint64_t seed = 1;     // noise and speckle
   double resolution = NAN;    // reduced model element size [m]; NaN: its default
+  // The reduced model's largest (far-field) element as a multiple of its
+  // default (CT W/40, DCB h: models::ReducedOptions mesh.coarse_factor).
+  // Below 1 the far field is refined too: refining `resolution` alone does
+  // not refine it (docs/REDUCED.md section 5), so a record meant to be made
+  // by a model finer than the fit's everywhere takes e.g. 0.5.
+  double far_field = 1.0;
   int loading_rows = 20, growth_rows = 400;
   double load_noise = 0.005;           // relative, 1 sigma
   double displacement_noise = 1e-6;    // [m], 1 sigma
