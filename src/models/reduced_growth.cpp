@@ -36,7 +36,7 @@ class BorderedGrowth {
         tip_traction_(law ? law->Traction(0.0) : 0.0), delta_max_(n_, 0.0), broken_(n_, 0),
         tangent_(n_), slope_(Eigen::VectorXd::Zero(n_)), work_(n_), work2_(n_),
         u_(Eigen::VectorXd::Zero(n_)), b_(n_), db_(n_), r_u_(n_), a_(n_), x1_(n_), x2_(n_),
-        trial_u_(n_), trial_r_(n_), trial_a_(n_), b_u_(n_), du_(n_), step_r_(n_), start_u_(n_), zg_(n_), border_l_(n_),
+        trial_u_(n_), trial_r_(n_), trial_a_(n_), b_u_(n_), du_(n_), step_r_(n_), start_u_(n_), retry_u_(n_), zg_(n_), border_l_(n_),
         force_scale_(S_.diagonal().cwiseAbs().maxCoeff()) {
     tangent_.Border(S_.col(0), S_(0, 0), work_);
   }
@@ -45,6 +45,8 @@ class BorderedGrowth {
   // converge or the load is not positive.
   bool Solve(int t) {
     BeginStep(t);
+    retry_u_.head(t) = u_.head(t);
+    retry_p_ = p_;
     const int zone_size = law_ ? t - z0_ : 0;
     // Short bridged zone: the dense zone solve (O(k^3), the zone's
     // flexibility from the elastic tables) is cheaper than O(t^2)
@@ -61,6 +63,27 @@ class BorderedGrowth {
     }
     return converged && p_ > 0.0;
   }
+
+  // A law that drops to zero with a jump at delta_c (the exponential law,
+  // cut at d = 1 where exp(-alpha) > 0) can leave a step without an
+  // equilibrium: its oldest bridged point would open past delta_c while
+  // bridged and close below it once broken (validation #23, a DCB at
+  // a = 78.6 mm; an exponential DCB at 0.5 mm elements, a = 81 mm). That
+  // point breaks - the snap the jump implies - and the step starts again
+  // from where it began. False (nothing changed) where the law has no jump
+  // or the oldest bridged point has not opened half way to delta_c.
+  bool BreakAtTheJump() {
+    if (!law_ || !(law_->Traction(law_->delta_c * (1.0 - 1e-12)) > 0.0)) return false;
+    const int t = t_;
+    if (z0_ >= t || !(delta_max_[z0_] >= 0.5 * law_->delta_c)) return false;
+    delta_max_[z0_] = law_->delta_c;
+    broken_[z0_] = 1;
+    u_.head(t) = retry_u_.head(t);
+    p_ = retry_p_;
+    ++snaps_;
+    return true;
+  }
+  int snaps() const { return snaps_; }
 
   // The converged point: opening history and the R-curve point of tip t.
   void Record(SimulationResult& result) {
@@ -417,6 +440,9 @@ class BorderedGrowth {
   Eigen::VectorXd b_u_;            // tractions at u_ (the b of r_u_)
   Eigen::VectorXd du_, step_r_;    // Newton direction and S du - g dp
   Eigen::VectorXd start_u_;        // openings a crack length's Newton starts from
+  Eigen::VectorXd retry_u_;        // openings and load a step began from (BreakAtTheJump)
+  double retry_p_ = 0.0;
+  int snaps_ = 0;                  // points broken at the jump
   // x2_ = K^-1 g and zg_ = L^-1 g hold for the leading x2_size_ nodes of the
   // current tangent factor (-1: not at all); border_l_: UpdateX2's row.
   Eigen::VectorXd zg_, border_l_;
@@ -442,7 +468,9 @@ void GrowBordered(const CrackPlaneModel& m, const ElasticTables& tables,
   BorderedGrowth growth(m, tables, law, J_tip_c, options, newton_total);
   Progress progress("reduced model", static_cast<size_t>(n - 1), options.progress);
   for (int t = 1; t < n; ++t) {
-    if (!growth.Solve(t)) {
+    bool solved = growth.Solve(t);
+    while (!solved && growth.BreakAtTheJump()) solved = growth.Solve(t);
+    if (!solved) {
       result.status = RunStatus::kNotConverged;
       result.message = fmt::format("Newton did not converge at crack length {:.6g} mm",
                                    m.CrackLength(t) * 1e3);
@@ -453,6 +481,7 @@ void GrowBordered(const CrackPlaneModel& m, const ElasticTables& tables,
     if (t + 1 < n) growth.Border();
   }
   progress.Finish();
+  if (growth.snaps() > 0) result.figures["points_broken_at_the_law_jump"] = growth.snaps();
 }
 
 }  // namespace bridgefit::models::reduced_internal
