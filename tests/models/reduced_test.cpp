@@ -68,16 +68,22 @@ TEST(ReducedModel, CtWithoutBridgingHasFlatR) {
   EXPECT_FALSE(r.steady_state_reached);
 }
 
-TEST(ReducedModel, DcbWithoutBridgingHasFlatR) {
+// A DCB of width b, arm height h, length L, notch a0 [m] and modulus E [Pa].
+Scene DcbScene(double b, double h, double L, double a0, double E, double nu) {
   Scene scene;
   scene.specimen.type = SpecimenType::kDCB;
-  scene.specimen.width = 0.025;
-  scene.specimen.height = 0.003;
-  scene.specimen.length = 0.15;
-  scene.specimen.notch = 0.05;
+  scene.specimen.width = b;
+  scene.specimen.height = h;
+  scene.specimen.length = L;
+  scene.specimen.notch = a0;
+  scene.material.E = E;
+  scene.material.nu = nu;
+  return scene;
+}
+
+TEST(ReducedModel, DcbWithoutBridgingHasFlatR) {
+  Scene scene = DcbScene(0.025, 0.003, 0.15, 0.05, 70e9, 0.33);
   scene.specimen.plane = PlaneCondition::kPlaneStrain;
-  scene.material.E = 70e9;
-  scene.material.nu = 0.33;
   scene.fracture = FractureSpec{300.0};
   scene.run.max_crack_length = 0.1;
   const SimulationResult r = models::SimulateReduced(scene, {});
@@ -158,14 +164,7 @@ TEST(ReducedModel, SteadyStateOnsetForOneMegapascal) {
 // per unit growth, read from the load-displacement record alone, equals
 // J_tip,c + J_B (PHYSICS 3), and the initiation load follows LEFM.
 TEST(ReducedModel, DcbSteadyStateReleasesJTipPlusJB) {
-  Scene scene;
-  scene.specimen.type = SpecimenType::kDCB;
-  scene.specimen.width = 0.025;
-  scene.specimen.height = 0.0027;
-  scene.specimen.length = 0.123;
-  scene.specimen.notch = 0.0376;
-  scene.material.E = 19.3e9;
-  scene.material.nu = 0.3;
+  Scene scene = DcbScene(0.025, 0.0027, 0.123, 0.0376, 19.3e9, 0.3);
   const double J_tip_c = 500.0, J_B = 300.0, sigma_c = 5e6;
   scene.fracture = FractureSpec{J_tip_c};
   scene.bridging = BridgingSpec{laws::MakeLinearShape(), {sigma_c, 2 * J_B / sigma_c, J_B}, ""};
@@ -189,14 +188,7 @@ TEST(ReducedModel, DcbSteadyStateReleasesJTipPlusJB) {
 // and the run goes on: it reaches its end, says how many points broke so,
 // and its steady state still releases J_tip,c + J_B (PHYSICS 3).
 TEST(ReducedModel, AnExponentialLawsJumpAtDeltaCBreaksThePointAndGoesOn) {
-  Scene scene;
-  scene.specimen.type = SpecimenType::kDCB;
-  scene.specimen.width = 0.020;
-  scene.specimen.height = 0.009;
-  scene.specimen.length = 0.180;
-  scene.specimen.notch = 0.040;
-  scene.material.E = 6e9;
-  scene.material.nu = 0.3;
+  Scene scene = DcbScene(0.020, 0.009, 0.180, 0.040, 6e9, 0.3);
   const double J_tip_c = 600.0, J_B = 700.0, sigma_c = 0.8e6;
   const laws::LawShape shape = laws::MakeExponentialShape(laws::kDefaultExponentialAlpha);
   scene.fracture = FractureSpec{J_tip_c};
