@@ -65,6 +65,7 @@ std::string ModelErrorEstimate::Summary() const {
       100 * output_bias_max_relative, output_bias_rms, load ? "N" : "J/m^2");
   if (std::isfinite(output_bias_noise_rms))
     text += fmt::format(" ({:.2g} noise sd rms)", output_bias_noise_rms);
+  if (!far_field_note.empty()) text += "; " + far_field_note;
   return text;
 }
 
@@ -351,6 +352,44 @@ ModelErrorEstimate EstimateModelError(const ForwardModel& model, const ForwardMo
     e.parameter_bias[free[k]] = (p_2h[k] - at[free[k]]) / order.denominator;
   e.wall_s = clock.Seconds();
   return e;
+}
+
+void AddFarFieldError(const ForwardModel& standard, const ForwardModel& refined,
+                      const laws::LawShape& shape, const FitData& data, const FitOptions& options,
+                      const FitSummary& fit, ModelErrorEstimate& e) {
+  const Stopwatch clock;
+  std::array<double, kParameterCount> at{};
+  const FitOptions answer = AnswerParameters(options, fit, &at);
+  const FitData used = RowsUsed(data, fit);
+  const Objective probe(standard, shape, used, answer);
+  const std::vector<int>& free = probe.free();
+  std::vector<double> x0;
+  for (int index : free) x0.push_back(ToBox(index, at[index], answer));
+  auto refit = [&](const ForwardModel& model, std::vector<double>* p) {
+    const Objective objective(model, shape, used, answer);
+    const LocalResult result =
+        MinimizeLocal(objective, Optimizer::kBobyqa, x0, options.max_evaluations);
+    e.runs += objective.evaluations();
+    if (result.chi2 >= kFailedCost) return false;
+    *p = objective.Expand(result.x.data());
+    return true;
+  };
+  std::vector<double> p_standard, p_refined;
+  if (free.empty() || !refit(standard, &p_standard) || !refit(refined, &p_refined)) {
+    e.far_field_note = "the far field's share not estimated: a refit failed";
+    e.wall_s += clock.Seconds();
+    return;
+  }
+  std::string shares;
+  for (int index : free) {
+    const double bias = 2.0 * (p_standard[index] - p_refined[index]);
+    e.far_field_bias[index] = bias;
+    if (std::isfinite(e.parameter_bias[index])) e.parameter_bias[index] += bias;
+    shares += fmt::format("{}{} {:+.2g}%", shares.empty() ? "" : ", ", ParameterName(index),
+                          100.0 * bias / std::abs(at[index]));
+  }
+  e.far_field_note = "far field's share (half its largest element): " + shares;
+  e.wall_s += clock.Seconds();
 }
 
 std::array<double, 2> TotalInterval(double low, double high, double bias, double safety_factor) {

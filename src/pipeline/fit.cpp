@@ -262,14 +262,16 @@ class ModelAtSize {
  public:
   ModelAtSize(const FitRequest& request, const FitModels& models,
               const inverse::ComplianceCalibrationOptions& calibration,
-              const inverse::FitOptions& options, double resolution, FitRun& run)
+              const inverse::FitOptions& options, double resolution, FitRun& run,
+              double far_field = 0.0)
       : request_(request) {
     if (!run.load_data || !run.calibration.calibrated() ||
         request.calibration == inverse::ComplianceCalibrationMode::kNone) {
-      plain_ = models.ReducedAt(resolution);
+      plain_ = models.ReducedAt(resolution, far_field);
       return;
     }
     request_.resolution = resolution;
+    if (far_field > 0.0) request_.far_field = far_field;
     request_.model = ModelChoice::kReduced;  // --model auto: its reduced model, not the MPM check
     try {
       models_ = std::make_unique<FitModels>(request_, run.input, run.data, true, run.r_kind,
@@ -342,6 +344,15 @@ void AddModelError(const FitRequest& request, const FitModels& models,
     const ModelAtSize coarser(request, models, calibration, options, r * r * h, run);
     e = inverse::EstimateModelError(models.model(), coarse.get(), coarser.get(), h, run.shape,
                                     fit_data, options, run.summary, error_options);
+    // The far field's share (docs/FIT.md "The far field"): the same at every
+    // h, so measured at the cheaper r h, against half its largest element.
+    if (e.estimated() && coarse.get()) {
+      const ModelAtSize refined(request, models, calibration, options, r * h, run,
+                                0.5 * request.far_field);
+      if (refined.get())
+        inverse::AddFarFieldError(*coarse.get(), *refined.get(), run.shape, fit_data, options,
+                                  run.summary, e);
+    }
   }
   // A coarser model that cannot follow the data (too few elements through a
   // DCB arm: Newton fails) leaves the intervals without model error: one

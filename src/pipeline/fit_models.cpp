@@ -157,7 +157,7 @@ void FitModels::Build(double modulus_factor, double series_compliance) {
     resolution_ = std::isfinite(request_.resolution)
                       ? request_.resolution
                       : specimen::DefaultResolution(model_scene.specimen);
-    model_ = MakeReduced(model_scene, resolution_, 2e-3);
+    model_ = MakeReduced(model_scene, resolution_, 2e-3, request_.far_field);
   }
   if (choice == ModelChoice::kMpm || choice == ModelChoice::kAuto) {
     const double cell = std::isfinite(request_.mpm_cell)
@@ -192,11 +192,11 @@ std::unique_ptr<inverse::ForwardModel> FitModels::MpmAt(double cell) const {
   return mpm;
 }
 
-std::unique_ptr<inverse::SimulationForwardModel> FitModels::MakeReduced(const Scene& scene,
-                                                                        double resolution,
-                                                                        double margin) const {
+std::unique_ptr<inverse::SimulationForwardModel> FitModels::MakeReduced(
+    const Scene& scene, double resolution, double margin, double far_field) const {
   models::ReducedOptions reduced;
   reduced.mesh.resolution = resolution;
+  reduced.mesh.coarse_factor = far_field;
   // Past the data, but inside what the specimen's model takes (a record's
   // crack near the back edge, or one extrapolated past it).
   reduced.mesh.max_crack_length =
@@ -213,7 +213,9 @@ std::unique_ptr<inverse::SimulationForwardModel> FitModels::MakeReduced(const Sc
   return simulation;
 }
 
-std::unique_ptr<inverse::ForwardModel> FitModels::ReducedAt(double resolution) const {
+std::unique_ptr<inverse::ForwardModel> FitModels::ReducedAt(double resolution,
+                                                           double far_field) const {
+
   // --model auto: its reduced model (the MPM check is accurate()).
   if (request_.model != ModelChoice::kReduced && request_.model != ModelChoice::kAuto)
     return nullptr;
@@ -222,7 +224,7 @@ std::unique_ptr<inverse::ForwardModel> FitModels::ReducedAt(double resolution) c
   // up to one element), else by the fine model's 2 mm.
   for (double margin : {std::max(2e-3, 2.0 * resolution), 2e-3}) {
     try {
-      return MakeReduced(scene, resolution, margin);
+      return MakeReduced(scene, resolution, margin, far_field > 0.0 ? far_field : request_.far_field);
     } catch (const Error&) {
     }
   }

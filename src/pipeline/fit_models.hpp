@@ -58,7 +58,8 @@ class FitModels {
   // and R kind) at another element size: the model error's coarser solves
   // (issue 17; --model auto: its reduced model). Null when model() is not
   // the reduced model or the mesh is not valid at that size.
-  std::unique_ptr<inverse::ForwardModel> ReducedAt(double resolution) const;
+  // `far_field` > 0: that far-field factor instead of the request's.
+  std::unique_ptr<inverse::ForwardModel> ReducedAt(double resolution, double far_field = 0.0) const;
   // The MPM growth model as accurate() (or model() for --model mpm) is, at
   // another cell size [m]: --model auto's convergence check.
   std::unique_ptr<inverse::ForwardModel> MpmAt(double cell) const;
@@ -76,10 +77,11 @@ class FitModels {
   double resolution_ = NAN;
   double modulus_factor_ = 1.0, series_compliance_ = 0.0;
   // The reduced model of the request at element size `resolution`, grown
-  // `margin` [m] past the data.
+  // `margin` [m] past the data, its far field `far_field` x the default.
   std::unique_ptr<inverse::SimulationForwardModel> MakeReduced(const Scene& scene,
                                                                double resolution,
-                                                               double margin) const;
+                                                               double margin,
+                                                               double far_field) const;
 };
 
 // A load-displacement fit starts where the R-curve fit (quick, without

@@ -83,6 +83,11 @@ struct FitRequest {
   // uncertainty, within the model's validity limits).
   double resolution = NAN;
   double resolution_bias_fraction = 0.3;
+  // The reduced model's far-field element as a multiple of its default (CT
+  // W/40, DCB h; models::ReducedOptions mesh.coarse_factor). The model error
+  // refits once with half of it to see the far field's share, which
+  // refining `resolution` does not change (docs/FIT.md, "The far field").
+  double far_field = 1.0;
 
   bool compare_laws = false;  // every family, ranked by AICc
   // With compare_laws: the families whose shape is fitted too
