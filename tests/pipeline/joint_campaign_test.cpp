@@ -194,7 +194,11 @@ TEST(JointCampaign, TwoSizesIdentifyWhatTheSmallOneCannotAndAnotherLawIsFlagged)
   EXPECT_TRUE(Covers(f.J_B, kJB));
   EXPECT_TRUE(Covers(f.J_tip_c, kJTip));
   // Who carries what (pipeline::kCarrierRule): J_B only the large CT, the
-  // small one never reaching steady state; both carry the others.
+  // small one never reaching steady state; J_tip,c both; sigma_c the large
+  // one alone since the model error holds the far field's share (docs/
+  // FIT.md "The far field"): the small CT's own sigma_c interval, [0.302,
+  // 0.648] MPa with a predicted bias of -0.060 MPa (statistical [0.421,
+  // 0.468]), is 16 times the joint one, beyond the rule's 10.
   const auto carriers = [&](int parameter) {
     for (const ParameterCarriers& c : joint.carriers_without_flagged)
       if (c.parameter == parameter) return c.specimens;
@@ -202,7 +206,7 @@ TEST(JointCampaign, TwoSizesIdentifyWhatTheSmallOneCannotAndAnotherLawIsFlagged)
     return std::vector<std::string>{};
   };
   EXPECT_EQ(carriers(inverse::kJB), (std::vector<std::string>{kLarge.name}));
-  EXPECT_EQ(carriers(inverse::kSigmaC), (std::vector<std::string>{kSmall.name, kLarge.name}));
+  EXPECT_EQ(carriers(inverse::kSigmaC), (std::vector<std::string>{kLarge.name}));
   EXPECT_EQ(carriers(inverse::kJTipC), (std::vector<std::string>{kSmall.name, kLarge.name}));
   std::printf("campaign: %.1f s with the fits alone\n", clock.Seconds());
 }
