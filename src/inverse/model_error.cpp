@@ -211,6 +211,23 @@ void NoiseRelativeBias(const FitData& used, const FitSummary& fit, ModelErrorEst
 
 }  // namespace fit_internal
 
+namespace {
+
+// The fit re-run locally (BOBYQA) from x0 (the answer's free parameters, in
+// the box) with `model`: the full parameters (SI), or empty when the search
+// found no valid run. Adds the forward runs spent to *runs.
+std::vector<double> RefitLocally(const ForwardModel& model, const laws::LawShape& shape,
+                                 const FitData& used, const FitOptions& answer,
+                                 const std::vector<double>& x0, int max_evaluations, int* runs) {
+  const Objective objective(model, shape, used, answer);
+  const LocalResult result = MinimizeLocal(objective, Optimizer::kBobyqa, x0, max_evaluations);
+  *runs += objective.evaluations();
+  if (result.chi2 >= kFailedCost) return {};
+  return objective.Expand(result.x.data());
+}
+
+}  // namespace
+
 ModelErrorEstimate EstimateModelError(const ForwardModel& model, const ForwardModel* coarse,
                                       const ForwardModel* coarser, double resolution,
                                       const laws::LawShape& shape, const FitData& data,
@@ -312,13 +329,11 @@ ModelErrorEstimate EstimateModelError(const ForwardModel& model, const ForwardMo
   std::vector<double> x0;
   for (int index : free) x0.push_back(ToBox(index, at[index], answer));
   auto refit = [&](const ForwardModel& coarse_model, std::vector<double>* estimate) {
-    const Objective coarse_objective(coarse_model, shape, used, answer);
-    const LocalResult result = MinimizeLocal(coarse_objective, Optimizer::kBobyqa, x0,
-                                             options.max_evaluations);
-    e.runs += coarse_objective.evaluations();
-    if (result.chi2 >= kFailedCost) return false;
-    const std::vector<double> p_full = coarse_objective.Expand(result.x.data());
+    const std::vector<double> p_full =
+        RefitLocally(coarse_model, shape, used, answer, x0, options.max_evaluations, &e.runs);
+    if (p_full.empty()) return false;
     for (int index : free) estimate->push_back(p_full[index]);
+    if (&coarse_model == coarse) std::copy(p_full.begin(), p_full.end(), e.coarse_estimate.begin());
     return true;
   };
   std::vector<double> p_2h, p_4h;
@@ -354,35 +369,35 @@ ModelErrorEstimate EstimateModelError(const ForwardModel& model, const ForwardMo
   return e;
 }
 
-void AddFarFieldError(const ForwardModel& standard, const ForwardModel& refined,
-                      const laws::LawShape& shape, const FitData& data, const FitOptions& options,
-                      const FitSummary& fit, ModelErrorEstimate& e) {
+void AddFarFieldError(const ForwardModel& refined, const laws::LawShape& shape,
+                      const FitData& data, const FitOptions& options, const FitSummary& fit,
+                      ModelErrorEstimate& e) {
   const Stopwatch clock;
   std::array<double, kParameterCount> at{};
   const FitOptions answer = AnswerParameters(options, fit, &at);
-  const FitData used = RowsUsed(data, fit);
-  const Objective probe(standard, shape, used, answer);
-  const std::vector<int>& free = probe.free();
+  std::vector<int> free;
   std::vector<double> x0;
-  for (int index : free) x0.push_back(ToBox(index, at[index], answer));
-  auto refit = [&](const ForwardModel& model, std::vector<double>* p) {
-    const Objective objective(model, shape, used, answer);
-    const LocalResult result =
-        MinimizeLocal(objective, Optimizer::kBobyqa, x0, options.max_evaluations);
-    e.runs += objective.evaluations();
-    if (result.chi2 >= kFailedCost) return false;
-    *p = objective.Expand(result.x.data());
-    return true;
-  };
-  std::vector<double> p_standard, p_refined;
-  if (free.empty() || !refit(standard, &p_standard) || !refit(refined, &p_refined)) {
+  for (int index = 0; index < kParameterCount; ++index)
+    if (!answer.fixed[index]) {
+      free.push_back(index);
+      x0.push_back(ToBox(index, at[index], answer));
+    }
+  const bool coarse_refit = std::all_of(free.begin(), free.end(), [&](int index) {
+    return std::isfinite(e.coarse_estimate[index]);
+  });
+  const std::vector<double> p_refined =
+      free.empty() || !coarse_refit
+          ? std::vector<double>{}
+          : RefitLocally(refined, shape, RowsUsed(data, fit), answer, x0, options.max_evaluations,
+                         &e.runs);
+  if (p_refined.empty()) {
     e.far_field_note = "the far field's share not estimated: a refit failed";
     e.wall_s += clock.Seconds();
     return;
   }
   std::string shares;
   for (int index : free) {
-    const double bias = 2.0 * (p_standard[index] - p_refined[index]);
+    const double bias = 2.0 * (e.coarse_estimate[index] - p_refined[index]);
     e.far_field_bias[index] = bias;
     if (std::isfinite(e.parameter_bias[index])) e.parameter_bias[index] += bias;
     shares += fmt::format("{}{} {:+.2g}%", shares.empty() ? "" : ", ", ParameterName(index),

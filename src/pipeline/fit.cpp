@@ -350,8 +350,7 @@ void AddModelError(const FitRequest& request, const FitModels& models,
       const ModelAtSize refined(request, models, calibration, options, r * h, run,
                                 0.5 * request.far_field);
       if (refined.get())
-        inverse::AddFarFieldError(*coarse.get(), *refined.get(), run.shape, fit_data, options,
-                                  run.summary, e);
+        inverse::AddFarFieldError(*refined.get(), run.shape, fit_data, options, run.summary, e);
     }
   }
   // A coarser model that cannot follow the data (too few elements through a

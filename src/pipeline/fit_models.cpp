@@ -23,18 +23,17 @@ Scene ScaledModuli(const Scene& scene, double factor) {
   return scaled;
 }
 
-inverse::SimulationForwardModel::Reducer ModelRecordReducer(
-    const experiment::RCurveOptions& data_options, const experiment::RCurveResult* data) {
-  experiment::RCurveOptions options = data_options;
+inverse::SimulationForwardModel::Reducer ModelRecordReducer(const FitInput& input) {
+  experiment::RCurveOptions options = input.reduction_options;
   // The data's compliance calibration, not the model record's own: a
   // calibration error of the data then cancels (RCurveOptions::given_*).
   // Issue 17, validation #269 (DCB, MBT, noise-free record at the model's
   // own size): the model record's own Delta put its R 3.3 J/m^2 above the
   // data's at the truth, and J_tip,c came out 872.5 for 876.3 J/m^2.
-  if (data) {
+  if (input.reduction) {
     auto figure = [&](const char* name) {
-      const auto it = data->figures.find(name);
-      return it == data->figures.end() ? NAN : it->second;
+      const auto it = input.reduction->figures.find(name);
+      return it == input.reduction->figures.end() ? NAN : it->second;
     };
     if (options.method == experiment::RMethod::kMbt) options.given_mbt_delta = figure("mbt_delta_m");
     if (options.method == experiment::RMethod::kComplianceCalibration)
@@ -187,7 +186,7 @@ std::unique_ptr<inverse::ForwardModel> FitModels::MpmAt(double cell) const {
       "mpm", [model_scene, growth](const laws::BridgingLaw* law, double J_tip_c) {
         return mpm::SimulateGrowth(model_scene, law, J_tip_c, growth).result;
       });
-  if (kind_ == inverse::RKind::kAsData) mpm->SetReducer(ModelRecordReducer(input_.reduction_options, input_.reduction ? &*input_.reduction : nullptr));
+  if (kind_ == inverse::RKind::kAsData) mpm->SetReducer(ModelRecordReducer(input_));
   mpm->SetSeriesCompliance(series_compliance_);
   return mpm;
 }
@@ -208,14 +207,13 @@ std::unique_ptr<inverse::SimulationForwardModel> FitModels::MakeReduced(
                         ? inverse::MakeReducedForwardModel(cache_->Get(scene, reduced.mesh), reduced)
                         : inverse::MakeReducedForwardModel(scene, reduced);
   if (kind_ == inverse::RKind::kAsData)
-    simulation->SetReducer(ModelRecordReducer(input_.reduction_options, input_.reduction ? &*input_.reduction : nullptr));
+    simulation->SetReducer(ModelRecordReducer(input_));
   simulation->SetSeriesCompliance(series_compliance_);
   return simulation;
 }
 
 std::unique_ptr<inverse::ForwardModel> FitModels::ReducedAt(double resolution,
                                                            double far_field) const {
-
   // --model auto: its reduced model (the MPM check is accurate()).
   if (request_.model != ModelChoice::kReduced && request_.model != ModelChoice::kAuto)
     return nullptr;

@@ -18,10 +18,10 @@ Scene ScaledModuli(const Scene& scene, double factor);
 
 // R kind as-data: the model's points become a record (a linear loading
 // branch to initiation, then one row per crack length) that is reduced with
-// the data's own method and options, without noise, and with the data's
-// compliance calibration (`data`'s figures; none when null).
-inverse::SimulationForwardModel::Reducer ModelRecordReducer(
-    const experiment::RCurveOptions& data_options, const experiment::RCurveResult* data);
+// the data's own method and options (`input.reduction_options`), without
+// noise, and with the data's compliance calibration (`input.reduction`'s
+// figures, where the record was reduced here).
+inverse::SimulationForwardModel::Reducer ModelRecordReducer(const FitInput& input);
 
 // Reduced models already built during one fit, by every input of their
 // mesh at full precision: the resolution chooser, the fit and the model

@@ -90,6 +90,9 @@ struct ModelErrorEstimate {
   // Statistical standard uncertainty of each free estimate from the fit's
   // Jacobian (s^2 (J^T J)^-1, s^2 as the fit's), NaN where not computed.
   std::array<double, kParameterCount> statistical_sd = {NAN, NAN, NAN};
+  // The fit re-run with the coarse (r h) model from its optimum, SI; NaN
+  // where not run or failed (the Richardson terms' p_rh).
+  std::array<double, kParameterCount> coarse_estimate = {NAN, NAN, NAN};
   // The far field's share of parameter_bias (AddFarFieldError), SI; NaN
   // where not estimated (far_field_note says why).
   std::array<double, kParameterCount> far_field_bias = {NAN, NAN, NAN};
@@ -116,14 +119,15 @@ ModelErrorEstimate EstimateModelError(const ForwardModel& model, const ForwardMo
 // not refined with the element size h, so its error is the same at every h
 // and the Richardson terms of EstimateModelError cannot see it (docs/
 // REDUCED.md section 5: a load-line compliance 0.7% low at every h). The
-// fit is refitted locally from its optimum with `standard` (a model at some
-// size) and `refined` (the same size, half the largest element); the far
-// field's bias, order 1 in its element size, is twice the move, added to
-// e.parameter_bias (and kept in e.far_field_bias). A failed refit leaves
-// e as it was, far_field_note saying so.
-void AddFarFieldError(const ForwardModel& standard, const ForwardModel& refined,
-                      const laws::LawShape& shape, const FitData& data, const FitOptions& options,
-                      const FitSummary& fit, ModelErrorEstimate& e);
+// fit is refitted locally from its optimum with `refined` (the coarse model
+// of `e`, r h, with half the largest element) and compared with e's own
+// refit at r h (e.coarse_estimate); the far field's bias, order 1 in its
+// element size, is twice the move, added to e.parameter_bias (and kept in
+// e.far_field_bias). A failed refit leaves e as it was, far_field_note
+// saying so.
+void AddFarFieldError(const ForwardModel& refined, const laws::LawShape& shape,
+                      const FitData& data, const FitOptions& options, const FitSummary& fit,
+                      ModelErrorEstimate& e);
 
 // The predicted bias of the model's prediction at each data point into `e`:
 // output_bias, its rms, its largest magnitude and that relative to the
