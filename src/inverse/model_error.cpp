@@ -371,10 +371,13 @@ ModelErrorEstimate EstimateModelError(const ForwardModel& model, const ForwardMo
 
 void AddFarFieldError(const ForwardModel& refined, const laws::LawShape& shape,
                       const FitData& data, const FitOptions& options, const FitSummary& fit,
+                      const std::array<double, kParameterCount>* reference_or_answer,
                       ModelErrorEstimate& e) {
   const Stopwatch clock;
   std::array<double, kParameterCount> at{};
   const FitOptions answer = AnswerParameters(options, fit, &at);
+  const std::array<double, kParameterCount>& reference =
+      reference_or_answer ? *reference_or_answer : at;
   std::vector<int> free;
   std::vector<double> x0;
   for (int index = 0; index < kParameterCount; ++index)
@@ -382,11 +385,11 @@ void AddFarFieldError(const ForwardModel& refined, const laws::LawShape& shape,
       free.push_back(index);
       x0.push_back(ToBox(index, at[index], answer));
     }
-  const bool coarse_refit = std::all_of(free.begin(), free.end(), [&](int index) {
-    return std::isfinite(e.coarse_estimate[index]);
+  const bool have_reference = std::all_of(free.begin(), free.end(), [&](int index) {
+    return std::isfinite(reference[index]);
   });
   const std::vector<double> p_refined =
-      free.empty() || !coarse_refit
+      free.empty() || !have_reference
           ? std::vector<double>{}
           : RefitLocally(refined, shape, RowsUsed(data, fit), answer, x0, options.max_evaluations,
                          &e.runs);
@@ -397,7 +400,7 @@ void AddFarFieldError(const ForwardModel& refined, const laws::LawShape& shape,
   }
   std::string shares;
   for (int index : free) {
-    const double bias = 2.0 * (e.coarse_estimate[index] - p_refined[index]);
+    const double bias = 2.0 * (reference[index] - p_refined[index]);
     e.far_field_bias[index] = bias;
     if (std::isfinite(e.parameter_bias[index])) e.parameter_bias[index] += bias;
     shares += fmt::format("{}{} {:+.2g}%", shares.empty() ? "" : ", ", ParameterName(index),
@@ -405,6 +408,27 @@ void AddFarFieldError(const ForwardModel& refined, const laws::LawShape& shape,
   }
   e.far_field_note = "far field's share (half its largest element): " + shares;
   e.wall_s += clock.Seconds();
+}
+
+void TakeTheLargerBias(const ModelErrorEstimate& finer, ModelErrorEstimate& e) {
+  e.runs += finer.runs;
+  e.wall_s += finer.wall_s;
+  const std::string at = fmt::format("the finer side ({:.3g} mm)", finer.coarse_resolution * 1e3);
+  if (!finer.estimated()) {
+    e.reason += fmt::format("; {} not estimated: {}", at, finer.reason);
+    return;
+  }
+  std::string taken;
+  for (int i = 0; i < kParameterCount; ++i) {
+    const double mine = e.parameter_bias[i], theirs = finer.parameter_bias[i];
+    if (!std::isfinite(theirs) || (std::isfinite(mine) && std::abs(mine) >= std::abs(theirs)))
+      continue;
+    e.parameter_bias[i] = theirs;
+    taken += fmt::format("{}{}", taken.empty() ? "" : ", ", ParameterName(i));
+  }
+  e.safety_factor = std::max(e.safety_factor, finer.safety_factor);
+  e.reason += taken.empty() ? fmt::format("; {} predicts no larger bias", at)
+                            : fmt::format("; {} predicts a larger bias of {}: taken", at, taken);
 }
 
 std::array<double, 2> TotalInterval(double low, double high, double bias, double safety_factor) {

@@ -303,6 +303,44 @@ TEST(ModelError, FinerSolveFallbackCoversTheFinerModelsTruth) {
   }
 }
 
+// Where the coarse side's order is not observed, the finer side's estimate
+// is weighed against it parameter by parameter: the larger magnitude wins
+// (an unestimated side never erases a finite bias), the safety factor is
+// the larger, the reason names what was taken, the runs add up.
+TEST(ModelError, TheFinerSideWinsWhereItPredictsMore) {
+  ModelErrorEstimate coarse;
+  coarse.status = ModelErrorStatus::kOrderNotObserved;
+  coarse.reason = "the differences between successive solves change direction";
+  coarse.parameter_bias = {0.02e6, -3.0, NAN};
+  coarse.safety_factor = 3.0;
+  coarse.runs = 40;
+  ModelErrorEstimate finer = coarse;
+  finer.coarse_resolution = 0.25e-3;
+  finer.parameter_bias = {-0.01e6, -12.0, 8.0};
+  finer.runs = 60;
+  ModelErrorEstimate e = coarse;
+  TakeTheLargerBias(finer, e);
+  EXPECT_DOUBLE_EQ(e.parameter_bias[kSigmaC], 0.02e6);  // the coarse side's is larger
+  EXPECT_DOUBLE_EQ(e.parameter_bias[kJB], -12.0);
+  EXPECT_DOUBLE_EQ(e.parameter_bias[kJTipC], 8.0);      // none on the coarse side
+  EXPECT_EQ(e.runs, 100);
+  EXPECT_NE(e.reason.find("the finer side (0.25 mm) predicts a larger bias of J_B, J_tip_c"),
+            std::string::npos)
+      << e.reason;
+
+  ModelErrorEstimate failed;
+  failed.status = ModelErrorStatus::kNotEstimated;
+  failed.reason = "the fit with the 0.25 mm model failed";
+  failed.coarse_resolution = 0.25e-3;
+  failed.parameter_bias = {1e9, 1e9, 1e9};  // not to be read: not estimated
+  ModelErrorEstimate kept = coarse;
+  TakeTheLargerBias(failed, kept);
+  EXPECT_DOUBLE_EQ(kept.parameter_bias[kJB], -3.0);
+  EXPECT_NE(kept.reason.find("not estimated: the fit with the 0.25 mm model failed"),
+            std::string::npos)
+      << kept.reason;
+}
+
 // --resolution auto on noise-free data of a much finer model: a looser
 // criterion never picks a finer size, the chosen size's predicted bias meets
 // the criterion, and the estimate there lies within its total interval of

@@ -119,15 +119,25 @@ ModelErrorEstimate EstimateModelError(const ForwardModel& model, const ForwardMo
 // not refined with the element size h, so its error is the same at every h
 // and the Richardson terms of EstimateModelError cannot see it (docs/
 // REDUCED.md section 5: a load-line compliance 0.7% low at every h). The
-// fit is refitted locally from its optimum with `refined` (the coarse model
-// of `e`, r h, with half the largest element) and compared with e's own
-// refit at r h (e.coarse_estimate); the far field's bias, order 1 in its
-// element size, is twice the move, added to e.parameter_bias (and kept in
-// e.far_field_bias). A failed refit leaves e as it was, far_field_note
-// saying so.
+// fit is refitted locally from its optimum with `refined` (a model of some
+// element size with half the largest element) and compared with
+// `reference`, the estimate at that same size with the full far field
+// (e.coarse_estimate where `refined` is e's coarse model at r h; null for
+// the fit's own answer where `refined` is at the fit's h); its bias,
+// order 1 in its element size, is twice the move, added to
+// e.parameter_bias (and kept in e.far_field_bias). A failed refit leaves e
+// as it was, far_field_note saying so.
 void AddFarFieldError(const ForwardModel& refined, const laws::LawShape& shape,
                       const FitData& data, const FitOptions& options, const FitSummary& fit,
+                      const std::array<double, kParameterCount>* reference,
                       ModelErrorEstimate& e);
+
+// Where e's order is not observed (its coarse solves pre-asymptotic), the
+// finer side's estimate `finer` (refinement_ratio < 1) may predict more:
+// each parameter's bias becomes the larger in magnitude of the two (and the
+// reason says which); the finer side's runs and time are added. A finer
+// side not estimated is said in the reason and changes nothing else.
+void TakeTheLargerBias(const ModelErrorEstimate& finer, ModelErrorEstimate& e);
 
 // The predicted bias of the model's prediction at each data point into `e`:
 // output_bias, its rms, its largest magnitude and that relative to the
