@@ -79,6 +79,7 @@ nlohmann::json SimulationJson(const SimulationResult& result) {
   out["model"] = result.model;
   out["status"] = RunStatusName(result.status);
   out["message"] = result.message;
+  out["warnings"] = result.warnings;
   out["wall_s"] = result.wall_s;
   out["steady_state_reached"] = result.steady_state_reached;
   out["steady_state_crack_length_m"] = NumberOrNull(result.steady_state_crack_length);

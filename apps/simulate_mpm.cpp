@@ -72,6 +72,7 @@ int RunMpmGrowth(const Scene& scene, const MpmCliOptions& options, const std::st
   if (!opt.IsValid(&why)) throw Error(ErrorKind::kUsage, "invalid MPM growth options: " + why);
   const mpm::GrowthResult g = pipeline::SimulateMpmGrowth(scene, opt);
   const SimulationResult& result = g.result;
+  for (const std::string& w : result.warnings) std::cerr << "warning: simulate: " << w << "\n";
   if (!out_h5.empty()) pipeline::WriteSimulationH5(out_h5, result, scene);
   if (!csv.empty()) pipeline::WriteSimulationCsv(csv, result);
   if (common.json) {

@@ -410,6 +410,12 @@ void AddModelError(const FitRequest& request, const FitModels& models,
                                                    "the cell)", 200 * run.mpm_convergence)
                                      : "")
                    : fmt::format("no error model for the {} model yet", e.model);
+    if (request.model == ModelChoice::kMpm) {
+      if (const std::string coarse = MpmCellTooCoarse(request, models, models.mpm_cell());
+          !coarse.empty())
+        e.reason += fmt::format("; and its cell ({:.3g} mm) is too coarse for this specimen: {}",
+                                models.mpm_cell() * 1e3, coarse);
+    }
     return;
   }
   e = ReducedModelError(request, models, fit_data, options, calibration, run);

@@ -21,12 +21,12 @@
 #include "bridgefit/core/progress.hpp"
 #include "bridgefit/inverse/model_check.hpp"
 #include "bridgefit/inverse/model_error.hpp"
+#include "bridgefit/mpm/growth.hpp"
 #include "fit_models.hpp"
 
 namespace bridgefit::pipeline {
 namespace {
 
-constexpr double kMinCellsThroughArm = 8.0;    // DCB (docs/MPM.md, growth)
 constexpr double kMinCellsOverGrowth = 10.0;   // any specimen
 constexpr double kConvergenceShare = 0.5;      // of the correction (or of the tolerance)
 constexpr double kMaxAutoCell = 2.5e-3;        // [m], --mpm-cell auto's coarsest
@@ -82,20 +82,19 @@ std::vector<double> MpmErrorFromStep(const std::vector<double>& step, bool to_ha
   return error;
 }
 
-// The cell against the scene: the reasons it is too coarse (empty: none).
-std::string CellTooCoarse(const FitRequest& request, const FitModels& models, double cell) {
+}  // namespace
+
+std::string MpmCellTooCoarse(const FitRequest& request, const FitModels& models, double cell) {
   const SpecimenSpec& s = request.scene.specimen;
-  std::string why;
-  if (s.type == SpecimenType::kDCB && s.height / cell < kMinCellsThroughArm)
-    why = fmt::format("{:.3g} cells through the DCB arm (h {:.3g} mm; growth needs about {:g}: at "
-                      "4 the contour J is 25-33% low, docs/MPM.md)",
-                      s.height / cell, s.height * 1e3, kMinCellsThroughArm);
+  std::string why = mpm::GrowthCellTooCoarse(s, cell);
   const double growth = models.data_end() - s.notch;
   if (growth > 0.0 && growth / cell < kMinCellsOverGrowth)
     why += fmt::format("{}{:.3g} cells over the data's {:.3g} mm of crack growth (fewer than {:g})",
                        why.empty() ? "" : "; ", growth / cell, growth * 1e3, kMinCellsOverGrowth);
   return why;
 }
+
+namespace {
 
 // A correction to MPM: MPM at the cell and at half of it, at the final
 // parameters (computed once: FitCheckedByMpm may have). False (with `why`)
@@ -128,7 +127,7 @@ bool CorrectionConverged(const FitModels& models, FitRun& run, std::string* why)
 
 double CoarsestMpmCell(const SpecimenSpec& s, double data_end) {
   double cell = kMaxAutoCell;
-  if (s.type == SpecimenType::kDCB) cell = std::min(cell, s.height / kMinCellsThroughArm);
+  if (s.type == SpecimenType::kDCB) cell = std::min(cell, s.height / mpm::kMinGrowthCellsThroughArm);
   const double growth = data_end - s.notch;
   if (growth > 0.0) cell = std::min(cell, growth / kMinCellsOverGrowth);
   return cell;
@@ -213,7 +212,7 @@ void CheckModelAuto(const FitRequest& request, const FitModels& models,
         "the MPM check did not complete ({}); the reduced fit is unchecked: a finer --mpm-cell "
         "(now {:.3g} mm) or --model reduced",
         c.outcome, run.mpm_cell * 1e3));
-  if (const std::string coarse = CellTooCoarse(request, models, run.mpm_cell); !coarse.empty())
+  if (const std::string coarse = MpmCellTooCoarse(request, models, run.mpm_cell); !coarse.empty())
     warnings.push_back(fmt::format("the MPM cell {:.3g} mm is too coarse for this scene: {}; "
                                    "refine --mpm-cell",
                                    run.mpm_cell * 1e3, coarse));

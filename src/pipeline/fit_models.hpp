@@ -127,6 +127,10 @@ void RefineWhereTheErrorShows(FitRequest& request, const FitRun& chosen, FitRun&
 // `data_end` [m]: 2.5 mm at most, 8 cells through a DCB arm, 10 over the
 // growth from the notch.
 double CoarsestMpmCell(const SpecimenSpec& specimen, double data_end);
+// The reasons an MPM cell [m] is too coarse for the request's specimen and
+// the data's crack growth (mpm::GrowthCellTooCoarse, and 10 cells over the
+// growth); empty when it is not. --model auto and --model mpm warn with it.
+std::string MpmCellTooCoarse(const FitRequest& request, const FitModels& models, double cell);
 
 // --model auto's fit (fit_model_auto.cpp): the reduced fit checked (and
 // corrected) by MPM; with --mpm-cell auto (request.mpm_cell NaN) the cell

@@ -17,6 +17,7 @@ namespace bridgefit::pipeline {
 
 std::string SimulationTable(const SimulationResult& result) {
   std::string text = result.message + "\n";
+  for (const std::string& w : result.warnings) text += "warning: " + w + "\n";
   if (result.steady_state_reached)
     text += fmt::format("steady state from a = {:.2f} mm\n", result.steady_state_crack_length * 1e3);
   text += fmt::format("{:>10} {:>10} {:>12} {:>10} {:>12} {:>10} {:>10}\n", "a [mm]", "R [J/m^2]",

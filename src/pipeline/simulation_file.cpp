@@ -30,6 +30,9 @@ void WriteSimulationH5(const std::string& path, const SimulationResult& result,
   io::H5Writer file(path);
   io::WriteRecordH5(file, result);
   file.WriteAttribute("/simulation", "scene", scene.source);
+  std::string warnings;  // one per line, empty when none
+  for (const std::string& w : result.warnings) warnings += (warnings.empty() ? "" : "\n") + w;
+  file.WriteAttribute("/simulation", "warnings", warnings);
   file.Commit();
 }
 

@@ -143,6 +143,20 @@ TEST(PipelineModelAuto, AnMpmCellTooCoarseForTheSceneIsWarned) {
       << run.model_check_warning;
 }
 
+// The same rule when MPM is the fit's model (--model mpm): the model error
+// is not estimated for MPM, and its reason says the cell is too coarse.
+TEST(PipelineModelAuto, AnMpmFitOnACellTooCoarseForTheSceneIsWarned) {
+  FitRequest request = AutoRequest(0.03);
+  request.model = ModelChoice::kMpm;
+  request.mpm_cell = 5e-3;  // 8 cells over the data's 40 mm of growth
+  const FitRun run = RunFit(request);
+  std::printf("%s\n", run.model_error.reason.c_str());
+  EXPECT_FALSE(run.model_error.estimated());
+  EXPECT_NE(run.model_error.reason.find("too coarse for this specimen"), std::string::npos)
+      << run.model_error.reason;
+  EXPECT_NE(run.model_error.reason.find("cells over the data's"), std::string::npos);
+}
+
 // --mpm-cell auto (issue 17: the MPM cell chosen as the reduced model's
 // size is): the coarsest valid cell (2.5 mm here: 40 mm of growth) is kept
 // when MPM's own error there, twice its R step to half the cell (order 1),

@@ -78,6 +78,9 @@ struct SimulationResult {
   double initiation_load = NAN;            // [N]
   double wall_s = 0.0;
   std::map<std::string, double> figures;   // model-specific numbers (SI)
+  // Why its numbers may be off by more than the model's usual error (e.g. an
+  // MPM cell too coarse for the specimen); printed, and in every output.
+  std::vector<std::string> warnings;
 
   RCurve ToRCurve(bool energy_kind) const;
 };

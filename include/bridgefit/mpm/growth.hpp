@@ -83,6 +83,14 @@ struct GrowthResult {
   std::vector<std::pair<std::string, double>> stage_seconds;
 };
 
+// The growth model's validity against the cell (docs/MPM.md, "DCB growth"):
+// about 8 cells through a DCB arm (at 4 the contour J is 25-33% low and
+// R_energy 6-7% off). The reason the cell is too coarse for the
+// specimen, empty when it is not. One home for the rule: `simulate --model
+// mpm` warns with it, `fit --model auto` refines or warns with it.
+inline constexpr double kMinGrowthCellsThroughArm = 8.0;
+std::string GrowthCellTooCoarse(const SpecimenSpec& specimen, double cell);
+
 // True when the scene is symmetric about the crack plane (mode I growth on
 // a symmetry plane: isotropic, or orthotropic with axes along/across it).
 bool SceneIsSymmetric(const Scene& scene);
