@@ -124,7 +124,8 @@ std::vector<std::string> CaseWarnings(const pipeline::FitRun& run) {
   return out;
 }
 
-ParameterCheck CheckParameter(const inverse::ParameterEstimate& e, double truth, bool case_warned) {
+ParameterCheck CheckParameter(const inverse::ParameterEstimate& e, double truth, bool case_warned,
+                              double cr_sd, double model_bias) {
   ParameterCheck c;
   c.truth = truth;
   c.value = e.value;
@@ -143,12 +144,17 @@ ParameterCheck CheckParameter(const inverse::ParameterEstimate& e, double truth,
                    std::isfinite(c.high);
   c.error_ratio = NAN;
   c.width_ratio = NAN;
+  c.cr_width_ratio = NAN;
   if (c.has_interval) {
     c.covered = c.low <= truth && truth <= c.high;
     const double half = truth >= c.value ? c.high - c.value : c.value - c.low;
     c.error_ratio = std::abs(c.value - truth) / std::max(half, 1e-300);
     const double stat_width = c.stat_high - c.stat_low;
     if (std::isfinite(stat_width) && stat_width > 0.0) c.width_ratio = (c.high - c.low) / stat_width;
+    if (std::isfinite(cr_sd) && cr_sd > 0.0) {
+      c.cr_width_ratio = (c.high - c.low) / (2.0 * 1.96 * cr_sd);
+      c.model_error_small = std::isfinite(model_bias) && std::abs(model_bias) <= 0.3 * cr_sd;
+    }
     c.failure = c.error_ratio > 2.0;
   }
   // A reported lower bound must never exceed the truth.
@@ -392,9 +398,12 @@ CaseResult RunCase(const ValidationCase& spec, int threads) {
     for (std::string& w : CaseWarnings(run)) result.warnings.push_back(std::move(w));
     const bool case_warned = !result.warnings.empty();
     const laws::LawScales& truth = spec.scene.bridging->scales;
-    result.parameters[0] = CheckParameter(s.sigma_c, truth.sigma_c, case_warned);
-    result.parameters[1] = CheckParameter(s.J_B, truth.J_B, case_warned);
-    result.parameters[2] = CheckParameter(s.J_tip_c, spec.scene.fracture->J_tip_c, case_warned);
+    const inverse::ModelErrorEstimate& me = run.model_error;
+    const std::array<const inverse::ParameterEstimate*, 3> estimates = {&s.sigma_c, &s.J_B, &s.J_tip_c};
+    const std::array<double, 3> truths = {truth.sigma_c, truth.J_B, spec.scene.fracture->J_tip_c};
+    for (int p = 0; p < 3; ++p)
+      result.parameters[p] = CheckParameter(*estimates[p], truths[p], case_warned,
+                                            me.statistical_sd[p], me.parameter_bias[p]);
     result.ran = true;
   } catch (const std::exception& e) {
     result.error = e.what();

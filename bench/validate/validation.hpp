@@ -83,6 +83,14 @@ struct ParameterCheck {
   // without an interval): > 2 is a failure, silent without a warning.
   double error_ratio = 0.0;
   double width_ratio = 0.0;    // total / statistical interval width
+  // The Cramer-Rao width: 2 x 1.96 x the Wald standard uncertainty from the
+  // fit's Jacobian at its estimate (s^2 (J^T J)^-1, the fit's noise scale;
+  // inverse::ModelErrorEstimate::statistical_sd), NaN where not computed.
+  // `cr_width_ratio`: the total interval's width over it. The model error
+  // is small when its predicted bias is at most 0.3 of that uncertainty
+  // (the --resolution auto criterion).
+  double cr_width_ratio = 0.0;
+  bool model_error_small = false;
   bool failure = false;        // error_ratio > 2, or a bound above the truth
   bool silent_failure = false;
   std::string interval_status;
@@ -134,6 +142,11 @@ struct ParameterStats {
   double z_sd = 0.0;  // SD of error / (statistical half-width / 1.96): 1 if the Jacobian width is Cramer-Rao
   int bounds = 0, bounds_above_truth = 0;
   int failures = 0, silent_failures = 0;
+  // Total interval width / Cramer-Rao width over the estimates whose model
+  // error is small (ParameterCheck) in cases where all three parameters are
+  // identified (else J^T J is nearly singular): how many, mean, median.
+  int cr_cases = 0;
+  double cr_ratio_mean = 0.0, cr_ratio_median = 0.0;
 };
 
 struct CampaignStats {
