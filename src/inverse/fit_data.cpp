@@ -228,10 +228,11 @@ std::string FitSummary::BriefReport() const {
                                      : fmt::format("[95% CI {} .. {}]{} ", end(e.ci95_low),
                                                    end(e.ci95_high), parts_text),
                          e.interval_reason);
-    if (std::isfinite(e.value))
-      return fmt::format("  {:<8} = {:.4g} {} [95% CI {} .. {}]{}{}\n", name, e.value / scale, unit,
+    if (std::isfinite(e.value))  // with no interval at all, the note says why (e.g. J_B = 0)
+      return fmt::format("  {:<8} = {:.4g} {} [95% CI {} .. {}]{}{}{}\n", name, e.value / scale, unit,
                          end(e.ci95_low), end(e.ci95_high), parts_text,
-                         e.identified ? "" : " (not identifiable)");
+                         e.identified ? "" : " (not identifiable)",
+                         no_interval && !e.note.empty() ? " (" + e.note + ")" : std::string());
     if (std::isfinite(e.lower_bound))
       return fmt::format("  {:<8} >= {:.4g} {} (lower bound: {})\n", name, e.lower_bound / scale,
                          unit, e.note);

@@ -93,9 +93,17 @@ bool RecordNoBridging(const FitContext& c, const LocalResult& best, const std::v
     // The answer is the flat model: its convergence is the fit's.
     s.converged = flat_converged;
     s.stop_reason = "flat model (J_B = 0): " + flat_stop_reason;
+    // Not detected is not excluded: say how much bridging the data leave
+    // room for (the bridged fit's upper 95% end, when it has one).
+    const ParameterEstimate bridged_J_B = s.J_B;
     s.J_B = {.value = 0.0, .identified = true,
              .decided_by = statistic < 5.99 ? "likelihood-ratio test" : "model R accuracy",
-             .note = "J_B consistent with 0"};
+             .note = std::isfinite(bridged_J_B.ci95_high) && bridged_J_B.ci95_high > 0.0
+                         ? fmt::format("J_B consistent with 0, not excluded up to {:.4g} J/m^2 (the "
+                                       "bridged fit's upper 95% end)",
+                                       bridged_J_B.ci95_high)
+                         : "J_B consistent with 0, not excluded (the data do not bound it from "
+                           "above)"};
     s.sigma_c = {.decided_by = "likelihood-ratio test", .note = "no bridging detected"};
     s.delta_c = {.decided_by = "likelihood-ratio test", .note = "no bridging detected"};
     const ParameterEstimate bridged_tip = s.J_tip_c;  // the bridged fit's, before the flat one

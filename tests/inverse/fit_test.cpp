@@ -180,7 +180,7 @@ TEST(Fit, UndetectedBridgingLeavesJTipCovered) {
   const laws::LawShape shape = laws::MakeLinearShape();
   const LawParameters truth{1.0e6, 500.0, 2210.0};
   const AnalyticForwardModel model(kModulus, kA0);
-  int undetected = 0, covered = 0, flat_mean_covered = 0;
+  int undetected = 0, covered = 0, flat_mean_covered = 0, room_holds_truth = 0;
   for (unsigned seed = 1; seed <= 20; ++seed) {
     const FitData data = MakeData(shape, truth, kA0 + 0.02, 10, 0.08, seed);
     const FitSummary s = FitBridgingLaw(model, shape, data, FastOptions());
@@ -195,11 +195,19 @@ TEST(Fit, UndetectedBridgingLeavesJTipCovered) {
     }
     const double sd = std::sqrt(std::max(1.0, s.chi2 / 9.0) / sw);
     flat_mean_covered += std::abs(swr / sw - truth.J_tip_c) <= 1.96 * sd;
+    // J_B = 0 says how much bridging is not excluded: the room it states
+    // (the bridged fit's upper 95% end, or unbounded) holds the truth.
+    const std::string& note = s.J_B.note;
+    const std::size_t at = note.find("not excluded up to ");
+    room_holds_truth += note.find("not excluded") != std::string::npos &&
+                        (at == std::string::npos || std::stod(note.substr(at + 19)) >= truth.J_B);
   }
-  std::printf("undetected %d of 20: J_tip_c covered %d, flat mean's interval alone %d\n", undetected,
-              covered, flat_mean_covered);
+  std::printf("undetected %d of 20: J_tip_c covered %d, flat mean's interval alone %d, J_B's "
+              "room holds the truth %d\n",
+              undetected, covered, flat_mean_covered, room_holds_truth);
   ASSERT_GE(undetected, 5);  // the case this test is about
   EXPECT_GE(covered, undetected - 1);
+  EXPECT_GE(room_holds_truth, undetected - 1);
 }
 
 TEST(Fit, FlatCurveReportsNoBridging) {
