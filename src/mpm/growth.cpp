@@ -428,9 +428,8 @@ std::string GrowthCellTooCoarse(const SpecimenSpec& s, double cell) {
     return "";
   return fmt::format(
       "{:.3g} cells through the DCB arm (h {:.3g} mm; growth needs about {:g}: at 4 the contour J "
-      "is 25-33% low and R_energy 6-7% off, docs/MPM.md); refine the cell to {:.3g} mm or less",
-      s.height / cell, s.height * 1e3, kMinGrowthCellsThroughArm,
-      s.height / kMinGrowthCellsThroughArm * 1e3);
+      "is 25-33% low and R_energy 6-7% off, docs/MPM.md)",
+      s.height / cell, s.height * 1e3, kMinGrowthCellsThroughArm);
 }
 
 GrowthResult SimulateGrowth(const Scene& scene, const laws::BridgingLaw* law, double J_tip_c,
@@ -438,8 +437,9 @@ GrowthResult SimulateGrowth(const Scene& scene, const laws::BridgingLaw* law, do
   StaticGrowth growth(scene, options);
   GrowthResult g = growth.Run(law, J_tip_c);
   if (std::string why = GrowthCellTooCoarse(scene.specimen, g.cell); !why.empty())
-    g.result.warnings.push_back("MPM cell " + fmt::format("{:.3g} mm", g.cell * 1e3) +
-                                " too coarse: " + why);
+    g.result.warnings.push_back(
+        fmt::format("MPM cell {:.3g} mm too coarse: {}; refine the cell to {:.3g} mm or less",
+                    g.cell * 1e3, why, scene.specimen.height / kMinGrowthCellsThroughArm * 1e3));
   return g;
 }
 

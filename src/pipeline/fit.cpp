@@ -413,7 +413,8 @@ void AddModelError(const FitRequest& request, const FitModels& models,
     if (request.model == ModelChoice::kMpm) {
       if (const std::string coarse = MpmCellTooCoarse(request, models, models.mpm_cell());
           !coarse.empty())
-        e.reason += fmt::format("; and its cell ({:.3g} mm) is too coarse for this specimen: {}",
+        e.reason += fmt::format("; and its cell ({:.3g} mm) is too coarse for this specimen: {}; "
+                                "refine --mpm-cell",
                                 models.mpm_cell() * 1e3, coarse);
     }
     return;
