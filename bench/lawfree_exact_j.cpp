@@ -12,6 +12,10 @@
 // crack rebuilt from truth.csv (K_I, tip, rigid motion, zone) and the scene's
 // law; frame 1 (no zone yet) is the plain K field.
 //   lawfree_exact_j DIR SCENE [WIDTH HEIGHT]
+// Environment: BF_FIT_LO, BF_FIT_HI, BF_FIT_MARGIN, BF_FIT_LAG (the field
+// fit's orders, extra circle points, HAC lags); BF_EXACT_BOX=M (the exact
+// field averaged over M x M px squares, as a first-order subset reads it);
+// BF_ERR_MAP=1 (the last frame's mean DIC error in 40 px cells).
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -58,6 +62,7 @@ int main(int argc, char** argv) {
     if (const char* e = std::getenv("BF_FIT_LO")) opt.j_integral.fit.lowest_order = std::atoi(e);
     if (const char* e = std::getenv("BF_FIT_HI")) opt.j_integral.fit.highest_order = std::atoi(e);
     if (const char* e = std::getenv("BF_FIT_MARGIN")) opt.j_integral.fit_margin_points = std::atof(e);
+    if (const char* e = std::getenv("BF_FIT_LAG")) opt.j_integral.fit.correlation_lag = std::atoi(e);
     std::vector<fs::path> images;
     for (int k = 0; fs::exists(dir / "images" / fmt::format("frame_{:02d}.png", k)); ++k)
       images.push_back(dir / "images" / fmt::format("frame_{:02d}.png", k));
@@ -82,6 +87,32 @@ int main(int argc, char** argv) {
       const double zone_px = (crack[k] - scene.specimen.notch) / kScale;
       const double k2mu = K[k] * 1e6 / (2 * mu) / std::sqrt(kScale);
       dic::DisplacementField exact = f.field;
+      // BF_EXACT_BOX=M: the exact field averaged over an M x M px square
+      // about each point (5 x 5 Gauss points), as a first-order subset
+      // reads a curved field (DIC smoothing without image noise).
+      const double box = std::getenv("BF_EXACT_BOX") ? std::atof(std::getenv("BF_EXACT_BOX")) : 0;
+      auto boxed = [&](auto& model) {
+        static const double g5[5] = {-0.9061798459386640, -0.5384693101056831, 0.0,
+                                     0.5384693101056831, 0.9061798459386640};
+        static const double w5[5] = {0.2369268850561891, 0.4786286704993665, 0.5688888888888889,
+                                     0.4786286704993665, 0.2369268850561891};
+        for (size_t i = 0; i < exact.size(); ++i) {
+          if (box <= 0) {
+            model(exact.x[i], exact.y[i], &exact.u[i], &exact.v[i]);
+            continue;
+          }
+          double su = 0, sv = 0;
+          for (int a = 0; a < 5; ++a)
+            for (int b = 0; b < 5; ++b) {
+              double uu, vv;
+              model(exact.x[i] + 0.5 * box * g5[a], exact.y[i] + 0.5 * box * g5[b], &uu, &vv);
+              su += 0.25 * w5[a] * w5[b] * uu;
+              sv += 0.25 * w5[a] * w5[b] * vv;
+            }
+          exact.u[i] = su;
+          exact.v[i] = sv;
+        }
+      };
       if (zone_px > 0.5) {
         dic::BridgedCrackField b;
         b.tip_x = tip_x[k];
@@ -94,8 +125,7 @@ int main(int argc, char** argv) {
         b.k_over_2mu = k2mu;
         b.traction_over_2mu = [&](double d) { return law.Traction(d * kScale) / (2 * mu); };
         b.Solve();
-        for (size_t i = 0; i < exact.size(); ++i)
-          b(exact.x[i], exact.y[i], &exact.u[i], &exact.v[i]);
+        boxed(b);
       } else {
         dic::ModeICrackField e;
         e.tip_x = tip_x[k];
@@ -104,8 +134,7 @@ int main(int argc, char** argv) {
         e.k_over_2mu = k2mu;
         e.translation_x = tx[k];
         e.translation_y = ty[k];
-        for (size_t i = 0; i < exact.size(); ++i)
-          e(exact.x[i], exact.y[i], &exact.u[i], &exact.v[i]);
+        boxed(e);
       }
       double du2 = 0, dv2 = 0;
       int ok = 0;
@@ -115,6 +144,31 @@ int main(int argc, char** argv) {
               dv2 += std::pow(f.field.v[i] - exact.v[i], 2);
           ++ok;
         }
+      if (std::getenv("BF_ERR_MAP") && k == run.frames.size() - 1) {
+        // Mean v and u error [1e-4 px] in 40 x 40 px cells (rows top to bottom).
+        for (int comp = 0; comp < 2; ++comp) {
+          std::printf("  %s error map [1e-4 px], frame %zu, tip (%.0f, %.0f)\n", comp ? "u" : "v", k,
+                      tip_x[k], tip_y[k]);
+          for (int cy = 0; cy * 40 < height; ++cy) {
+            std::printf("  y%4d", cy * 40);
+            for (int cx = 0; cx * 40 < width; ++cx) {
+              double sum = 0;
+              int cnt = 0;
+              for (size_t i = 0; i < exact.size(); ++i) {
+                if (!f.field.ok(i)) continue;
+                if (f.field.x[i] < cx * 40 || f.field.x[i] >= cx * 40 + 40 ||
+                    f.field.y[i] < cy * 40 || f.field.y[i] >= cy * 40 + 40)
+                  continue;
+                sum += comp ? f.field.u[i] - exact.u[i] : f.field.v[i] - exact.v[i];
+                ++cnt;
+              }
+              if (cnt) std::printf(" %+6.0f", 1e4 * sum / cnt);
+              else std::printf("      .");
+            }
+            std::printf("\n");
+          }
+        }
+      }
       const dic::CrackLine& L = f.line_used;
       std::vector<dic::FieldFitJResult> fits;
       auto j_of = [&](const dic::DisplacementField& field, double x, double y, double s) {

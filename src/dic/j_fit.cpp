@@ -4,12 +4,14 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Dense>
 #include <fmt/format.h>
 
 #include "bridgefit/core/error.hpp"
+#include "orthotropic_series.hpp"
 #include "williams_basis.hpp"
 
 namespace bridgefit::dic {
@@ -33,7 +35,6 @@ const char* FieldFitJStatusName(FieldFitJStatus status) {
   switch (status) {
     case FieldFitJStatus::kNotRequested: return "not_requested";
     case FieldFitJStatus::kOk: return "ok";
-    case FieldFitJStatus::kNotIsotropic: return "not_isotropic";
     case FieldFitJStatus::kTooFewPoints: return "too_few_points";
     case FieldFitJStatus::kPoorFit: return "poor_fit";
   }
@@ -43,18 +44,28 @@ const char* FieldFitJStatusName(FieldFitJStatus status) {
 namespace {
 
 // The basis in the crack frame about the centre, lengths in units of the
-// exclusion radius: columns translation 1, 2, rotation, mode I n (n != 0),
-// mode II n (n != 0, 2; n = 2 is the rotation).
+// exclusion radius: columns translation 1, 2, rotation, then the series:
+// isotropic, mode I n (n != 0) and mode II n (n != 0, 2; n = 2 is the
+// rotation); orthotropic, the two terms of each order of
+// orthotropic_series.hpp (one for n = 2, the T-stress).
 struct Basis {
   int lo = -3, hi = 5;
   double kappa = 0;
-  int Size() const { return 3 + 2 * (hi - lo) - 1; }
+  std::optional<detail::OrthotropicSeries> ortho;
+  int Size() const { return ortho ? 3 + ortho->Columns() : 3 + 2 * (hi - lo) - 1; }
+  double Reach(double x1, double x2) const {
+    return ortho ? ortho->Reach(x1, x2) : std::hypot(x1, x2);
+  }
   // Displacement (u1, u2) of every column at polar (r, t).
   void Eval(double r, double t, Eigen::Ref<Eigen::VectorXd> u1, Eigen::Ref<Eigen::VectorXd> u2) const {
     const double x = r * std::cos(t), y = r * std::sin(t);
     u1(0) = 1; u2(0) = 0;
     u1(1) = 0; u2(1) = 1;
     u1(2) = -y; u2(2) = x;
+    if (ortho) {
+      ortho->Eval(r, t, u1.data() + 3, u2.data() + 3);
+      return;
+    }
     int c = 3;
     for (int n = lo; n <= hi; ++n) {
       if (n == 0) continue;
@@ -69,16 +80,27 @@ struct Basis {
   }
 };
 
-// Plane-stress isotropic J integrand (W n1 - sigma_ij n_j u_i,1) as a
-// quadratic form h^T M h of h = (u1,1, u1,2, u2,1, u2,2), outward normal n.
-Eigen::Matrix4d IntegrandForm(double E, double nu, double n1, double n2) {
+// Plane-stress stiffness (sigma11, sigma22, sigma12) = C (e11, e22, g12),
+// axis 1 along the crack.
+Eigen::Matrix3d Stiffness(const ElasticConstants& e) {
+  Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
+  if (e.kind == ElasticConstants::Kind::kIsotropic) {
+    S << 1 / e.E, -e.nu / e.E, 0, -e.nu / e.E, 1 / e.E, 0, 0, 0, 2 * (1 + e.nu) / e.E;
+  } else {
+    S << 1 / e.E1, -e.nu12 / e.E1, 0, -e.nu12 / e.E1, 1 / e.E2, 0, 0, 0, 1 / e.G12;
+  }
+  return S.inverse();
+}
+
+// The J integrand (W n1 - sigma_ij n_j u_i,1) as a quadratic form h^T M h
+// of h = (u1,1, u1,2, u2,1, u2,2), outward normal n.
+Eigen::Matrix4d IntegrandForm(const Eigen::Matrix3d& C, double n1, double n2) {
   auto integrand = [&](const Eigen::Vector4d& h) {
-    const double e11 = h(0), e22 = h(3), g12 = h(1) + h(2);
-    const double f = E / (1 - nu * nu);
-    const double s11 = f * (e11 + nu * e22), s22 = f * (e22 + nu * e11),
-                 s12 = E / (2 * (1 + nu)) * g12;
-    const double W = 0.5 * (s11 * e11 + s22 * e22 + s12 * g12);
-    return W * n1 - (s11 * n1 + s12 * n2) * h(0) - (s12 * n1 + s22 * n2) * h(2);
+    const Eigen::Vector3d strain(h(0), h(3), h(1) + h(2));
+    const Eigen::Vector3d stress = C * strain;
+    const double W = 0.5 * stress.dot(strain);
+    return W * n1 - (stress(0) * n1 + stress(2) * n2) * h(0) -
+           (stress(2) * n1 + stress(1) * n2) * h(2);
   };
   Eigen::Matrix4d M;
   for (int a = 0; a < 4; ++a)
@@ -92,7 +114,7 @@ Eigen::Matrix4d IntegrandForm(double E, double nu, double n1, double n2) {
 // Q of J = c^T Q c on the circle of radius rho (units of the exclusion
 // radius), per unit radius: J [Pa x unit] = c^T Q c / R_unit. Composite
 // 5-point Gauss-Legendre over t in (-pi, pi) (nodes stay off the faces).
-Eigen::MatrixXd ContourForm(const Basis& basis, double E, double nu, double rho) {
+Eigen::MatrixXd ContourForm(const Basis& basis, const Eigen::Matrix3d& C, double rho) {
   static const double x5[5] = {-0.9061798459386640, -0.5384693101056831, 0.0,
                                0.5384693101056831, 0.9061798459386640};
   static const double w5[5] = {0.2369268850561891, 0.4786286704993665, 0.5688888888888889,
@@ -121,7 +143,7 @@ Eigen::MatrixXd ContourForm(const Basis& basis, double E, double nu, double rho)
       G.row(1) = (s * ur1 + c * ut1).transpose();  // u1,2
       G.row(2) = (c * ur2 - s * ut2).transpose();  // u2,1
       G.row(3) = (s * ur2 + c * ut2).transpose();  // u2,2
-      Q += w * G.transpose() * IntegrandForm(E, nu, c, s) * G;
+      Q += w * G.transpose() * IntegrandForm(C, c, s) * G;
     }
   return Q;
 }
@@ -140,8 +162,14 @@ struct FitOutcome {
 FitOutcome FitSeries(const DisplacementField& f, double cx, double cy, double c, double s,
                      double radius, const Basis& basis, int min_points) {
   FitOutcome out;
-  for (std::size_t i = 0; i < f.size(); ++i)
-    if (f.ok(i) && std::hypot(f.x[i] - cx, f.y[i] - cy) >= radius) out.index.push_back(i);
+  // Points where the series converges: outside the circle (isotropic) or
+  // where min_k |z_k| >= radius (orthotropic: an ellipse per root).
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    if (!f.ok(i)) continue;
+    const double ex = f.x[i] - cx, ey = f.y[i] - cy;
+    const double x1 = c * ex + s * ey, x2 = -s * ex + c * ey;
+    if (basis.Reach(x1, x2) >= radius) out.index.push_back(i);
+  }
   const int n = static_cast<int>(out.index.size()), p = basis.Size();
   if (n < min_points || 2 * n < 4 * p) return out;
   Eigen::MatrixXd A(2 * n, p);
@@ -219,11 +247,6 @@ FieldFitJResult FitFarFieldJ(const DisplacementField& field, double centre_x, do
   std::string why;
   if (!options.IsValid(&why)) throw Error(ErrorKind::kUsage, "invalid J fit options: " + why);
   FieldFitJResult out;
-  if (elastic.kind != ElasticConstants::Kind::kIsotropic) {
-    out.status = FieldFitJStatus::kNotIsotropic;
-    out.why = "orthotropic material: no orthotropic Williams basis (the domain J stands)";
-    return out;
-  }
   const double length = std::hypot(direction_x, direction_y);
   if (!(length > 0) || !(exclusion_radius > 0) || field.nx < 3 || field.ny < 3) {
     out.status = FieldFitJStatus::kTooFewPoints;
@@ -235,9 +258,19 @@ FieldFitJResult FitFarFieldJ(const DisplacementField& field, double centre_x, do
   Basis basis;
   basis.lo = options.lowest_order;
   basis.hi = options.highest_order;
-  basis.kappa = (3 - elastic.nu) / (1 + elastic.nu);
+  std::vector<double> k_factor;  // K_I per unit coefficient at r = 1, per series column
+  if (elastic.kind == ElasticConstants::Kind::kIsotropic) {
+    basis.kappa = (3 - elastic.nu) / (1 + elastic.nu);
+    // u = a1 r^1/2 f_1 with K_I / (2 mu) = a1 sqrt(2 pi): the mode I n = 1 column.
+    k_factor.assign(basis.Size() - 3, 0.0);
+    k_factor[-basis.lo] = elastic.E / (1 + elastic.nu) * std::sqrt(2 * std::numbers::pi);
+  } else {
+    basis.ortho.emplace(1 / elastic.E1, 1 / elastic.E2, -elastic.nu12 / elastic.E1,
+                        1 / elastic.G12, basis.lo, basis.hi);
+    k_factor = basis.ortho->ModeIFactor();
+  }
   out.terms = basis.Size();
-  const Eigen::MatrixXd Q = ContourForm(basis, elastic.E, elastic.nu, 1.0);
+  const Eigen::MatrixXd Q = ContourForm(basis, Stiffness(elastic), 1.0);
   auto j_of = [&](const FitOutcome& fit, double radius) {
     return fit.coef.dot(Q * fit.coef) * metres_per_unit / radius;
   };
@@ -260,11 +293,10 @@ FieldFitJResult FitFarFieldJ(const DisplacementField& field, double centre_x, do
   out.correlation_factor = white > 0 ? correlated / white : 1;
   out.residual_rms_m = std::sqrt(fit.ssr / (2.0 * out.points)) * metres_per_unit;
   out.signal_rms_m = fit.signal_rms * metres_per_unit;
-  // K_I of the n = 1 term: u = a1 (r / R)^1/2 f_1, K_I / (2 mu) = a1 sqrt(2 pi / R).
-  const double mu = elastic.E / (2 * (1 + elastic.nu));
-  const int n1 = 3 + (1 - basis.lo) - 1;  // column of mode I n = 1
-  out.K_I = 2 * mu * fit.coef(n1) * std::sqrt(2 * std::numbers::pi / exclusion_radius) *
-            std::sqrt(metres_per_unit);
+  // K_I from the n = 1 columns: K = factor x coefficient / sqrt(R) (SI).
+  double k_sum = 0;
+  for (std::size_t j = 0; j < k_factor.size(); ++j) k_sum += k_factor[j] * fit.coef(3 + j);
+  out.K_I = k_sum / std::sqrt(exclusion_radius) * std::sqrt(metres_per_unit);
   const double check_radius = exclusion_radius + options.check_points * step;
   const FitOutcome check =
       FitSeries(field, centre_x, centre_y, c, s, check_radius, basis, options.min_points);

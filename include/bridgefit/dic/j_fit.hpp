@@ -20,9 +20,14 @@
 // correlation and unequal size (a spatial HAC estimate, Bartlett weights
 // over correlation_lag grid lags: DIC errors are correlated over a subset
 // and larger where the strain varies), combined with the change of J when the circle grows by `check_points`
-// (truncation and near-zone error). Isotropic plane stress only (the
-// orthotropic Williams basis is not in the project): an orthotropic
-// material is a status.
+// (truncation and near-zone error). Plane stress, isotropic or
+// orthotropic with axis 1 along the crack: for an orthotropic material the
+// series is Lekhnitskii's (the two traction-free terms of each order from
+// the complex potentials A_k z_k^(n/2), z_k = x1 + mu_k x2; Sih, Paris &
+// Irwin 1965 for n = 1), with the orthotropic stiffness in the integrand;
+// the points fitted are those with min_k |z_k| >= the exclusion radius
+// about the centre (where the series converges: the circle when isotropic,
+// further out across the crack where a root's |mu_k| < 1).
 
 #include <string>
 
@@ -48,7 +53,6 @@ struct FieldFitJOptions {
 enum class FieldFitJStatus {
   kNotRequested,
   kOk,
-  kNotIsotropic,  // no orthotropic Williams basis
   kTooFewPoints,  // fewer than min_points valid points outside the circle
   kPoorFit,       // residual RMS above max_residual_fraction of the fitted displacement
 };
