@@ -183,6 +183,27 @@ int main(int argc, char** argv) {
                            j_of(f.field, tip_x[k], tip_y[k], true_s),
                            j_of(exact, f.tip.tip.x_px, f.tip.tip.y_px, f.tip.tip.s_px),
                            j_of(exact, tip_x[k], tip_y[k], true_s)};
+      if (std::getenv("BF_HYBRID")) {
+        // The exact field with the DIC's values in one region only: which
+        // region's DIC error moves the fit's J (true tip).
+        const char* names[5] = {"|n|<30", "30<=|n|<60", "|n|>=60", "behind tip", "ahead of tip"};
+        std::printf("  hybrid fit J err [%%]:");
+        for (int region = 0; region < 5; ++region) {
+          dic::DisplacementField h = exact;
+          for (size_t i = 0; i < h.size(); ++i) {
+            const double an = std::abs(h.y[i] - tip_y[k]);
+            const bool in = region == 0   ? an < 30
+                            : region == 1 ? an >= 30 && an < 60
+                            : region == 2 ? an >= 60
+                            : region == 3 ? h.x[i] < tip_x[k]
+                                          : h.x[i] >= tip_x[k];
+            if (in) h.u[i] = f.field.u[i], h.v[i] = f.field.v[i];
+          }
+          j_of(h, tip_x[k], tip_y[k], true_s);
+          std::printf("  %s %+.2f", names[region], 100 * (fits.back().J / J[k] - 1));
+        }
+        std::printf("\n");
+      }
       std::printf(
           "%5zu  %7.2f  %+8.2f  %+10.2f  %+12.2f  %+13.2f  %+13.2f   u, v RMS err %.4f %.4f px\n",
           k, zone_px * kScale * 1e3, f.tip.tip.x_px - tip_x[k], e[0], e[1], e[2], e[3],

@@ -296,17 +296,12 @@ double BridgedCrackField::TipKOver2mu() const {
   return k;
 }
 
-void BridgedCrackField::operator()(double X, double Y, double* u, double* v) const {
-  using C = std::complex<double>;
+void BridgedCrackField::Westergaard(std::complex<double> z, std::complex<double>* Z,
+                                    std::complex<double>* Zb) const {
   const double pi = std::numbers::pi;
-  const double L = std::hypot(direction_x, direction_y);
-  const double c = direction_x / L, s = direction_y / L;
-  const double dx = X - tip_x, dy = Y - tip_y;
-  const double xl = c * dx + s * dy, yl = -s * dx + c * dy;
-  const C z(xl, yl);
-  const C root = std::sqrt(z);  // branch cut on the crack (negative x')
-  C Z = k_over_2mu / (std::sqrt(2.0 * pi) * root);
-  C Zb = 2.0 * k_over_2mu * root / std::sqrt(2.0 * pi);
+  const std::complex<double> root = std::sqrt(z);  // branch cut on the crack (negative x')
+  *Z = k_over_2mu / (std::sqrt(2.0 * pi) * root);
+  *Zb = 2.0 * k_over_2mu * root / std::sqrt(2.0 * pi);
   constexpr int kSub = 4;
   for (size_t j = 0; j < tau_.size(); ++j) {
     if (tau_[j] == 0) continue;
@@ -314,12 +309,59 @@ void BridgedCrackField::operator()(double X, double Y, double* u, double* v) con
       const double xi = (j + (k + 0.5) / kSub) * h_;
       const double q = tau_[j] * h_ / kSub;
       const double sx = std::sqrt(xi);
-      Z -= q / pi * sx / ((z + xi) * root);
-      Zb -= 2.0 * q / pi * std::atan(root / sx);
+      *Z -= q / pi * sx / ((z + xi) * root);
+      *Zb -= 2.0 * q / pi * std::atan(root / sx);
     }
   }
-  const double ul = 0.5 * (kappa - 1.0) * Zb.real() - yl * Z.imag();
-  const double vl = 0.5 * (kappa + 1.0) * Zb.imag() - yl * Z.real();
+}
+
+void BridgedCrackField::SetOrthotropic(double b11, double b22, double b12, double b66,
+                                       double two_mu) {
+  using C = std::complex<double>;
+  auto roots = [&](double s66) {
+    const double b = 2 * b12 + s66;
+    const C root = std::sqrt(C(b * b - 4 * b11 * b22));
+    mu1_ = std::sqrt((-b + root) / (2 * b11));
+    mu2_ = std::sqrt((-b - root) / (2 * b11));
+    if (mu1_.imag() < 0) mu1_ = -mu1_;
+    if (mu2_.imag() < 0) mu2_ = -mu2_;
+  };
+  roots(b66);
+  // A double root (isotropic constants) has no potentials of this form:
+  // roots within 2 % are moved apart by raising b66 by at most 0.1 %, as
+  // the field-wide J fit's series does (dic/orthotropic_series.hpp).
+  for (double raise = 1e-5; std::abs(mu1_ - mu2_) < 0.02 * std::abs(mu1_); raise *= 2) {
+    if (raise > 1e-3) throw Error(ErrorKind::kInternal, "bridged crack: the roots stay within 2 %");
+    roots(b66 * (1 + raise));
+  }
+  const C c1 = -mu2_ / (2.0 * (mu1_ - mu2_)), c2 = mu1_ / (2.0 * (mu1_ - mu2_));
+  P1_ = two_mu * c1 * (b11 * mu1_ * mu1_ + b12);
+  P2_ = two_mu * c2 * (b11 * mu2_ * mu2_ + b12);
+  Q1_ = two_mu * c1 * (b12 * mu1_ + b22 / mu1_);
+  Q2_ = two_mu * c2 * (b12 * mu2_ + b22 / mu2_);
+  kappa = 1.0;
+  orthotropic_ = true;
+}
+
+void BridgedCrackField::operator()(double X, double Y, double* u, double* v) const {
+  using C = std::complex<double>;
+  const double L = std::hypot(direction_x, direction_y);
+  const double c = direction_x / L, s = direction_y / L;
+  const double dx = X - tip_x, dy = Y - tip_y;
+  const double xl = c * dx + s * dy, yl = -s * dx + c * dy;
+  double ul = 0, vl = 0;
+  C Z, Zb;
+  if (orthotropic_) {
+    C Z2, Zb2;
+    Westergaard(C(xl, 0) + mu1_ * yl, &Z, &Zb);
+    Westergaard(C(xl, 0) + mu2_ * yl, &Z2, &Zb2);
+    ul = 2 * (P1_ * Zb + P2_ * Zb2).real();
+    vl = 2 * (Q1_ * Zb + Q2_ * Zb2).real();
+  } else {
+    Westergaard(C(xl, yl), &Z, &Zb);
+    ul = 0.5 * (kappa - 1.0) * Zb.real() - yl * Z.imag();
+    vl = 0.5 * (kappa + 1.0) * Zb.imag() - yl * Z.real();
+  }
   *u = c * ul - s * vl + translation_x - rotation * dy;
   *v = s * ul + c * vl + translation_y + rotation * dx;
 }

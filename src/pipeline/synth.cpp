@@ -98,10 +98,57 @@ std::string NoisyRecordCsv(const SynthRequest& request, const ExperimentRecord& 
 // A bridged frame (SynthRequest::bridged_field): faces from the notch root
 // to the tip closed by the scene's law, the applied K found by the secant
 // method on K_tip(K_applied) = K_tip,c (monotone, smooth). Lengths in px.
-dic::BridgedCrackField BridgedFrame(const SynthRequest& request, const dic::ModeICrackField& lefm,
-                                    double zone_px, double scale, double mu, double E_eff) {
-  const laws::BridgingLaw law = request.scene.bridging->Law();
+// The plate the frames show: isotropic (the scene's mu and kappa) or, for
+// an orthotropic scene, Lekhnitskii's plate driven by the same Westergaard
+// functions (dic::BridgedCrackField::SetOrthotropic) with 2 mu = E'/2, so
+// that K / (2 mu) and traction / (2 mu) keep their meaning and the opening
+// is the plate's. Before 2026-12-04 an orthotropic scene was drawn as an
+// isotropic plate with mu = G12, nu = nu12, whose J(K) and opening differ
+// from the scene's (E').
+struct FramePlate {
+  double mu = 0, kappa = 0;
+  bool orthotropic = false;
+  specimen::InPlaneCompliance b;
+  FramePlate(const Scene& scene, double E_eff) {
+    const MaterialSpec& m = scene.material;
+    orthotropic = m.orthotropic;
+    if (orthotropic) {
+      b = specimen::OrthotropicInPlaneCompliance(m, scene.specimen.plane);
+      mu = 0.25 * E_eff;
+      kappa = 1.0;
+      return;
+    }
+    const bool strain = scene.specimen.plane == PlaneCondition::kPlaneStrain;
+    mu = m.AxialModulus() / (2 * (1 + m.nu));
+    kappa = strain ? 3 - 4 * m.nu : (3 - m.nu) / (1 + m.nu);
+  }
+  void Apply(dic::BridgedCrackField* f) const {
+    if (orthotropic) f->SetOrthotropic(b.b11, b.b22, b.b12, b.b66, 2 * mu);
+  }
+};
+
+// The unbridged K field of a frame on an orthotropic plate (Sih, Paris &
+// Irwin: BridgedCrackField without tractions).
+dic::BridgedCrackField OrthotropicKField(const dic::ModeICrackField& lefm, const FramePlate& plate) {
   dic::BridgedCrackField b;
+  b.tip_x = lefm.tip_x;
+  b.tip_y = lefm.tip_y;
+  b.translation_x = lefm.translation_x;
+  b.translation_y = lefm.translation_y;
+  b.k_over_2mu = lefm.k_over_2mu;
+  b.segments = 1;
+  plate.Apply(&b);
+  b.Solve();
+  return b;
+}
+
+dic::BridgedCrackField BridgedFrame(const SynthRequest& request, const dic::ModeICrackField& lefm,
+                                    double zone_px, double scale, const FramePlate& plate,
+                                    double E_eff) {
+  const laws::BridgingLaw law = request.scene.bridging->Law();
+  const double mu = plate.mu;
+  dic::BridgedCrackField b;
+  plate.Apply(&b);
   b.tip_x = lefm.tip_x;
   b.tip_y = lefm.tip_y;
   b.kappa = lefm.kappa;
@@ -173,11 +220,8 @@ void RenderFrames(const SynthRequest& request, const SimulationResult& sim,
                   const std::vector<std::size_t>& growth_index,
                   const std::vector<std::size_t>& frame_growth,
                   const std::vector<std::size_t>& frame_row, SynthTest& test) {
-  const MaterialSpec& m = request.scene.material;
-  const double nu = m.orthotropic ? m.nu12 : m.nu;
-  const bool strain = request.scene.specimen.plane == PlaneCondition::kPlaneStrain;
-  const double mu = m.orthotropic ? m.G12 : m.AxialModulus() / (2 * (1 + nu));
-  const double kappa = strain ? 3 - 4 * nu : (3 - nu) / (1 + nu);
+  const FramePlate plate(request.scene, test.effective_modulus);
+  const double mu = plate.mu, kappa = plate.kappa;
   dic::SpeckleOptions so;
   so.width = request.image_width;
   so.height = request.image_height;
@@ -205,7 +249,7 @@ void RenderFrames(const SynthRequest& request, const SimulationResult& sim,
     const double zone_px = (frame.crack_length - request.scene.specimen.notch) / test.window.scale;
     if (f > 0 && request.bridged_field && zone_px > 0.5) {
       const dic::BridgedCrackField b =
-          BridgedFrame(request, frame.field, zone_px, test.window.scale, mu, test.effective_modulus);
+          BridgedFrame(request, frame.field, zone_px, test.window.scale, plate, test.effective_modulus);
       frame.field.k_over_2mu = b.k_over_2mu;
       frame.K_I = b.k_over_2mu * 2 * mu * std::sqrt(test.window.scale);
       frame.J_ff = frame.K_I * frame.K_I / test.effective_modulus;
@@ -219,8 +263,12 @@ void RenderFrames(const SynthRequest& request, const SimulationResult& sim,
         frame.field.k_over_2mu = frame.K_I / (2 * mu) / std::sqrt(test.window.scale);
         frame.delta_root = 0;
       }
-      frame.image = f == 0 ? renderer.RenderReference(request.seed * 1000 + f)
-                           : renderer.Render(frame.field, request.seed * 1000 + f);
+      if (f == 0)
+        frame.image = renderer.RenderReference(request.seed * 1000 + f);
+      else if (plate.orthotropic)
+        frame.image = renderer.Render(OrthotropicKField(frame.field, plate), request.seed * 1000 + f);
+      else
+        frame.image = renderer.Render(frame.field, request.seed * 1000 + f);
     }
     test.frames.push_back(std::move(frame));
     progress.Update(f + 1);

@@ -43,16 +43,9 @@ double ShPolyDerivative(double u) {
 }  // namespace
 
 // ---------------------------------------------------------------- moduli
-double EffectiveModulus(const MaterialSpec& m, PlaneCondition plane) {
-  if (!m.orthotropic) {
-    RequirePositive(m.E, "material.E", "Pa");
-    if (plane == PlaneCondition::kPlaneStress) return m.E;
-    if (!(m.nu > -1.0 && m.nu < 0.5))
-      throw Error(ErrorKind::kInput, "Poisson's ratio out of range",
-                  {.field = "material.nu", .value = fmt::format("{:g}", m.nu),
-                   .expected = "-1 < nu < 0.5"});
-    return m.E / (1.0 - m.nu * m.nu);
-  }
+InPlaneCompliance OrthotropicInPlaneCompliance(const MaterialSpec& m, PlaneCondition plane) {
+  if (!m.orthotropic)
+    throw Error(ErrorKind::kInternal, "in-plane orthotropic compliance of an isotropic material");
   RequirePositive(m.E1, "material.E1", "Pa");
   RequirePositive(m.E2, "material.E2", "Pa");
   RequirePositive(m.G12, "material.G12", "Pa");
@@ -72,6 +65,21 @@ double EffectiveModulus(const MaterialSpec& m, PlaneCondition plane) {
     a22 = b22;
     a12 = b12;
   }
+  return {a11, a22, a12, a66};
+}
+
+double EffectiveModulus(const MaterialSpec& m, PlaneCondition plane) {
+  if (!m.orthotropic) {
+    RequirePositive(m.E, "material.E", "Pa");
+    if (plane == PlaneCondition::kPlaneStress) return m.E;
+    if (!(m.nu > -1.0 && m.nu < 0.5))
+      throw Error(ErrorKind::kInput, "Poisson's ratio out of range",
+                  {.field = "material.nu", .value = fmt::format("{:g}", m.nu),
+                   .expected = "-1 < nu < 0.5"});
+    return m.E / (1.0 - m.nu * m.nu);
+  }
+  const InPlaneCompliance c = OrthotropicInPlaneCompliance(m, plane);
+  const double a11 = c.b11, a22 = c.b22, a12 = c.b12, a66 = c.b66;
   const double inner = std::sqrt(a22 / a11) + (2.0 * a12 + a66) / (2.0 * a11);
   if (!(inner > 0.0 && a11 > 0.0 && a22 > 0.0))
     throw Error(ErrorKind::kInput, "orthotropic constants give no positive effective modulus",

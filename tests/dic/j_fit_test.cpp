@@ -181,6 +181,88 @@ TEST(FieldFitJ, OrthotropicSeriesWithIsotropicConstantsMatchesTheIsotropicFit) {
   EXPECT_NEAR(ortho.J / truth, 1.0, 1e-3);
 }
 
+// The synthetic orthotropic plate (BridgedCrackField::SetOrthotropic, what
+// synth renders for an orthotropic scene): without tractions it is the
+// Sih-Paris-Irwin field; with a bridging zone the faces open as the solver's
+// OpeningAt says (so 2 mu = E'/2 is the plate's opening compliance), and the
+// orthotropic series gives J_ff = K_applied^2 / E'.
+struct WoodPlate {
+  double E1 = 10e9, E2 = 3e9, G12 = 1.5e9, nu12 = 0.3;
+  double b11() const { return 1 / E1; }
+  double b22() const { return 1 / E2; }
+  double b12() const { return -nu12 / E1; }
+  double b66() const { return 1 / G12; }
+};
+
+TEST(FieldFitJ, OrthotropicBridgedCrackWithoutTractionsIsTheKField) {
+  for (const WoodPlate p : {WoodPlate{}, WoodPlate{10e9, 3e9, 5e9, 0.3}}) {
+    test_fields::OrthotropicTipField k(0.5e6, p.E1, p.E2, p.G12, p.nu12, kScale);
+    k.tip_x = 300;
+    k.tip_y = 160;
+    const double e_prime = k.k * k.k / k.J();
+    BridgedCrackField b;
+    b.tip_x = 300;
+    b.tip_y = 160;
+    b.SetOrthotropic(p.b11(), p.b22(), p.b12(), p.b66(), 0.5 * e_prime);
+    b.k_over_2mu = k.k / (0.5 * e_prime) / std::sqrt(kScale);
+    b.zone_length = 10;
+    b.segments = 4;
+    b.Solve();
+    double worst = 0, scale = 0;
+    for (double x = 10; x < 400; x += 13)
+      for (double y = 10; y < 320; y += 11) {
+        double u0, v0, u1, v1;
+        k(x, y, &u0, &v0);
+        b(x, y, &u1, &v1);
+        worst = std::max({worst, std::abs(u1 - u0), std::abs(v1 - v0)});
+        scale = std::max({scale, std::abs(u0), std::abs(v0)});
+      }
+    EXPECT_LT(worst, 1e-9 * scale) << "G12 " << p.G12;
+  }
+}
+
+TEST(FieldFitJ, OrthotropicBridgedCrackOpensAsSolvedAndGivesTheAppliedJ) {
+  const WoodPlate p;
+  test_fields::OrthotropicTipField k(1.0, p.E1, p.E2, p.G12, p.nu12, kScale);
+  const double e_prime = 1 / k.J();  // J = K^2 / E' at K = 1
+  const double two_mu = 0.5 * e_prime;
+  for (double zone : {40.0, 90.0, 150.0}) {
+    BridgedCrackField b;
+    b.tip_x = 150 + zone;
+    b.tip_y = 160;
+    b.SetOrthotropic(p.b11(), p.b22(), p.b12(), p.b66(), two_mu);
+    const double K = std::sqrt(e_prime * 310);  // J_ff = 310 J/m^2
+    b.k_over_2mu = K / two_mu / std::sqrt(kScale);
+    b.translation_x = 3;
+    b.translation_y = -2;
+    b.zone_length = zone;
+    b.segments = 120;
+    b.traction_over_2mu = [two_mu](double delta_px) {
+      const double d = delta_px * kScale;
+      return (d < 2e-3 ? 1e6 * (1 - d / 2e-3) : 0.0) / two_mu;
+    };
+    b.Solve();
+    // The faces' opening of the field against the solver's: the field sums
+    // 4 point pairs per segment, the solver integrates each exactly
+    // (measured 2e-5 px apart, 5e-5..8e-5 of the opening); a wrong opening
+    // compliance would be a share of order one.
+    for (double r : {0.2 * zone, 0.5 * zone, 0.9 * zone}) {
+      double u_up, v_up, u_dn, v_dn;
+      b(b.tip_x - r, 160 - 1e-9, &u_up, &v_up);
+      b(b.tip_x - r, 160 + 1e-9, &u_dn, &v_dn);
+      EXPECT_NEAR(v_dn - v_up, b.OpeningAt(r), 2e-4 * b.OpeningAt(r)) << "zone " << zone << " r " << r;
+    }
+    const DisplacementField f = View(b, b.tip_x);
+    const FieldFitJResult r =
+        FitFarFieldJ(f, 150 + 0.5 * zone, 160, 1, 0, 0.5 * zone + 21,
+                     ElasticConstants::Orthotropic(p.E1, p.E2, p.G12, p.nu12), kScale, {});
+    ASSERT_EQ(r.status, FieldFitJStatus::kOk) << r.why;
+    std::printf("orthotropic bridged, zone %.0f px: J_ff %.5g (true 310, %+.4f %%), K_tip/K %.3f, %d points\n",
+                zone, r.J, 100 * (r.J / 310 - 1), b.TipKOver2mu() / b.k_over_2mu, r.points);
+    EXPECT_NEAR(r.J / 310, 1.0, 1e-3) << "zone " << zone;
+  }
+}
+
 TEST(FieldFitJ, BridgedCrackGivesTheAppliedJ) {
   for (double zone : {40.0, 90.0, 150.0}) {
     const BridgedCrackField b = Bridged(zone);

@@ -7,6 +7,7 @@
 // crack) get the gap intensity.
 
 #include <cstdint>
+#include <complex>
 #include <functional>
 #include <memory>
 #include <string>
@@ -99,9 +100,29 @@ struct BridgedCrackField {
   double TipKOver2mu() const;
   double TractionAt(double r) const;  // solved traction / (2 mu) at r behind the tip
 
+  // An orthotropic plate, axis 1 along the crack, in-plane compliances
+  // b11, b22, b12, b66 [1/Pa] (plane stress a_ij, or plane strain's
+  // reduced ones): the same Z and Zb (which set the faces' tractions and
+  // opening) drive Lekhnitskii's potentials phi_k = c_k 2mu Zb(z_k),
+  // z_k = x' + mu_k y' (roots of b11 mu^4 + (2 b12 + b66) mu^2 + b22 = 0,
+  // Im > 0), c_1 = -mu_2 / (2 (mu_1 - mu_2)), c_2 = mu_1 / (2 (mu_1 - mu_2)),
+  //   u_x' = 2 Re(p_1 phi_1 + p_2 phi_2),  u_y' = 2 Re(q_1 phi_1 + q_2 phi_2),
+  // so that sigma_12 = 0 and sigma_22 = 2mu Re Z on the crack line, as for
+  // an isotropic plate. Sets kappa = 1; `two_mu` [Pa] must be E'/2 (E' the
+  // plate's effective modulus, specimen::EffectiveModulus) and k_over_2mu,
+  // traction_over_2mu divided by it: the opening is then (kappa + 1)/(2 mu)
+  // = 4/E' times the isotropic form, as the plate's. Without tractions the
+  // field is Sih, Paris & Irwin's (1965).
+  void SetOrthotropic(double b11, double b22, double b12, double b66, double two_mu);
+  bool orthotropic() const { return orthotropic_; }
+
  private:
+  // Z and Zb (per 2 mu) at z in the crack frame (the branch cut on the faces).
+  void Westergaard(std::complex<double> z, std::complex<double>* Z, std::complex<double>* Zb) const;
   std::vector<double> tau_;  // per segment, traction / (2 mu)
   double h_ = 0;
+  bool orthotropic_ = false;
+  std::complex<double> mu1_, mu2_, P1_, P2_, Q1_, Q2_;  // P_k = 2mu c_k p_k, Q_k = 2mu c_k q_k
 };
 
 }  // namespace bridgefit::dic

@@ -41,6 +41,15 @@ namespace bridgefit::specimen {
 // A rotated material (angle != 0) throws.
 double EffectiveModulus(const MaterialSpec& material, PlaneCondition plane);
 
+// The in-plane compliances b11, b22, b12, b66 [1/Pa] of an orthotropic
+// material (axis 1 along the crack) that EffectiveModulus uses: plane stress
+// a_ij, plane strain reduced as above. Throws for an isotropic or rotated
+// material.
+struct InPlaneCompliance {
+  double b11 = 0, b22 = 0, b12 = 0, b66 = 0;
+};
+InPlaneCompliance OrthotropicInPlaneCompliance(const MaterialSpec& material, PlaneCondition plane);
+
 // ---- Compact tension, ASTM E399 proportions -----------------------------
 inline constexpr double kCtMinRelativeCrack = 0.2;
 inline constexpr double kCtMaxRelativeCrack = 0.95;            // f(a/W)
