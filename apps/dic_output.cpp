@@ -110,6 +110,8 @@ void PrintDicResult(const dic::CrackSequenceResult& result, const dic::CrackSequ
           {"williams_shift_px",
            f.tip.williams.found ? NumberOrNull(f.tip.williams_shift_px) : nlohmann::json()},
           {"williams_unstable", f.tip.williams_unstable},
+          {"williams_closing_shift_px",
+           f.tip.williams.found ? NumberOrNull(f.tip.williams_closing_shift_px) : nlohmann::json()},
           {"jump_threshold_px", f.tip.threshold_px},
           {"valid_fraction", f.valid_fraction},
           {"mean_zncc", f.correlation.mean_zncc},

@@ -20,13 +20,19 @@ struct WilliamsFit {
   int rows = 0, cols = 0;
 };
 
+// `closing_terms` (0-2) adds the fields of a closing traction on the faces
+// uniform (sigma22 = 1: u = (-nu' x, y)) and linear along the crack
+// (Airy x^3/6, sigma22 = x: u = (-nu' x^2/2 - y^2/2, x y)), nu' =
+// (3 - kappa)/(1 + kappa): near the tip of a bridged crack the faces carry
+// tractions, which the traction-free Williams series cannot follow.
 WilliamsFit FitWilliams(const std::vector<const LocalPoint*>& pts, double s_tip,
-                        const CrackTipOptions& o) {
+                        const CrackTipOptions& o, int closing_terms = 0) {
   WilliamsFit fit;
   const double L = o.line.Length();
   const double tx = (o.line.x1 - o.line.x0) / L, ty = (o.line.y1 - o.line.y0) / L;
   const int n1 = o.mode1_terms, n2 = o.mode2_terms;
-  const int cols = 3 + n1 + n2;
+  const double nu_eff = (3 - o.kappa) / (1 + o.kappa);
+  const int cols = 3 + n1 + n2 + closing_terms;
   const int rows = 2 * static_cast<int>(pts.size());
   if (rows < 2 * cols) return fit;
   Eigen::MatrixXd A(rows, cols);
@@ -58,6 +64,8 @@ WilliamsFit FitWilliams(const std::vector<const LocalPoint*>& pts, double s_tip,
       WilliamsModeII(2 * m + 1, r, t, o.kappa, &fx, &fy);
       put(fx, fy);
     }
+    if (closing_terms >= 1) put(-nu_eff * xl, yl);
+    if (closing_terms >= 2) put(-0.5 * nu_eff * xl * xl - 0.5 * yl * yl, xl * yl);
     b(ru) = p.u;
     b(rv) = p.v;
   }
@@ -235,7 +243,7 @@ struct TipScan {
 // Grid scan of the residual over [lo, hi] (quarter-station spacing), golden
 // section about the best node; sigma from Delta SSR = SSR / (N - p).
 TipScan ScanTip(const std::vector<const LocalPoint*>& set, double lo, double hi,
-                const CrackTipOptions& o) {
+                const CrackTipOptions& o, int closing_terms = 0) {
   TipScan out;
   const double h = std::max(0.5, 0.25 * o.station_spacing_px);
   std::vector<double> grid_s;
@@ -243,7 +251,7 @@ TipScan ScanTip(const std::vector<const LocalPoint*>& set, double lo, double hi,
   // The scan's fits are independent (about 100 QR solves of 2N x 9-12).
   std::vector<double> grid_ssr(grid_s.size());
 #pragma omp parallel for schedule(dynamic, 2)
-  for (size_t k = 0; k < grid_s.size(); ++k) grid_ssr[k] = FitWilliams(set, grid_s[k], o).ssr;
+  for (size_t k = 0; k < grid_s.size(); ++k) grid_ssr[k] = FitWilliams(set, grid_s[k], o, closing_terms).ssr;
   size_t best = 0;
   for (size_t k = 1; k < grid_s.size(); ++k)
     if (grid_ssr[k] < grid_ssr[best]) best = k;
@@ -251,18 +259,19 @@ TipScan ScanTip(const std::vector<const LocalPoint*>& set, double lo, double hi,
   double a = grid_s[best] - h, c = grid_s[best] + h;
   const double g = 0.5 * (std::sqrt(5.0) - 1.0);
   double x1 = c - g * (c - a), x2 = a + g * (c - a);
-  double f1 = FitWilliams(set, x1, o).ssr, f2 = FitWilliams(set, x2, o).ssr;
+  double f1 = FitWilliams(set, x1, o, closing_terms).ssr, f2 = FitWilliams(set, x2, o, closing_terms).ssr;
   for (int it = 0; it < 30 && c - a > 1e-3; ++it) {
     if (f1 < f2) {
-      c = x2; x2 = x1; f2 = f1; x1 = c - g * (c - a); f1 = FitWilliams(set, x1, o).ssr;
+      c = x2; x2 = x1; f2 = f1; x1 = c - g * (c - a); f1 = FitWilliams(set, x1, o, closing_terms).ssr;
     } else {
-      a = x1; x1 = x2; f1 = f2; x2 = a + g * (c - a); f2 = FitWilliams(set, x2, o).ssr;
+      a = x1; x1 = x2; f1 = f2; x2 = a + g * (c - a); f2 = FitWilliams(set, x2, o, closing_terms).ssr;
     }
   }
   out.s = 0.5 * (a + c);
-  out.fit = FitWilliams(set, out.s, o);
+  out.fit = FitWilliams(set, out.s, o, closing_terms);
   const double e = std::max(h, 1.0);
-  const double fp = FitWilliams(set, out.s + e, o).ssr, fm = FitWilliams(set, out.s - e, o).ssr;
+  const double fp = FitWilliams(set, out.s + e, o, closing_terms).ssr,
+               fm = FitWilliams(set, out.s - e, o, closing_terms).ssr;
   const double curv = (fp + fm - 2 * out.fit.ssr) / (e * e);
   const double sigma2 = out.fit.ssr / std::max(1, out.fit.rows - out.fit.cols - 1);
   out.sigma = curv > 0 ? std::sqrt(2.0 * sigma2 / curv) : o.station_spacing_px;
@@ -327,6 +336,17 @@ void WilliamsTip(const DisplacementField& field, const std::vector<LocalPoint>& 
   const double tol = 2.0 * std::max(scan.sigma, ds / std::sqrt(12.0));
   res.williams_shift_px = inner.found ? inner.s - scan.s : std::numeric_limits<double>::infinity();
   res.williams_unstable = !(std::abs(res.williams_shift_px) <= tol);
+  // The model's share: the tip with closing tractions on the faces allowed
+  // (a bridged crack's near-tip field) minus the traction-free tip; on a
+  // bridged crack the traction-free tip lies behind the true one (measured
+  // 3-6 px on synth's bridged frames, 0.3-0.6 mm), the closing fit within
+  // about 1 px. Added to the tip's uncertainty (with the grid's resolution,
+  // one station / sqrt(12), an independent share), so that a bridged
+  // frame's length is not stated tighter than the model allows.
+  const TipScan closed = ScanTip(set, lo, hi, o, 2);
+  res.williams_closing_shift_px = closed.found ? closed.s - scan.s : 0.0;
+  t.uncertainty_px = std::hypot(std::max(scan.sigma, ds / std::sqrt(12.0)),
+                                res.williams_closing_shift_px);
 }
 
 }  // namespace bridgefit::dic::detail

@@ -99,6 +99,10 @@ struct CrackTipResult {
   // tip is unstable, reported but never the length (the fallback is).
   double williams_shift_px = 0;
   bool williams_unstable = false;
+  // The Williams tip refitted with closing tractions on the faces (uniform
+  // and linear, a bridged crack's near-tip field) minus the traction-free
+  // tip; part of williams.uncertainty_px (added in quadrature).
+  double williams_closing_shift_px = 0;
   TipMethod method = TipMethod::kWilliams;  // the method that gave `tip`
   TipEstimate tip;
   // The found tips differ by more than their stated uncertainties allow
