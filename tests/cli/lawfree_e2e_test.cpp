@@ -40,10 +40,14 @@
 // now needs flatness established, docs/LAW_FREE.md).
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
@@ -144,6 +148,50 @@ max_crack_length = "45 mm"
   }
 
   EXPECT_GE(fit_within_2u, fit_frames - 3) << "of " << fit_frames;
+
+  // Issue 18 on a bridged crack: every frame's length within 2 u of the
+  // truth or flagged. The traction-free Williams tip lies 3-6 px behind
+  // here (-0.27 .. -0.57 mm from frame 5 on); before the closing-traction
+  // share joined the uncertainty it was stated as 0.144 mm (z to -3.9).
+  {
+    std::ifstream csv(dir / "dic.csv");
+    auto split = [](const std::string& text) {
+      std::vector<std::string> cell;
+      std::stringstream ss(text);
+      for (std::string c; std::getline(ss, c, ',');) {
+        const auto b = c.find_first_not_of(' '), e = c.find_last_not_of(' ');
+        cell.push_back(b == std::string::npos ? "" : c.substr(b, e - b + 1));
+      }
+      return cell;
+    };
+    std::string line;
+    std::getline(csv, line);
+    const std::vector<std::string> header = split(line);
+    auto column = [&](const std::string& name) {
+      const auto it = std::find(header.begin(), header.end(), name);
+      EXPECT_NE(it, header.end()) << name;
+      return static_cast<std::size_t>(it - header.begin());
+    };
+    const std::size_t raw = column("crack_length_raw [mm]"), unc = column("uncertainty [mm]"),
+                      flags = column("flags");
+    const std::vector<double> true_a = truth.ColumnSi("crack_length", Dimension::Length());
+    int k = 0, covered = 0, frames = 0;
+    while (std::getline(csv, line)) {
+      const std::vector<std::string> cell = split(line);
+      if (k > 0 && cell.size() > flags && !cell[raw].empty()) {
+        const double a = std::stod(cell[raw]) * 1e-3, u = std::stod(cell[unc]) * 1e-3;
+        const bool flagged = !cell[flags].empty();
+        const bool ok = std::abs(a - true_a[k]) <= 2 * u || flagged;
+        covered += ok;
+        ++frames;
+        EXPECT_TRUE(ok) << "frame " << k << ": a " << a * 1e3 << " mm, truth " << true_a[k] * 1e3
+                        << " mm, u " << u * 1e3 << " mm";
+      }
+      ++k;
+    }
+    EXPECT_EQ(frames, 15);
+    std::printf("crack lengths within 2 u of the truth or flagged: %d of %d frames\n", covered, frames);
+  }
 
   // The law.
   const LawFreeRun out = ReadLawFreeH5(dir / "lawfree.h5");

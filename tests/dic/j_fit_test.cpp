@@ -14,6 +14,7 @@
 
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/dic/speckle.hpp"
+#include "bridgefit/dic/crack.hpp"
 #include "orthotropic_tip_field.hpp"
 
 namespace bridgefit::dic {
@@ -342,6 +343,40 @@ TEST(FieldFitJ, StatusesInsteadOfAJ) {
   FieldFitJOptions bad;
   bad.lowest_order = 0;
   EXPECT_THROW(FitFarFieldJ(f, 195, 160, 1, 0, 66, kElastic, kScale, bad), Error);
+}
+
+}  // namespace
+}  // namespace bridgefit::dic
+
+namespace bridgefit::dic {
+namespace {
+
+// The Williams tip on a bridged crack (the e2e test's geometry, exact field
+// on its 5 px grid): the traction-free series puts the tip behind the true
+// one (the closing tractions on the faces are not in it); the tip refitted
+// with closing tractions (williams_closing_shift_px) is part of the stated
+// uncertainty, which must hold the error (k = 2). On this exact field the
+// tip is 1.8-2.0 px behind, within the grid's 2 x 1.44 px even without that
+// share; on DIC'd images of the same crack it is 3-6 px behind and was not
+// (tests/cli/lawfree_e2e_test.cpp asserts it there).
+TEST(BridgedTip, TipBehindOnABridgedCrackIsWithinItsUncertainty) {
+  for (double zone : {60.0, 100.0, 150.0}) {
+    const BridgedCrackField b = Bridged(zone);
+    const DisplacementField f = View(b, b.tip_x);
+    CrackTipOptions o;
+    o.line = {0, 160, 399, 160};
+    o.station_spacing_px = 5;
+    o.band_half_width_px = 16;
+    o.kappa = kKappa;
+    const CrackTipResult r = LocateCrackTip(f, o, TipMethod::kWilliams);
+    ASSERT_TRUE(r.williams.found) << "zone " << zone;
+    const double err = r.williams.s_px - b.tip_x;
+    const double u = std::max(r.williams.uncertainty_px, 5 / std::sqrt(12.0));
+    std::printf("bridged tip, zone %.0f px: Williams %+.2f px, closing shift %+.2f px, u %.2f px\n",
+                zone, err, r.williams_closing_shift_px, u);
+    EXPECT_LE(std::abs(err), 2 * u) << "zone " << zone;
+    EXPECT_GT(r.williams_closing_shift_px, 0) << "the closing fit's tip lies ahead";
+  }
 }
 
 }  // namespace
