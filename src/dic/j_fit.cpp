@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "bridgefit/core/error.hpp"
+#include "plane_stress_stiffness.hpp"
 #include "orthotropic_series.hpp"
 #include "williams_basis.hpp"
 
@@ -79,18 +80,6 @@ struct Basis {
     }
   }
 };
-
-// Plane-stress stiffness (sigma11, sigma22, sigma12) = C (e11, e22, g12),
-// axis 1 along the crack.
-Eigen::Matrix3d Stiffness(const ElasticConstants& e) {
-  Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
-  if (e.kind == ElasticConstants::Kind::kIsotropic) {
-    S << 1 / e.E, -e.nu / e.E, 0, -e.nu / e.E, 1 / e.E, 0, 0, 0, 2 * (1 + e.nu) / e.E;
-  } else {
-    S << 1 / e.E1, -e.nu12 / e.E1, 0, -e.nu12 / e.E1, 1 / e.E2, 0, 0, 0, 1 / e.G12;
-  }
-  return S.inverse();
-}
 
 // The J integrand (W n1 - sigma_ij n_j u_i,1) as a quadratic form h^T M h
 // of h = (u1,1, u1,2, u2,1, u2,2), outward normal n.
@@ -270,7 +259,7 @@ FieldFitJResult FitFarFieldJ(const DisplacementField& field, double centre_x, do
     k_factor = basis.ortho->ModeIFactor();
   }
   out.terms = basis.Size();
-  const Eigen::MatrixXd Q = ContourForm(basis, Stiffness(elastic), 1.0);
+  const Eigen::MatrixXd Q = ContourForm(basis, detail::PlaneStressStiffness(elastic), 1.0);
   auto j_of = [&](const FitOutcome& fit, double radius) {
     return fit.coef.dot(Q * fit.coef) * metres_per_unit / radius;
   };

@@ -11,6 +11,7 @@
 #include <Eigen/Dense>
 
 #include "bridgefit/core/error.hpp"
+#include "plane_stress_stiffness.hpp"
 
 namespace bridgefit::dic {
 
@@ -277,17 +278,6 @@ Gradients FitGradients(const DisplacementField& f, const Grid& g, const JIntegra
   return out;
 }
 
-// Plane-stress stiffness (Voigt: 11, 22, 12 with engineering shear) = S^-1.
-Eigen::Matrix3d Stiffness(const ElasticConstants& e) {
-  Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
-  if (e.kind == ElasticConstants::Kind::kIsotropic) {
-    S << 1 / e.E, -e.nu / e.E, 0, -e.nu / e.E, 1 / e.E, 0, 0, 0, 2 * (1 + e.nu) / e.E;
-  } else {
-    S << 1 / e.E1, -e.nu12 / e.E1, 0, -e.nu12 / e.E1, 1 / e.E2, 0, 0, 0, 1 / e.G12;
-  }
-  return S.inverse();
-}
-
 // q = 1 - smoothstep(t) and dq/dr, t = (r - r_in) / (r_out - r_in).
 void Weight(double r, double r_in, double r_out, double* q, double* dqdr) {
   const double width = r_out - r_in;
@@ -473,7 +463,7 @@ JIntegralResult ComputeJIntegral(const DisplacementField& field, const CrackGeom
                 {.field = "JIntegralOptions"});
   elastic.Validate();
   const Grid grid = CheckField(field, crack);
-  const Eigen::Matrix3d C = Stiffness(elastic);
+  const Eigen::Matrix3d C = detail::PlaneStressStiffness(elastic);
 
   JIntegralResult result;
   const Gradients grad = FitGradients(field, grid, options);

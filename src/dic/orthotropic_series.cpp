@@ -10,32 +10,32 @@
 
 namespace bridgefit::dic::detail {
 
-namespace {
-
 using cd = std::complex<double>;
 
-// Roots mu_1, mu_2 (Im > 0) of s11 mu^4 + b mu^2 + s22 = 0.
-void Roots(double s11, double s22, double b, cd* mu1, cd* mu2) {
-  const cd root = std::sqrt(cd(b * b - 4 * s11 * s22));
-  *mu1 = std::sqrt((-b + root) / (2 * s11));
-  *mu2 = std::sqrt((-b - root) / (2 * s11));
-  if (mu1->imag() < 0) *mu1 = -*mu1;
-  if (mu2->imag() < 0) *mu2 = -*mu2;
+double OrthotropicRoots(double s11, double s22, double s12, double s66, cd* mu1, cd* mu2) {
+  auto roots = [&](double b) {
+    const cd root = std::sqrt(cd(b * b - 4 * s11 * s22));
+    *mu1 = std::sqrt((-b + root) / (2 * s11));
+    *mu2 = std::sqrt((-b - root) / (2 * s11));
+    if (mu1->imag() < 0) *mu1 = -*mu1;
+    if (mu2->imag() < 0) *mu2 = -*mu2;
+  };
+  roots(2 * s12 + s66);
+  double raised = 0;
+  for (double raise = 1e-5; std::abs(*mu1 - *mu2) < 0.02 * std::abs(*mu1); raise *= 2) {
+    if (raise > 1e-3)
+      throw Error(ErrorKind::kInternal, "orthotropic roots: they stay within 2 %");
+    raised = raise;
+    roots(2 * s12 + s66 * (1 + raise));
+  }
+  return raised;
 }
-
-}  // namespace
 
 OrthotropicSeries::OrthotropicSeries(double s11, double s22, double s12, double s66, int lo,
                                      int hi)
     : s11_(s11), s22_(s22), s12_(s12), s66_(s66) {
-  Roots(s11_, s22_, 2 * s12_ + s66_, &mu1_, &mu2_);
-  for (double raise = 1e-5; std::abs(mu1_ - mu2_) < 0.02 * std::abs(mu1_); raise *= 2) {
-    if (raise > 1e-3)
-      throw Error(ErrorKind::kInternal, "orthotropic series: the roots stay within 2 %");
-    s66_ = s66 * (1 + raise);
-    s66_raised = raise;
-    Roots(s11_, s22_, 2 * s12_ + s66_, &mu1_, &mu2_);
-  }
+  s66_raised = OrthotropicRoots(s11_, s22_, s12_, s66_, &mu1_, &mu2_);
+  s66_ *= 1 + s66_raised;
   p1_ = s11_ * mu1_ * mu1_ + s12_;
   p2_ = s11_ * mu2_ * mu2_ + s12_;
   q1_ = s12_ * mu1_ + s22_ / mu1_;

@@ -22,6 +22,13 @@
 
 namespace bridgefit::dic::detail {
 
+// The roots mu_1, mu_2 (Im > 0) of s11 mu^4 + (2 s12 + s66) mu^2 + s22 = 0,
+// moved apart when within 2 % of each other (a nearly isotropic plate, whose
+// double root has no potentials of the form A_k f(z_k)) by raising s66 by
+// at most 0.1 %; returns the relative raise (0 if none).
+double OrthotropicRoots(double s11, double s22, double s12, double s66, std::complex<double>* mu1,
+                        std::complex<double>* mu2);
+
 class OrthotropicSeries {
  public:
   // Plane-stress compliances [1/Pa]: s11 = 1/E1, s22 = 1/E2,

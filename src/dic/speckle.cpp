@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "bridgefit/core/error.hpp"
+#include "orthotropic_series.hpp"
 
 namespace bridgefit::dic {
 
@@ -318,22 +319,9 @@ void BridgedCrackField::Westergaard(std::complex<double> z, std::complex<double>
 void BridgedCrackField::SetOrthotropic(double b11, double b22, double b12, double b66,
                                        double two_mu) {
   using C = std::complex<double>;
-  auto roots = [&](double s66) {
-    const double b = 2 * b12 + s66;
-    const C root = std::sqrt(C(b * b - 4 * b11 * b22));
-    mu1_ = std::sqrt((-b + root) / (2 * b11));
-    mu2_ = std::sqrt((-b - root) / (2 * b11));
-    if (mu1_.imag() < 0) mu1_ = -mu1_;
-    if (mu2_.imag() < 0) mu2_ = -mu2_;
-  };
-  roots(b66);
-  // A double root (isotropic constants) has no potentials of this form:
-  // roots within 2 % are moved apart by raising b66 by at most 0.1 %, as
-  // the field-wide J fit's series does (dic/orthotropic_series.hpp).
-  for (double raise = 1e-5; std::abs(mu1_ - mu2_) < 0.02 * std::abs(mu1_); raise *= 2) {
-    if (raise > 1e-3) throw Error(ErrorKind::kInternal, "bridged crack: the roots stay within 2 %");
-    roots(b66 * (1 + raise));
-  }
+  // A double root (isotropic constants) is moved apart as the field-wide J
+  // fit's series does (one home: dic/orthotropic_series.hpp).
+  detail::OrthotropicRoots(b11, b22, b12, b66, &mu1_, &mu2_);
   const C c1 = -mu2_ / (2.0 * (mu1_ - mu2_)), c2 = mu1_ / (2.0 * (mu1_ - mu2_));
   P1_ = two_mu * c1 * (b11 * mu1_ * mu1_ + b12);
   P2_ = two_mu * c2 * (b11 * mu2_ * mu2_ + b12);
