@@ -15,7 +15,9 @@
 // Environment: BF_FIT_LO, BF_FIT_HI, BF_FIT_MARGIN, BF_FIT_LAG (the field
 // fit's orders, extra circle points, HAC lags); BF_EXACT_BOX=M (the exact
 // field averaged over M x M px squares, as a first-order subset reads it);
-// BF_ERR_MAP=1 (the last frame's mean DIC error in 40 px cells).
+// BF_ERR_MAP=1 (the last frame's mean DIC error in 40 px cells);
+// BF_HYBRID=1 (the fit's J on the exact field with the DIC's values in one
+// region only: near / mid / far from the crack line, behind / ahead of the tip).
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
