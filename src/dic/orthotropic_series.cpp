@@ -33,9 +33,8 @@ double OrthotropicRoots(double s11, double s22, double s12, double s66, cd* mu1,
 
 OrthotropicSeries::OrthotropicSeries(double s11, double s22, double s12, double s66, int lo,
                                      int hi)
-    : s11_(s11), s22_(s22), s12_(s12), s66_(s66) {
-  s66_raised = OrthotropicRoots(s11_, s22_, s12_, s66_, &mu1_, &mu2_);
-  s66_ *= 1 + s66_raised;
+    : s11_(s11), s22_(s22), s12_(s12) {
+  OrthotropicRoots(s11_, s22_, s12_, s66, &mu1_, &mu2_);
   p1_ = s11_ * mu1_ * mu1_ + s12_;
   p2_ = s11_ * mu2_ * mu2_ + s12_;
   q1_ = s12_ * mu1_ + s22_ / mu1_;
@@ -70,12 +69,10 @@ OrthotropicSeries::OrthotropicSeries(double s11, double s22, double s12, double 
   // Scale each term to a unit RMS displacement on the unit circle (the
   // fit scales its columns anyway; this keeps Q and the K factors O(1/s)).
   for (Term& term : terms_) {
-    OrthotropicSeries one = *this;
-    one.terms_ = {term};
     double ss = 0;
     for (int k = 0; k < 16; ++k) {
       double u1 = 0, u2 = 0;
-      one.Eval(1.0, std::numbers::pi * (-0.9375 + 0.125 * k), &u1, &u2);
+      TermAt(term, 1.0, std::numbers::pi * (-0.9375 + 0.125 * k), &u1, &u2);
       ss += u1 * u1 + u2 * u2;
     }
     const double scale = 1 / std::sqrt(ss / 16);
@@ -84,23 +81,24 @@ OrthotropicSeries::OrthotropicSeries(double s11, double s22, double s12, double 
   }
 }
 
-void OrthotropicSeries::Eval(double r, double t, double* u1, double* u2) const {
+void OrthotropicSeries::TermAt(const Term& term, double r, double t, double* u1,
+                               double* u2) const {
   const double c = std::cos(t), s = std::sin(t);
-  const cd zeta1 = c + mu1_ * s, zeta2 = c + mu2_ * s;
-  for (std::size_t k = 0; k < terms_.size(); ++k) {
-    const Term& term = terms_[k];
-    if (term.t_stress) {
-      // sigma11 = T, sigma22 = sigma12 = 0 (T = A1 / s11): u = (x1, s12/s11 x2) A1.
-      const double amp = term.A1.real();
-      u1[k] = amp * r * c;
-      u2[k] = amp * (s12_ / s11_) * r * s;
-      continue;
-    }
-    const double lambda = 0.5 * term.n, rl = std::pow(r, lambda);
-    const cd f1 = term.A1 * std::pow(zeta1, lambda) * rl, f2 = term.A2 * std::pow(zeta2, lambda) * rl;
-    u1[k] = 2 * (p1_ * f1 + p2_ * f2).real();
-    u2[k] = 2 * (q1_ * f1 + q2_ * f2).real();
+  if (term.t_stress) {
+    // sigma11 = T, sigma22 = sigma12 = 0 (T = A1 / s11): u = (x1, s12/s11 x2) A1.
+    *u1 = term.A1.real() * r * c;
+    *u2 = term.A1.real() * (s12_ / s11_) * r * s;
+    return;
   }
+  const double lambda = 0.5 * term.n, rl = std::pow(r, lambda);
+  const cd f1 = term.A1 * std::pow(c + mu1_ * s, lambda) * rl;
+  const cd f2 = term.A2 * std::pow(c + mu2_ * s, lambda) * rl;
+  *u1 = 2 * (p1_ * f1 + p2_ * f2).real();
+  *u2 = 2 * (q1_ * f1 + q2_ * f2).real();
+}
+
+void OrthotropicSeries::Eval(double r, double t, double* u1, double* u2) const {
+  for (std::size_t k = 0; k < terms_.size(); ++k) TermAt(terms_[k], r, t, &u1[k], &u2[k]);
 }
 
 std::vector<double> OrthotropicSeries::ModeIFactor() const {

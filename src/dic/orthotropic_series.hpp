@@ -34,8 +34,8 @@ class OrthotropicSeries {
   // Plane-stress compliances [1/Pa]: s11 = 1/E1, s22 = 1/E2,
   // s12 = -nu12/E1, s66 = 1/G12 (axis 1 along the crack). Orders lo..hi,
   // n != 0. Roots closer than 2 % (a nearly isotropic material) are moved
-  // apart by raising s66 by at most 0.1 % (`s66_raised`): the potentials of
-  // a double root are not of this form.
+  // apart as OrthotropicRoots says: the potentials of a double root are not
+  // of this form.
   OrthotropicSeries(double s11, double s22, double s12, double s66, int lo, int hi);
   // Columns per order: 2, but 1 for n = 2; in the order n = lo..hi.
   int Columns() const { return static_cast<int>(terms_.size()); }
@@ -50,7 +50,6 @@ class OrthotropicSeries {
   double Reach(double x1, double x2) const {
     return std::min(std::abs(x1 + mu1_ * x2), std::abs(x1 + mu2_ * x2));
   }
-  double s66_raised = 0;  // relative change applied to s66 (0 if none)
 
  private:
   struct Term {
@@ -58,7 +57,9 @@ class OrthotropicSeries {
     bool t_stress = false;
     std::complex<double> A1, A2;
   };
-  double s11_, s22_, s12_, s66_;
+  // Displacement of one term at polar (r, t).
+  void TermAt(const Term& term, double r, double t, double* u1, double* u2) const;
+  double s11_, s22_, s12_;
   std::complex<double> mu1_, mu2_, p1_, p2_, q1_, q2_;
   std::vector<Term> terms_;
 };

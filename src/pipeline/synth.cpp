@@ -95,9 +95,6 @@ std::string NoisyRecordCsv(const SynthRequest& request, const ExperimentRecord& 
   return csv;
 }
 
-// A bridged frame (SynthRequest::bridged_field): faces from the notch root
-// to the tip closed by the scene's law, the applied K found by the secant
-// method on K_tip(K_applied) = K_tip,c (monotone, smooth). Lengths in px.
 // The plate the frames show: isotropic (the scene's mu and kappa) or, for
 // an orthotropic scene, Lekhnitskii's plate driven by the same Westergaard
 // functions (dic::BridgedCrackField::SetOrthotropic) with 2 mu = E'/2, so
@@ -142,6 +139,9 @@ dic::BridgedCrackField OrthotropicKField(const dic::ModeICrackField& lefm, const
   return b;
 }
 
+// A bridged frame (SynthRequest::bridged_field): faces from the notch root
+// to the tip closed by the scene's law, the applied K found by the secant
+// method on K_tip(K_applied) = K_tip,c (monotone, smooth). Lengths in px.
 dic::BridgedCrackField BridgedFrame(const SynthRequest& request, const dic::ModeICrackField& lefm,
                                     double zone_px, double scale, const FramePlate& plate,
                                     double E_eff) {

@@ -114,7 +114,6 @@ struct BridgedCrackField {
   // = 4/E' times the isotropic form, as the plate's. Without tractions the
   // field is Sih, Paris & Irwin's (1965).
   void SetOrthotropic(double b11, double b22, double b12, double b66, double two_mu);
-  bool orthotropic() const { return orthotropic_; }
 
  private:
   // Z and Zb (per 2 mu) at z in the crack frame (the branch cut on the faces).
