@@ -29,6 +29,8 @@ bool FieldFitJOptions::IsValid(std::string* why) const {
   if (!(max_residual_fraction > 0 && max_residual_fraction < 1))
     return fail("max_residual_fraction must be in (0, 1)");
   if (correlation_lag < 0 || correlation_lag > 40) return fail("correlation_lag must be in [0, 40]");
+  if (tile_points != 0 && (tile_points < 2 || tile_points > 200))
+    return fail("tile_points must be 0 or in [2, 200]");
   return true;
 }
 
@@ -195,15 +197,62 @@ FitOutcome FitSeries(const DisplacementField& f, double cx, double cy, double c,
   return out;
 }
 
+// Each point's residual as its tile would see it from a fit without the
+// tile (tiles of `tile` x `tile` grid points): r~_b = y_b - A_b c_(-b)
+//   = r_b + A_b M_b^-1 A_b^T r_b,  M_b = A^T A - A_b^T A_b.
+// A fit absorbs part of an error correlated over many points (a patch of
+// DIC bias that the series' smooth terms follow): the plain residuals miss
+// that part, the leave-tile-out residuals restore it (the block form of
+// the jackknife's HC3 correction). Written over res_u, res_v.
+void LeaveTileOutResiduals(const DisplacementField& f, int tile, FitOutcome* fit) {
+  const int n = static_cast<int>(fit->index.size()), p = static_cast<int>(fit->A.cols());
+  const int tiles_x = (f.nx + tile - 1) / tile;
+  std::vector<std::vector<int>> members;
+  std::vector<int> slot(static_cast<std::size_t>(tiles_x) * ((f.ny + tile - 1) / tile), -1);
+  for (int k = 0; k < n; ++k) {
+    const std::size_t i = fit->index[k];
+    const int t = static_cast<int>(i / f.nx) / tile * tiles_x + static_cast<int>(i % f.nx) / tile;
+    if (slot[t] < 0) {
+      slot[t] = static_cast<int>(members.size());
+      members.emplace_back();
+    }
+    members[slot[t]].push_back(k);
+  }
+  const Eigen::VectorXd scale = fit->A.colwise().norm().transpose().cwiseMax(1e-300);
+  const Eigen::MatrixXd As = fit->A * scale.cwiseInverse().asDiagonal();
+  const Eigen::MatrixXd ata = As.transpose() * As;
+  for (const std::vector<int>& rows : members) {
+    const int m = static_cast<int>(rows.size());
+    Eigen::MatrixXd Ab(2 * m, p);
+    Eigen::VectorXd rb(2 * m);
+    for (int j = 0; j < m; ++j) {
+      Ab.row(2 * j) = As.row(2 * rows[j]);
+      Ab.row(2 * j + 1) = As.row(2 * rows[j] + 1);
+      rb(2 * j) = fit->res_u[rows[j]];
+      rb(2 * j + 1) = fit->res_v[rows[j]];
+    }
+    const Eigen::LDLT<Eigen::MatrixXd> mb(ata - Ab.transpose() * Ab);
+    if (mb.info() != Eigen::Success) continue;  // the tile carries the fit: kept as is
+    const Eigen::VectorXd rt = rb + Ab * mb.solve(Ab.transpose() * rb);
+    for (int j = 0; j < m; ++j) {
+      fit->res_u[rows[j]] = rt(2 * j);
+      fit->res_v[rows[j]] = rt(2 * j + 1);
+    }
+  }
+}
+
 // The variance of a linear functional g^T c of the fit under spatially
 // correlated, unequal point errors (a spatial HAC / sandwich estimate): with
-// h = (A^T A)^-1 g, point i's share e_i = h . (a_u,i r_u,i + a_v,i r_v,i),
+// h = (A^T A)^-1 g, point i's share e_i = h . (a_u,i r~_u,i + a_v,i r~_v,i),
 //   Var = sum_i sum_j e_i e_j  over pairs within max_lag grid lags in x and y
 // (uniform weights: Bartlett's taper read a box-correlated noise's variance
-// 1.4x low in SD; max_lag well beyond the correlation length). DIC errors
-// are correlated over a subset and larger where the strain varies.
-double CorrelatedVariance(const DisplacementField& f, const FitOutcome& fit,
-                          const Eigen::VectorXd& g, int max_lag) {
+// 1.4x low in SD; max_lag well beyond the correlation length), r~ the
+// leave-tile-out residuals (`tile` grid points; the plain residuals when
+// 0). DIC errors are correlated over a subset and larger where the strain
+// varies.
+double CorrelatedVariance(const DisplacementField& f, FitOutcome fit, const Eigen::VectorXd& g,
+                          int max_lag, int tile) {
+  if (tile > 0) LeaveTileOutResiduals(f, tile, &fit);
   const Eigen::VectorXd h = fit.covariance_unit * g;
   const Eigen::VectorXd ah = fit.A * h;
   std::vector<double> e(f.size(), 0.0);
@@ -277,7 +326,8 @@ FieldFitJResult FitFarFieldJ(const DisplacementField& field, double centre_x, do
   const Eigen::VectorXd grad = 2 * Q * fit.coef * to_j;
   const double white = fit.ssr / std::max(1, 2 * out.points - out.terms) *
                        grad.dot(fit.covariance_unit * grad);
-  const double correlated = CorrelatedVariance(field, fit, grad, options.correlation_lag);
+  const double correlated = CorrelatedVariance(field, fit, grad, options.correlation_lag,
+                                                 options.tile_points);
   out.J_statistical = std::sqrt(correlated);
   out.correlation_factor = white > 0 ? correlated / white : 1;
   out.residual_rms_m = std::sqrt(fit.ssr / (2.0 * out.points)) * metres_per_unit;

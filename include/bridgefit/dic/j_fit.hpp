@@ -47,6 +47,13 @@ struct FieldFitJOptions {
   double max_residual_fraction = 0.05;
   // Grid lags (x and y) over which the residuals' correlation is summed.
   int correlation_lag = 12;
+  // The residuals summed are each tile's as a fit without the tile sees
+  // them (tiles of tile_points x tile_points grid points): the part of a
+  // patchy DIC error the series absorbs shows. 0: the plain residuals.
+  // 24 (120 px at a 5 px step) covered the synthetic image runs' J errors
+  // (docs/LAW_FREE.md "What the residuals miss"); 12 left 4 of 45 frames
+  // beyond 2 u.
+  int tile_points = 24;
   bool IsValid(std::string* why) const;
 };
 
