@@ -9,6 +9,8 @@
 //   true J_ff,     true delta_root   (the derivative's own error)
 // and each is compared with the scene's law node by node.
 //   lawfree_split DIR SCENE
+// Environment: BF_J_SOURCE=domains (the domains' J), BF_RULE=ubre|discrepancy
+// (the penalty rule; GCV otherwise), BF_GCV_GAMMA (GCV's dof inflation).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -79,7 +81,13 @@ int main(int argc, char** argv) {
     auto report = [&](const char* name, const laws::FarFieldJSamples& in) {
       laws::LawFreeResult r;
       try {
-        r = laws::LawFromFarFieldJ(in);
+        laws::LawFreeOptions o;
+        if (const char* e = std::getenv("BF_RULE"))
+          o.penalty_rule = std::string(e) == "ubre" ? laws::PenaltyRule::kUnbiasedRisk
+                           : std::string(e) == "discrepancy" ? laws::PenaltyRule::kDiscrepancy
+                                                             : laws::PenaltyRule::kGeneralisedCrossValidation;
+        if (const char* e = std::getenv("BF_GCV_GAMMA")) o.gcv_gamma = std::atof(e);
+        r = laws::LawFromFarFieldJ(in, o);
       } catch (const Error& e) {
         std::printf("%-26s %s\n", name, e.what());
         return;

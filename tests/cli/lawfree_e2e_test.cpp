@@ -128,8 +128,9 @@ max_crack_length = "45 mm"
     EXPECT_LT(std::abs(j_err), 0.08) << "frame " << k;
     // The field-wide fit's J_ff, the one lawfree uses (dic/j_fit.hpp):
     // measured -0.8 .. +1.2 % here (RMS 0.5 %), -2.4 .. +1.9 % over six
-    // runs (docs/LAW_FREE.md "The field-wide fit"); its uncertainty holds
-    // the error within 2 u on 15 of 15 frames here, 13-15 of 15 there.
+    // runs (docs/LAW_FREE.md "The field-wide fit"); its uncertainty (the
+    // leave-tile-out residuals) holds the error within 2 u on 14 of 14
+    // frames here, 133 of 135 over nine runs ("What the residuals miss").
     ASSERT_EQ(dic.J_fit_status[k], "ok") << "frame " << k;
     const double fit_err = dic.J_ff_fit[k] / true_j[k] - 1;
     std::printf("          J_ff fit %7.2f (%+5.2f %%, u %.2f %%)\n", dic.J_ff_fit[k], 100 * fit_err,
@@ -147,7 +148,7 @@ max_crack_length = "45 mm"
         << "frame " << k << ", zone " << zone * 1e3 << " mm";
   }
 
-  EXPECT_GE(fit_within_2u, fit_frames - 3) << "of " << fit_frames;
+  EXPECT_GE(fit_within_2u, fit_frames - 1) << "of " << fit_frames;
 
   // Issue 18 on a bridged crack: every frame's length within 2 u of the
   // truth or flagged. The traction-free Williams tip lies 3-6 px behind
@@ -205,7 +206,9 @@ max_crack_length = "45 mm"
   EXPECT_NE(lawfree.out.find("onset of growth: frame 1 ("), std::string::npos) << lawfree.out;
   // Pointwise over the covered range (the grid runs from the onset frame's
   // opening, 0, to the largest measured delta*): printed, not asserted
-  // (within 10 % on 5 of the 6 runs measured, not the exponential seed 7).
+  // (within 10 % on 5 of 14 runs measured, docs/LAW_FREE.md "What the
+  // residuals miss"). The band holds the law at every node: asserted
+  // (13 of those 14 runs; one missed 3 of 41 nodes).
   double worst = 0;
   int misses = 0;
   for (size_t j = 0; j < r.delta.size(); ++j) {
@@ -227,6 +230,8 @@ max_crack_length = "45 mm"
               r.J_tip_c, kJtip, delta_max * 1e3, 100 * mean_err, 100 * worst, r.delta.size(),
               misses);
   EXPECT_LT(std::abs(mean_err), 0.10);
+  EXPECT_EQ(misses, 0) << "the 95 % band misses the law at " << misses << " of " << r.delta.size()
+                       << " nodes";
   // The data stop far before steady state (delta* to about 0.1 mm of
   // delta_c 2 mm): J_B and delta_c are lower bounds below the truth, never
   // values (the plateau rule's equivalence test: the J scatter used to pass

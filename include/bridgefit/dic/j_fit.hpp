@@ -51,7 +51,7 @@ struct FieldFitJOptions {
   // them (tiles of tile_points x tile_points grid points): the part of a
   // patchy DIC error the series absorbs shows. 0: the plain residuals.
   // 24 (120 px at a 5 px step) covered the synthetic image runs' J errors
-  // (docs/LAW_FREE.md "What the residuals miss"); 12 left 4 of 45 frames
+  // (docs/LAW_FREE.md "What the residuals miss"); 12 left 3 of 45 frames
   // beyond 2 u.
   int tile_points = 24;
   bool IsValid(std::string* why) const;
