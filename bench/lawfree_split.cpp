@@ -50,8 +50,15 @@ int main(int argc, char** argv) {
         "frame  J_ff meas/true-1 [%%]  u [%%]  delta* meas [um]  true [um]  "
         "err [%%]  true J - J_tip - W(true delta) [J/m^2]\n");
     laws::FarFieldJSamples mm, tm, mt, tt;
+    // As the pipeline: the last frame with delta* = 0 is the onset, the
+    // zero-opening frames before it are left out.
+    size_t last_zero = 0;
+    for (size_t k = 0; k < s.image.size(); ++k)
+      if (s.J_status[k] == "ok" && s.delta_star_status[k] == "ok" && s.delta_star[k] == 0.0)
+        last_zero = k;
     for (size_t k = 0; k < s.image.size(); ++k) {
       if (s.J_status[k] != "ok" || s.delta_star_status[k] != "ok") continue;
+      if (s.delta_star[k] == 0.0 && k != last_zero) continue;
       // As pipeline::RunLawFree takes J_ff: the field fit's where ok.
       const bool fit = request.j_source == pipeline::LawFreeRequest::JSource::kFieldFit &&
                        s.J_fit_status[k] == "ok";

@@ -184,7 +184,8 @@ void Correlator::Impl::SetReference(const Image& image) {
 }
 
 // Fills unknown reference motions from known same-side grid neighbours
-// (never across crack-band or masked points, which are not eligible).
+// (never across crack-band or masked points, which are not eligible, and
+// never for points lost at a reference update).
 void Correlator::Impl::FillUnknown(std::vector<Params>& p, std::vector<char>& known) const {
   const size_t n = grid.size();
   for (int sweep = 0; sweep < 50; ++sweep) {
@@ -192,7 +193,7 @@ void Correlator::Impl::FillUnknown(std::vector<Params>& p, std::vector<char>& kn
     std::vector<char> newly(n, 0);
     std::vector<Params> add(n);
     for (size_t i = 0; i < n; ++i) {
-      if (known[i] || !eligible[i]) continue;
+      if (known[i] || !eligible[i] || ref_lost[i]) continue;
       const int ix = static_cast<int>(i % grid.nx), iy = static_cast<int>(i / grid.nx);
       Params sum{};
       int m = 0;
@@ -248,10 +249,15 @@ DisplacementField Correlator::Impl::Next(const Image& frame, CorrelationSummary*
       }
     }
     res = Pass(frame, frame_interp, frame_guess, frame_has_guess, &solves);
+    // The update test leaves out the points lost at the last update: a
+    // crack fails the subsets across it for good, and once they had passed
+    // the threshold they called a new reference at every frame (each
+    // update adds the composed motions' error).
     size_t used = 0, good = 0;
     double zsum = 0;
     for (size_t i = 0; i < n; ++i) {
       if (!eligible[i] || !OnLattice(i, sample_stride)) continue;
+      if (ref_lost[i]) continue;
       ++used;
       if (res[i].status == PointStatus::kOk) {
         ++good;
@@ -260,14 +266,20 @@ DisplacementField Correlator::Impl::Next(const Image& frame, CorrelationSummary*
     }
     const double valid_fraction = used ? static_cast<double>(good) / used : 0;
     const double mean_zncc = good ? zsum / good : 0;
-    const bool poor = valid_fraction < opt.update_min_valid_fraction ||
-                      mean_zncc < opt.update_min_mean_zncc;
+    const bool poor = used > 0 && (valid_fraction < opt.update_min_valid_fraction ||
+                                   mean_zncc < opt.update_min_mean_zncc);
     if (attempt == 0 && poor && opt.incremental && ref_index != frame_index - 1 &&
         !prev_image.empty()) {
       // Reference update: the previous frame becomes the reference.
       SetReference(prev_image);
       ref_p = prev_total;
       ref_known = prev_ok;
+      // A point that failed in the new reference frame (its subset across
+      // the open crack, or decorrelated) has no motion there: it stays
+      // lost. Filling it from its neighbours would average both faces and
+      // bring it back as a valid point with the crack's jump smeared.
+      for (size_t i = 0; i < n; ++i)
+        ref_lost[i] = eligible[i] && !prev_ok[i] ? 1 : 0;
       FillUnknown(ref_p, ref_known);
       for (size_t i = 0; i < n; ++i)
         if (!ref_known[i]) lost_status[i] = prev_status[i];
@@ -461,6 +473,7 @@ Correlator::Correlator(const CorrelationOptions& options, const Image& reference
   m.SetReference(reference);
   m.ref_p.assign(m.grid.size(), detail::Params{});
   m.ref_known.assign(m.grid.size(), 1);
+  m.ref_lost.assign(m.grid.size(), 0);
   m.lost_status.assign(m.grid.size(), PointStatus::kUnreached);
 }
 

@@ -30,6 +30,7 @@ struct CorrelatorState {
   int ref_index = 0;
   std::vector<Params> ref_p;     // point motion original -> current reference
   std::vector<char> ref_known;
+  std::vector<char> ref_lost;    // failed in the current reference's frame: never filled
   Image prev_image;
   int frame_index = 0;
   std::vector<Params> prev_total;  // last frame's total motion

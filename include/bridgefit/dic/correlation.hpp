@@ -70,7 +70,9 @@ struct CorrelationOptions {
   bool has_crack = false;
   CrackLine crack;
   // Sequences: change the reference to the previous frame when the valid
-  // fraction or the mean ZNCC drops below these (incremental mode).
+  // fraction or the mean ZNCC drops below these (incremental mode). Points
+  // lost at an update (failed in the new reference's frame: across an
+  // open crack) stay lost and leave the fraction.
   bool incremental = true;
   double update_min_valid_fraction = 0.9;
   double update_min_mean_zncc = 0.9;
