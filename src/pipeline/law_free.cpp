@@ -86,6 +86,21 @@ int OnsetFrame(const DicJSeries& s) {
   return onset;
 }
 
+// The last frame of the onset's zero-opening run whose tip is measured at
+// or behind the notch root (crack length <= a0), -1 when none. Frames of
+// the run after it read delta* = 0 because their tip is past the root by
+// less than a grid step: growth there is not resolved, and may have begun
+// after this frame (docs/LAW_FREE.md "Onset not resolved").
+int LastFrameAtTheRoot(const DicJSeries& s, int onset) {
+  if (onset < 0 || !std::isfinite(s.notch_length)) return -1;
+  int at_root = -1;
+  for (int k = 0; k <= onset; ++k) {
+    if (!ZeroOpening(s, k)) continue;
+    if (std::isfinite(s.crack_length[k]) && s.crack_length[k] <= s.notch_length) at_root = k;
+  }
+  return at_root;
+}
+
 // Frames with both J and delta* ok -> J route samples; the others skipped
 // with a note each. Unless the request gives the onset, it is the onset
 // frame (OnsetFrame): frames before it (J_tip still rising at the root) are
@@ -97,6 +112,28 @@ laws::FarFieldJSamples JSamples(const DicJSeries& s, const LawFreeRequest& reque
   const int onset = request.onset_opening ? -1 : OnsetFrame(s);
   int before = 0, from_domains = 0;
   const bool want_fit = request.j_source == LawFreeRequest::JSource::kFieldFit;
+  auto j_of = [&](int k) {
+    const bool fit = want_fit && s.J_fit_status[k] == "ok" && std::isfinite(s.J_ff_fit[k]);
+    return fit ? s.J_ff_fit[k] : s.J_status[k] == "ok" ? s.J_ff[k] : NAN;
+  };
+  // The onset not resolved: J_tip,c lies between the last frame at the
+  // root and the onset frame; the onset sample's J uncertainty takes half
+  // that rise.
+  double onset_spread = 0;
+  if (const int at_root = LastFrameAtTheRoot(s, onset); at_root >= 0 && at_root < onset) {
+    const double j_root = j_of(at_root), j_onset = j_of(onset);
+    if (std::isfinite(j_root) && std::isfinite(j_onset)) {
+      onset_spread = 0.5 * std::abs(j_onset - j_root);
+      notes.push_back(fmt::format(
+          "warning: the onset of growth is not resolved: frames {}..{} read delta* = 0 with the "
+          "tip past the notch root by less than a grid step (crack length {:.3f}..{:.3f} mm, "
+          "a0 {:.3f} mm); growth may have begun after frame {}, so J_tip,c may lie anywhere "
+          "from {:.1f} to {:.1f} J/m^2: the onset sample's uncertainty includes half that "
+          "(+-{:.1f} J/m^2); give --onset if the onset is known",
+          at_root + 1, onset, s.crack_length[at_root + 1] * 1e3, s.crack_length[onset] * 1e3,
+          s.notch_length * 1e3, at_root, j_root, j_onset, onset_spread));
+    }
+  }
   for (size_t k = 0; k < s.image.size(); ++k) {
     const bool fit_ok = want_fit && s.J_fit_status[k] == "ok" && std::isfinite(s.J_ff_fit[k]) &&
                         std::isfinite(s.J_ff_fit_uncertainty[k]);
@@ -123,8 +160,8 @@ laws::FarFieldJSamples JSamples(const DicJSeries& s, const LawFreeRequest& reque
             k));
       continue;
     }
-    if (static_cast<int>(k) >= onset && onset >= 0 && !out.onset_index)
-      out.onset_index = static_cast<int>(out.opening.size());
+    const bool is_onset = static_cast<int>(k) >= onset && onset >= 0 && !out.onset_index;
+    if (is_onset) out.onset_index = static_cast<int>(out.opening.size());
     out.opening.push_back(s.delta_star[k]);
     if (fit_ok) {
       out.J_ff.push_back(s.J_ff_fit[k]);
@@ -144,6 +181,7 @@ laws::FarFieldJSamples JSamples(const DicJSeries& s, const LawFreeRequest& reque
       out.uncertainty.push_back(std::max(0.5 * spread / 100, request.j_relative_floor) *
                                 std::abs(s.J_ff[k]));
     }
+    if (is_onset) out.uncertainty.back() = std::hypot(out.uncertainty.back(), onset_spread);
   }
   notes.push_back(want_fit ? fmt::format("J_ff per frame: the field-wide fit's ({} of {} frames "
                                          "from the domains)",
