@@ -44,6 +44,8 @@ bool CrackTipOptions::IsValid(std::string* why) const {
   if (mode1_terms < 1 || mode1_terms > 8 || mode2_terms < 0 || mode2_terms > 4)
     return fail("Williams terms: mode I 1..8, mode II 0..4");
   if (!(kappa > 1 && kappa <= 3)) return fail("kappa must lie in (1, 3]");
+  if (Orthotropic() && !(s11 > 0 && s22 > 0 && s66 > 0 && s12 * s12 < s11 * s22))
+    return fail("orthotropic compliances: s11, s22, s66 > 0 and s12^2 < s11 s22");
   if (!(fit_radius_px > 0) || !(sqrt_window_px > 0)) return fail("fit windows must be > 0");
   if (min_failed_cluster < 1 || !(min_fit_radius_fraction >= 0 && min_fit_radius_fraction <= 1))
     return fail("failed cluster size must be >= 1, minimum radius fraction in [0, 1]");

@@ -5,10 +5,13 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
+#include <vector>
 
 #include <Eigen/Dense>
 
 #include "crack_impl.hpp"
+#include "orthotropic_series.hpp"
 #include "williams_basis.hpp"
 
 namespace bridgefit::dic::detail {
@@ -16,27 +19,66 @@ namespace {
 
 struct WilliamsFit {
   double ssr = std::numeric_limits<double>::infinity();
-  double c1 = 0;  // mode I n = 1 coefficient in units of (fit radius)^-0.5 px
+  double k = 0;  // K_I per (fit radius)^0.5, in the series' own scale (its sign: opening)
   int rows = 0, cols = 0;
 };
 
+// The tip's near field: Williams' series (isotropic, kappa) or, for an
+// orthotropic plate, Lekhnitskii's (orthotropic_series.hpp, orders
+// 1..mode1_terms), and the closing-traction fields below.
+struct TipBasis {
+  const CrackTipOptions* o = nullptr;
+  std::optional<OrthotropicSeries> ortho;
+  std::vector<double> k_factor;  // K_I per unit coefficient, per series column
+  explicit TipBasis(const CrackTipOptions& options) : o(&options) {
+    if (options.Orthotropic()) {
+      ortho.emplace(options.s11, options.s22, options.s12, options.s66, 1, options.mode1_terms);
+      k_factor = ortho->ModeIFactor();
+    } else {
+      k_factor.assign(options.mode1_terms + options.mode2_terms, 0.0);
+      k_factor[0] = 1.0;  // the mode I n = 1 column: K / (2 mu) / sqrt(2 pi) per unit
+    }
+  }
+  int SeriesColumns() const {
+    return ortho ? ortho->Columns() : o->mode1_terms + o->mode2_terms;
+  }
+  // u1/u2 of each series column at polar (r, t) in the crack frame.
+  void Eval(double r, double t, double* u1, double* u2) const {
+    if (ortho) {
+      ortho->Eval(r, t, u1, u2);
+      return;
+    }
+    int c = 0;
+    for (int n = 1; n <= o->mode1_terms; ++n, ++c) WilliamsModeI(n, r, t, o->kappa, u1 + c, u2 + c);
+    for (int m = 0; m < o->mode2_terms; ++m, ++c)
+      WilliamsModeII(2 * m + 1, r, t, o->kappa, u1 + c, u2 + c);
+  }
+  // Closing traction sigma22 = 1 on the faces: strains (s12, s22) sigma22,
+  // as (s12 / s22 x, y); isotropic s12 / s22 = -nu' = -(3 - kappa)/(1 + kappa).
+  double LateralRatio() const {
+    return ortho ? o->s12 / o->s22 : -(3 - o->kappa) / (1 + o->kappa);
+  }
+};
+
 // `closing_terms` (0-2) adds the fields of a closing traction on the faces
-// uniform (sigma22 = 1: u = (-nu' x, y)) and linear along the crack
-// (Airy x^3/6, sigma22 = x: u = (-nu' x^2/2 - y^2/2, x y)), nu' =
-// (3 - kappa)/(1 + kappa): near the tip of a bridged crack the faces carry
-// tractions, which the traction-free Williams series cannot follow.
+// uniform (sigma22 = 1: u = (r x, y)) and linear along the crack (Airy
+// x^3/6, sigma22 = x: u = (r x^2/2 - y^2/2, x y)), r = s12 / s22 (-nu' when
+// isotropic): near the tip of a bridged crack the faces carry tractions,
+// which the traction-free series cannot follow.
 WilliamsFit FitWilliams(const std::vector<const LocalPoint*>& pts, double s_tip,
-                        const CrackTipOptions& o, int closing_terms = 0) {
+                        const TipBasis& basis, int closing_terms = 0) {
   WilliamsFit fit;
+  const CrackTipOptions& o = *basis.o;
   const double L = o.line.Length();
   const double tx = (o.line.x1 - o.line.x0) / L, ty = (o.line.y1 - o.line.y0) / L;
-  const int n1 = o.mode1_terms, n2 = o.mode2_terms;
-  const double nu_eff = (3 - o.kappa) / (1 + o.kappa);
-  const int cols = 3 + n1 + n2 + closing_terms;
+  const int series = basis.SeriesColumns();
+  const double lateral = basis.LateralRatio();
+  const int cols = 3 + series + closing_terms;
   const int rows = 2 * static_cast<int>(pts.size());
   if (rows < 2 * cols) return fit;
   Eigen::MatrixXd A(rows, cols);
   Eigen::VectorXd b(rows);
+  std::vector<double> f1(series), f2(series);
   const double R = o.fit_radius_px;  // normalizes r for conditioning
   for (size_t k = 0; k < pts.size(); ++k) {
     const LocalPoint& p = *pts[k];
@@ -54,25 +96,17 @@ WilliamsFit FitWilliams(const std::vector<const LocalPoint*>& pts, double s_tip,
       A(rv, c) = fx * ty + fy * tx;
       ++c;
     };
-    for (int n = 1; n <= n1; ++n) {
-      double fx, fy;
-      WilliamsModeI(n, r, t, o.kappa, &fx, &fy);
-      put(fx, fy);
-    }
-    for (int m = 0; m < n2; ++m) {
-      double fx, fy;
-      WilliamsModeII(2 * m + 1, r, t, o.kappa, &fx, &fy);
-      put(fx, fy);
-    }
-    if (closing_terms >= 1) put(-nu_eff * xl, yl);
-    if (closing_terms >= 2) put(-0.5 * nu_eff * xl * xl - 0.5 * yl * yl, xl * yl);
+    basis.Eval(r, t, f1.data(), f2.data());
+    for (int j = 0; j < series; ++j) put(f1[j], f2[j]);
+    if (closing_terms >= 1) put(lateral * xl, yl);
+    if (closing_terms >= 2) put(0.5 * lateral * xl * xl - 0.5 * yl * yl, xl * yl);
     b(ru) = p.u;
     b(rv) = p.v;
   }
   const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(A);
   const Eigen::VectorXd c = qr.solve(b);
   fit.ssr = (A * c - b).squaredNorm();
-  fit.c1 = c(3);
+  for (int j = 0; j < series; ++j) fit.k += basis.k_factor[j] * c(3 + j);
   fit.rows = rows;
   fit.cols = cols;
   return fit;
@@ -243,7 +277,8 @@ struct TipScan {
 // Grid scan of the residual over [lo, hi] (quarter-station spacing), golden
 // section about the best node; sigma from Delta SSR = SSR / (N - p).
 TipScan ScanTip(const std::vector<const LocalPoint*>& set, double lo, double hi,
-                const CrackTipOptions& o, int closing_terms = 0) {
+                const TipBasis& basis, int closing_terms = 0) {
+  const CrackTipOptions& o = *basis.o;
   TipScan out;
   const double h = std::max(0.5, 0.25 * o.station_spacing_px);
   std::vector<double> grid_s;
@@ -251,7 +286,7 @@ TipScan ScanTip(const std::vector<const LocalPoint*>& set, double lo, double hi,
   // The scan's fits are independent (about 100 QR solves of 2N x 9-12).
   std::vector<double> grid_ssr(grid_s.size());
 #pragma omp parallel for schedule(dynamic, 2)
-  for (size_t k = 0; k < grid_s.size(); ++k) grid_ssr[k] = FitWilliams(set, grid_s[k], o, closing_terms).ssr;
+  for (size_t k = 0; k < grid_s.size(); ++k) grid_ssr[k] = FitWilliams(set, grid_s[k], basis, closing_terms).ssr;
   size_t best = 0;
   for (size_t k = 1; k < grid_s.size(); ++k)
     if (grid_ssr[k] < grid_ssr[best]) best = k;
@@ -259,19 +294,19 @@ TipScan ScanTip(const std::vector<const LocalPoint*>& set, double lo, double hi,
   double a = grid_s[best] - h, c = grid_s[best] + h;
   const double g = 0.5 * (std::sqrt(5.0) - 1.0);
   double x1 = c - g * (c - a), x2 = a + g * (c - a);
-  double f1 = FitWilliams(set, x1, o, closing_terms).ssr, f2 = FitWilliams(set, x2, o, closing_terms).ssr;
+  double f1 = FitWilliams(set, x1, basis, closing_terms).ssr, f2 = FitWilliams(set, x2, basis, closing_terms).ssr;
   for (int it = 0; it < 30 && c - a > 1e-3; ++it) {
     if (f1 < f2) {
-      c = x2; x2 = x1; f2 = f1; x1 = c - g * (c - a); f1 = FitWilliams(set, x1, o, closing_terms).ssr;
+      c = x2; x2 = x1; f2 = f1; x1 = c - g * (c - a); f1 = FitWilliams(set, x1, basis, closing_terms).ssr;
     } else {
-      a = x1; x1 = x2; f1 = f2; x2 = a + g * (c - a); f2 = FitWilliams(set, x2, o, closing_terms).ssr;
+      a = x1; x1 = x2; f1 = f2; x2 = a + g * (c - a); f2 = FitWilliams(set, x2, basis, closing_terms).ssr;
     }
   }
   out.s = 0.5 * (a + c);
-  out.fit = FitWilliams(set, out.s, o, closing_terms);
+  out.fit = FitWilliams(set, out.s, basis, closing_terms);
   const double e = std::max(h, 1.0);
-  const double fp = FitWilliams(set, out.s + e, o, closing_terms).ssr,
-               fm = FitWilliams(set, out.s - e, o, closing_terms).ssr;
+  const double fp = FitWilliams(set, out.s + e, basis, closing_terms).ssr,
+               fm = FitWilliams(set, out.s - e, basis, closing_terms).ssr;
   const double curv = (fp + fm - 2 * out.fit.ssr) / (e * e);
   const double sigma2 = out.fit.ssr / std::max(1, out.fit.rows - out.fit.cols - 1);
   out.sigma = curv > 0 ? std::sqrt(2.0 * sigma2 / curv) : o.station_spacing_px;
@@ -320,19 +355,23 @@ void WilliamsTip(const DisplacementField& field, const std::vector<LocalPoint>& 
   }
   const double lo = std::max(0.0, s_start - 0.5 * o.fit_radius_px);
   const double hi = std::min(o.line.Length(), s_start + 0.5 * o.fit_radius_px);
-  const TipScan scan = ScanTip(set, lo, hi, o);
+  const TipBasis basis(o);
+  const TipScan scan = ScanTip(set, lo, hi, basis);
   if (!scan.found) return;
   TipEstimate& t = res.williams;
   t.s_px = scan.s;
   t.uncertainty_px = scan.sigma;
-  res.k_over_2mu_sqrt_px = scan.fit.c1 * std::sqrt(2.0 * std::numbers::pi) / std::sqrt(o.fit_radius_px);
+  // K_I / (2 mu) of the isotropic fit; an orthotropic plate has no mu (NaN).
+  res.k_over_2mu_sqrt_px = basis.ortho ? std::numeric_limits<double>::quiet_NaN()
+                                       : scan.fit.k * std::sqrt(2.0 * std::numbers::pi) /
+                                             std::sqrt(o.fit_radius_px);
   res.williams_residual_px = std::sqrt(scan.fit.ssr / std::max(1, scan.fit.rows));
-  t.found = res.k_over_2mu_sqrt_px > 0 && scan.interior_lo && scan.interior_hi;
+  t.found = scan.fit.k > 0 && scan.interior_lo && scan.interior_hi;
   if (!scan.interior_hi || scan.s > res.last_station_px) res.tip_at_edge = true;
   SetPosition(o.line, &t);
   if (!t.found) return;
   const TipScan inner =
-      ScanTip(WindowPoints(pts, readable, xs, ys, o.fit_radius_px - ds, o), lo, hi, o);
+      ScanTip(WindowPoints(pts, readable, xs, ys, o.fit_radius_px - ds, o), lo, hi, basis);
   const double tol = 2.0 * std::max(scan.sigma, ds / std::sqrt(12.0));
   res.williams_shift_px = inner.found ? inner.s - scan.s : std::numeric_limits<double>::infinity();
   res.williams_unstable = !(std::abs(res.williams_shift_px) <= tol);
@@ -343,7 +382,7 @@ void WilliamsTip(const DisplacementField& field, const std::vector<LocalPoint>& 
   // about 1 px. Added to the tip's uncertainty (with the grid's resolution,
   // one station / sqrt(12), an independent share), so that a bridged
   // frame's length is not stated tighter than the model allows.
-  const TipScan closed = ScanTip(set, lo, hi, o, 2);
+  const TipScan closed = ScanTip(set, lo, hi, basis, 2);
   res.williams_closing_shift_px = closed.found ? closed.s - scan.s : 0.0;
   t.uncertainty_px = std::hypot(std::max(scan.sigma, ds / std::sqrt(12.0)),
                                 res.williams_closing_shift_px);

@@ -36,6 +36,12 @@ struct CrackTipOptions {
   int mode1_terms = 4;              // Williams mode I terms n = 1..N
   int mode2_terms = 2;              // Williams mode II terms n = 1, 3, ..
   double kappa = (3.0 - 0.3) / 1.3; // Kolosov constant (plane stress, nu = 0.3)
+  // An orthotropic plate with axis 1 along the crack, plane-stress
+  // compliances [1/Pa] (s11 = 1/E1, s22 = 1/E2, s12 = -nu12/E1, s66 =
+  // 1/G12); all 0: isotropic (kappa). The tip fit then uses Lekhnitskii's
+  // series (orders 1..mode1_terms, both modes) in place of Williams'.
+  double s11 = 0, s22 = 0, s12 = 0, s66 = 0;
+  bool Orthotropic() const { return s11 != 0 || s22 != 0 || s12 != 0 || s66 != 0; }
   double fit_radius_px = 80;        // Williams fit: points within this radius (at most)
   // Williams window from the data: a failed grid point of an 8-connected
   // cluster of at least this many failed points hides what lies behind it.
