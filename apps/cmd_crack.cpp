@@ -70,6 +70,7 @@ class CrackCommand final : public Command {
     opt.method = dic::ParseTipMethod(tip_method_);
     opt.show_progress = !common.quiet;
     opt.j_integral = j_integral_.Options();
+    j_integral_.ApplyMaterial(&opt);
     pipeline::CrackFieldsRequest request{
         .fields = files_,
         .options = opt,

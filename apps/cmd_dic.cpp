@@ -158,6 +158,7 @@ class DicCommand final : public Command {
     }
     opt.keep_fields = fields_ && !out_.empty();
     opt.j_integral = j_integral_.Options();
+    j_integral_.ApplyMaterial(&opt);
     std::string why;
     if (!opt.IsValid(&why)) throw Error(ErrorKind::kUsage, why);
 

@@ -17,6 +17,9 @@ struct JIntegralFlags {
   // The sequence's J options from the scene (disabled without --j-integral);
   // --j-integral without --scene is a usage error naming both flags.
   dic::FrameJOptions Options() const;
+  // The scene's elastic constants for the tip fit (with or without
+  // --j-integral); nothing without --scene.
+  void ApplyMaterial(dic::CrackSequenceOptions* options) const;
 };
 
 }  // namespace bridgefit::cli

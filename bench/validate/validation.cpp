@@ -24,6 +24,7 @@
 #include "bridgefit/inverse/fit.hpp"
 #include "bridgefit/io/csv.hpp"
 #include "bridgefit/pipeline/fit.hpp"
+#include "bridgefit/pipeline/law_free.hpp"
 #include "bridgefit/pipeline/synth.hpp"
 #include "bridgefit/specimen/crack_plane.hpp"
 
@@ -232,7 +233,10 @@ pipeline::FitRequest::FrameCrackLengths MeasureFrames(const ValidationCase& spec
   const double row = 0.5 * kImageHeight;
   settings.crack_line = dic::CrackLine{0.0, row, kImageWidth - 1.0, row};
   settings.threads = threads;
-  const dic::CrackSequenceResult dic = dic::AnalyzeCrackSequence(images, dic::MakeSequenceOptions(settings));
+  // As `bridgefit dic --scene`: the plate's constants for the tip fit.
+  dic::CrackSequenceOptions dic_options = dic::MakeSequenceOptions(settings);
+  pipeline::TipMaterialFromScene(spec.scene, &dic_options.tip);
+  const dic::CrackSequenceResult dic = dic::AnalyzeCrackSequence(images, dic_options);
   if (const char* csv = std::getenv("BF_VALIDATE_DIC_CSV")) AppendDicFrames(csv, spec, test, dic);
   pipeline::FitRequest::FrameCrackLengths frames;
   frames.source = "DIC of validation case " + std::to_string(spec.index);

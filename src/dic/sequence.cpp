@@ -190,27 +190,9 @@ CrackPathOptions PathOptionsFor(const CrackSequenceOptions& options, int width, 
   return p;
 }
 
-namespace {
-// The tip fit's material: the scene's elastic constants where given (the
-// J integral's; plane stress, axis 1 along the crack), else the defaults.
-void UseElasticConstants(const FrameJOptions& j, CrackTipOptions* tip) {
-  if (!j.enabled) return;
-  const ElasticConstants& e = j.elastic;
-  if (e.kind == ElasticConstants::Kind::kOrthotropic) {
-    tip->s11 = 1 / e.E1;
-    tip->s22 = 1 / e.E2;
-    tip->s12 = -e.nu12 / e.E1;
-    tip->s66 = 1 / e.G12;
-  } else if (e.nu > -1 && e.nu < 1) {
-    tip->kappa = (3 - e.nu) / (1 + e.nu);
-  }
-}
-}  // namespace
-
 void LocateCrackInField(const DisplacementField& field, const CrackSequenceOptions& options,
                         const CrackPathOptions& path_opt, FrameResult* r) {
   CrackTipOptions tip_opt = options.tip;
-  UseElasticConstants(options.j_integral, &tip_opt);
   bool have_line = options.has_line;
   if (options.find_path) {
     r->path = FindCrackPath(field, path_opt);

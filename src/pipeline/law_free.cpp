@@ -11,6 +11,7 @@
 #include "bridgefit/core/progress.hpp"
 #include "bridgefit/pipeline/dic_file.hpp"
 #include "bridgefit/pipeline/rcurve_file.hpp"
+#include "bridgefit/specimen/calibrations.hpp"
 
 namespace bridgefit::pipeline {
 
@@ -39,6 +40,25 @@ dic::FrameJOptions FrameJOptionsFromScene(const Scene& scene) {
     throw e.WithContext({.file = scene.source});
   }
   return o;
+}
+
+void TipMaterialFromScene(const Scene& scene, dic::CrackTipOptions* tip) {
+  const MaterialSpec& m = scene.material;
+  try {
+    if (m.orthotropic) {
+      const specimen::InPlaneCompliance b =
+          specimen::OrthotropicInPlaneCompliance(m, scene.specimen.plane);
+      tip->s11 = b.b11;
+      tip->s22 = b.b22;
+      tip->s12 = b.b12;
+      tip->s66 = b.b66;
+      return;
+    }
+  } catch (const Error& e) {
+    throw e.WithContext({.file = scene.source});
+  }
+  const bool strain = scene.specimen.plane == PlaneCondition::kPlaneStrain;
+  tip->kappa = strain ? 3 - 4 * m.nu : (3 - m.nu) / (1 + m.nu);
 }
 
 bool LawFreeRequest::IsValid(std::string* why) const {

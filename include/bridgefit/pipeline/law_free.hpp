@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "bridgefit/dic/crack.hpp"
 #include "bridgefit/dic/frame_j.hpp"
 #include "bridgefit/laws/law_free.hpp"
 #include "bridgefit/report/report_input.hpp"
@@ -39,6 +40,12 @@ namespace bridgefit::pipeline {
 // and its notch as the notch root's crack length. Throws Error(kInput)
 // naming the scene for an orthotropic plane-strain scene.
 dic::FrameJOptions FrameJOptionsFromScene(const Scene& scene);
+// The tip fit's material for `bridgefit dic/crack --scene S` (with or
+// without --j-integral): an orthotropic plate's in-plane compliances
+// (plane stress or the plane-strain reduced ones; axis 1 along the crack)
+// for Lekhnitskii's series, else kappa from nu. Throws Error(kInput)
+// naming the scene for a rotated orthotropic material.
+void TipMaterialFromScene(const Scene& scene, dic::CrackTipOptions* tip);
 
 struct LawFreeRequest {
   std::filesystem::path dic_file;     // dic.h5 with J_ff and delta* per frame
