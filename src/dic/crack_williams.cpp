@@ -286,7 +286,8 @@ TipScan ScanTip(const std::vector<const LocalPoint*>& set, double lo, double hi,
   // The scan's fits are independent (about 100 QR solves of 2N x 9-12).
   std::vector<double> grid_ssr(grid_s.size());
 #pragma omp parallel for schedule(dynamic, 2)
-  for (size_t k = 0; k < grid_s.size(); ++k) grid_ssr[k] = FitWilliams(set, grid_s[k], basis, closing_terms).ssr;
+  for (size_t k = 0; k < grid_s.size(); ++k)
+    grid_ssr[k] = FitWilliams(set, grid_s[k], basis, closing_terms).ssr;
   size_t best = 0;
   for (size_t k = 1; k < grid_s.size(); ++k)
     if (grid_ssr[k] < grid_ssr[best]) best = k;
@@ -294,19 +295,19 @@ TipScan ScanTip(const std::vector<const LocalPoint*>& set, double lo, double hi,
   double a = grid_s[best] - h, c = grid_s[best] + h;
   const double g = 0.5 * (std::sqrt(5.0) - 1.0);
   double x1 = c - g * (c - a), x2 = a + g * (c - a);
-  double f1 = FitWilliams(set, x1, basis, closing_terms).ssr, f2 = FitWilliams(set, x2, basis, closing_terms).ssr;
+  auto ssr = [&](double s) { return FitWilliams(set, s, basis, closing_terms).ssr; };
+  double f1 = ssr(x1), f2 = ssr(x2);
   for (int it = 0; it < 30 && c - a > 1e-3; ++it) {
     if (f1 < f2) {
-      c = x2; x2 = x1; f2 = f1; x1 = c - g * (c - a); f1 = FitWilliams(set, x1, basis, closing_terms).ssr;
+      c = x2; x2 = x1; f2 = f1; x1 = c - g * (c - a); f1 = ssr(x1);
     } else {
-      a = x1; x1 = x2; f1 = f2; x2 = a + g * (c - a); f2 = FitWilliams(set, x2, basis, closing_terms).ssr;
+      a = x1; x1 = x2; f1 = f2; x2 = a + g * (c - a); f2 = ssr(x2);
     }
   }
   out.s = 0.5 * (a + c);
   out.fit = FitWilliams(set, out.s, basis, closing_terms);
   const double e = std::max(h, 1.0);
-  const double fp = FitWilliams(set, out.s + e, basis, closing_terms).ssr,
-               fm = FitWilliams(set, out.s - e, basis, closing_terms).ssr;
+  const double fp = ssr(out.s + e), fm = ssr(out.s - e);
   const double curv = (fp + fm - 2 * out.fit.ssr) / (e * e);
   const double sigma2 = out.fit.ssr / std::max(1, out.fit.rows - out.fit.cols - 1);
   out.sigma = curv > 0 ? std::sqrt(2.0 * sigma2 / curv) : o.station_spacing_px;
@@ -372,7 +373,9 @@ void WilliamsTip(const DisplacementField& field, const std::vector<LocalPoint>& 
   if (!t.found) return;
   const TipScan inner =
       ScanTip(WindowPoints(pts, readable, xs, ys, o.fit_radius_px - ds, o), lo, hi, basis);
-  const double tol = 2.0 * std::max(scan.sigma, ds / std::sqrt(12.0));
+  // The fit's sigma, at least the grid's resolution (one station / sqrt(12)).
+  const double resolved = std::max(scan.sigma, ds / std::sqrt(12.0));
+  const double tol = 2.0 * resolved;
   res.williams_shift_px = inner.found ? inner.s - scan.s : std::numeric_limits<double>::infinity();
   res.williams_unstable = !(std::abs(res.williams_shift_px) <= tol);
   // The model's share: the tip with closing tractions on the faces allowed
@@ -384,8 +387,7 @@ void WilliamsTip(const DisplacementField& field, const std::vector<LocalPoint>& 
   // frame's length is not stated tighter than the model allows.
   const TipScan closed = ScanTip(set, lo, hi, basis, 2);
   res.williams_closing_shift_px = closed.found ? closed.s - scan.s : 0.0;
-  t.uncertainty_px = std::hypot(std::max(scan.sigma, ds / std::sqrt(12.0)),
-                                res.williams_closing_shift_px);
+  t.uncertainty_px = std::hypot(resolved, res.williams_closing_shift_px);
 }
 
 }  // namespace bridgefit::dic::detail

@@ -57,8 +57,7 @@ void TipMaterialFromScene(const Scene& scene, dic::CrackTipOptions* tip) {
   } catch (const Error& e) {
     throw e.WithContext({.file = scene.source});
   }
-  const bool strain = scene.specimen.plane == PlaneCondition::kPlaneStrain;
-  tip->kappa = strain ? 3 - 4 * m.nu : (3 - m.nu) / (1 + m.nu);
+  tip->kappa = specimen::KolosovConstant(m, scene.specimen.plane);
 }
 
 bool LawFreeRequest::IsValid(std::string* why) const {
@@ -132,9 +131,13 @@ laws::FarFieldJSamples JSamples(const DicJSeries& s, const LawFreeRequest& reque
   const int onset = request.onset_opening ? -1 : OnsetFrame(s);
   int before = 0, from_domains = 0;
   const bool want_fit = request.j_source == LawFreeRequest::JSource::kFieldFit;
-  auto j_of = [&](int k) {
-    const bool fit = want_fit && s.J_fit_status[k] == "ok" && std::isfinite(s.J_ff_fit[k]);
-    return fit ? s.J_ff_fit[k] : s.J_status[k] == "ok" ? s.J_ff[k] : NAN;
+  // A frame's J_ff as its sample takes it: the field fit's where usable.
+  auto fit_usable = [&](size_t k) {
+    return want_fit && s.J_fit_status[k] == "ok" && std::isfinite(s.J_ff_fit[k]) &&
+           std::isfinite(s.J_ff_fit_uncertainty[k]);
+  };
+  auto j_of = [&](size_t k) {
+    return fit_usable(k) ? s.J_ff_fit[k] : s.J_status[k] == "ok" ? s.J_ff[k] : NAN;
   };
   // The onset not resolved: J_tip,c lies between the last frame at the
   // root and the onset frame; the onset sample's J uncertainty takes half
@@ -155,8 +158,7 @@ laws::FarFieldJSamples JSamples(const DicJSeries& s, const LawFreeRequest& reque
     }
   }
   for (size_t k = 0; k < s.image.size(); ++k) {
-    const bool fit_ok = want_fit && s.J_fit_status[k] == "ok" && std::isfinite(s.J_ff_fit[k]) &&
-                        std::isfinite(s.J_ff_fit_uncertainty[k]);
+    const bool fit_ok = fit_usable(k);
     const bool j_ok = fit_ok || (s.J_status[k] == "ok" && std::isfinite(s.J_ff[k]));
     const bool d_ok = s.delta_star_status[k] == "ok" && std::isfinite(s.delta_star[k]);
     if (static_cast<int>(k) < onset && j_ok && d_ok) {

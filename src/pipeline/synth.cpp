@@ -115,9 +115,8 @@ struct FramePlate {
       kappa = 1.0;
       return;
     }
-    const bool strain = scene.specimen.plane == PlaneCondition::kPlaneStrain;
     mu = m.AxialModulus() / (2 * (1 + m.nu));
-    kappa = strain ? 3 - 4 * m.nu : (3 - m.nu) / (1 + m.nu);
+    kappa = specimen::KolosovConstant(m, scene.specimen.plane);
   }
   void Apply(dic::BridgedCrackField* f) const {
     if (orthotropic) f->SetOrthotropic(b.b11, b.b22, b.b12, b.b66, 2 * mu);

@@ -43,6 +43,10 @@ double ShPolyDerivative(double u) {
 }  // namespace
 
 // ---------------------------------------------------------------- moduli
+double KolosovConstant(const MaterialSpec& m, PlaneCondition plane) {
+  return plane == PlaneCondition::kPlaneStrain ? 3 - 4 * m.nu : (3 - m.nu) / (1 + m.nu);
+}
+
 InPlaneCompliance OrthotropicInPlaneCompliance(const MaterialSpec& m, PlaneCondition plane) {
   if (!m.orthotropic)
     throw Error(ErrorKind::kInternal, "in-plane orthotropic compliance of an isotropic material");

@@ -50,6 +50,10 @@ struct InPlaneCompliance {
 };
 InPlaneCompliance OrthotropicInPlaneCompliance(const MaterialSpec& material, PlaneCondition plane);
 
+// Kolosov's constant of an isotropic material: 3 - 4 nu in plane strain,
+// (3 - nu) / (1 + nu) in plane stress.
+double KolosovConstant(const MaterialSpec& material, PlaneCondition plane);
+
 // ---- Compact tension, ASTM E399 proportions -----------------------------
 inline constexpr double kCtMinRelativeCrack = 0.2;
 inline constexpr double kCtMaxRelativeCrack = 0.95;            // f(a/W)
