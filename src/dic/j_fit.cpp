@@ -146,6 +146,8 @@ struct FitOutcome {
   std::vector<std::size_t> index;   // field points used
   std::vector<double> res_u, res_v;
   Eigen::MatrixXd A;  // design rows (u, v per point)
+  Eigen::VectorXd scale;          // column norms of A (the solve's conditioning)
+  Eigen::MatrixXd ata_scaled;     // (A D^-1)^T (A D^-1), D = diag(scale)
   double ssr = 0;
   double signal_rms = 0;  // RMS of the fitted displacement less the rigid motion
 };
@@ -180,9 +182,10 @@ FitOutcome FitSeries(const DisplacementField& f, double cx, double cy, double c,
   const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(As);
   if (qr.rank() < p) return out;
   out.coef = qr.solve(b).cwiseQuotient(scale);
-  const Eigen::MatrixXd ata = As.transpose() * As;
-  out.covariance_unit = scale.cwiseInverse().asDiagonal() * ata.inverse() *
+  out.ata_scaled = As.transpose() * As;
+  out.covariance_unit = scale.cwiseInverse().asDiagonal() * out.ata_scaled.inverse() *
                         scale.cwiseInverse().asDiagonal();
+  out.scale = scale;
   const Eigen::VectorXd r = b - A * out.coef;
   out.res_u.resize(n);
   out.res_v.resize(n);
@@ -203,14 +206,17 @@ FitOutcome FitSeries(const DisplacementField& f, double cx, double cy, double c,
 // A fit absorbs part of an error correlated over many points (a patch of
 // DIC bias that the series' smooth terms follow): the plain residuals miss
 // that part, the leave-tile-out residuals restore it (the block form of
-// the jackknife's HC3 correction). Written over res_u, res_v.
-void LeaveTileOutResiduals(const DisplacementField& f, int tile, FitOutcome* fit) {
-  const int n = static_cast<int>(fit->index.size()), p = static_cast<int>(fit->A.cols());
+// the jackknife's HC3 correction). Returned in res_u, res_v.
+void LeaveTileOutResiduals(const DisplacementField& f, int tile, const FitOutcome& fit,
+                           std::vector<double>* res_u, std::vector<double>* res_v) {
+  *res_u = fit.res_u;
+  *res_v = fit.res_v;
+  const int n = static_cast<int>(fit.index.size()), p = static_cast<int>(fit.A.cols());
   const int tiles_x = (f.nx + tile - 1) / tile;
   std::vector<std::vector<int>> members;
   std::vector<int> slot(static_cast<std::size_t>(tiles_x) * ((f.ny + tile - 1) / tile), -1);
   for (int k = 0; k < n; ++k) {
-    const std::size_t i = fit->index[k];
+    const std::size_t i = fit.index[k];
     const int t = static_cast<int>(i / f.nx) / tile * tiles_x + static_cast<int>(i % f.nx) / tile;
     if (slot[t] < 0) {
       slot[t] = static_cast<int>(members.size());
@@ -218,25 +224,23 @@ void LeaveTileOutResiduals(const DisplacementField& f, int tile, FitOutcome* fit
     }
     members[slot[t]].push_back(k);
   }
-  const Eigen::VectorXd scale = fit->A.colwise().norm().transpose().cwiseMax(1e-300);
-  const Eigen::MatrixXd As = fit->A * scale.cwiseInverse().asDiagonal();
-  const Eigen::MatrixXd ata = As.transpose() * As;
+  const Eigen::RowVectorXd inv_scale = fit.scale.cwiseInverse().transpose();
   for (const std::vector<int>& rows : members) {
     const int m = static_cast<int>(rows.size());
     Eigen::MatrixXd Ab(2 * m, p);
     Eigen::VectorXd rb(2 * m);
     for (int j = 0; j < m; ++j) {
-      Ab.row(2 * j) = As.row(2 * rows[j]);
-      Ab.row(2 * j + 1) = As.row(2 * rows[j] + 1);
-      rb(2 * j) = fit->res_u[rows[j]];
-      rb(2 * j + 1) = fit->res_v[rows[j]];
+      Ab.row(2 * j) = fit.A.row(2 * rows[j]).cwiseProduct(inv_scale);
+      Ab.row(2 * j + 1) = fit.A.row(2 * rows[j] + 1).cwiseProduct(inv_scale);
+      rb(2 * j) = fit.res_u[rows[j]];
+      rb(2 * j + 1) = fit.res_v[rows[j]];
     }
-    const Eigen::LDLT<Eigen::MatrixXd> mb(ata - Ab.transpose() * Ab);
+    const Eigen::LDLT<Eigen::MatrixXd> mb(fit.ata_scaled - Ab.transpose() * Ab);
     if (mb.info() != Eigen::Success) continue;  // the tile carries the fit: kept as is
     const Eigen::VectorXd rt = rb + Ab * mb.solve(Ab.transpose() * rb);
     for (int j = 0; j < m; ++j) {
-      fit->res_u[rows[j]] = rt(2 * j);
-      fit->res_v[rows[j]] = rt(2 * j + 1);
+      (*res_u)[rows[j]] = rt(2 * j);
+      (*res_v)[rows[j]] = rt(2 * j + 1);
     }
   }
 }
@@ -250,15 +254,18 @@ void LeaveTileOutResiduals(const DisplacementField& f, int tile, FitOutcome* fit
 // leave-tile-out residuals (`tile` grid points; the plain residuals when
 // 0). DIC errors are correlated over a subset and larger where the strain
 // varies.
-double CorrelatedVariance(const DisplacementField& f, FitOutcome fit, const Eigen::VectorXd& g,
-                          int max_lag, int tile) {
-  if (tile > 0) LeaveTileOutResiduals(f, tile, &fit);
+double CorrelatedVariance(const DisplacementField& f, const FitOutcome& fit,
+                          const Eigen::VectorXd& g, int max_lag, int tile) {
+  std::vector<double> tile_u, tile_v;
+  if (tile > 0) LeaveTileOutResiduals(f, tile, fit, &tile_u, &tile_v);
+  const std::vector<double>& res_u = tile > 0 ? tile_u : fit.res_u;
+  const std::vector<double>& res_v = tile > 0 ? tile_v : fit.res_v;
   const Eigen::VectorXd h = fit.covariance_unit * g;
   const Eigen::VectorXd ah = fit.A * h;
   std::vector<double> e(f.size(), 0.0);
   std::vector<char> used(f.size(), 0);
   for (std::size_t k = 0; k < fit.index.size(); ++k) {
-    e[fit.index[k]] = ah(2 * k) * fit.res_u[k] + ah(2 * k + 1) * fit.res_v[k];
+    e[fit.index[k]] = ah(2 * k) * res_u[k] + ah(2 * k + 1) * res_v[k];
     used[fit.index[k]] = 1;
   }
   double var = 0;
