@@ -52,6 +52,7 @@ nlohmann::json FrameJJson(const dic::FrameJ& j) {
       {"delta_star_m", j.delta_star_ok ? NumberOrNull(j.delta_star) : nlohmann::json()},
       {"delta_star_uncertainty_m",
        j.delta_star_ok ? NumberOrNull(j.delta_star_uncertainty) : nlohmann::json()},
+      {"delta_star_method", dic::DeltaStarMethodName(j.delta_star_method)},
       {"root_distance_m", j.root_distance_m}};
   if (!j.why.empty()) out["why"] = j.why;
   const bool fit_ok = j.fit.status == dic::FieldFitJStatus::kOk;

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include <fmt/format.h>
 
@@ -44,7 +45,63 @@ const char* FrameJStatusName(FrameJStatus status) {
   return "unknown";
 }
 
+const char* DeltaStarMethodName(DeltaStarMethod method) {
+  switch (method) {
+    case DeltaStarMethod::kNone: return "none";
+    case DeltaStarMethod::kProfile: return "profile";
+    case DeltaStarMethod::kAtRoot: return "at_root";
+    case DeltaStarMethod::kNearTip: return "near_tip";
+  }
+  return "unknown";
+}
+
 namespace {
+
+// Mode-I LEFM opening r behind a sharp tip: 8 K sqrt(r / 2 pi) / E', K^2 = E' J.
+double NearTipOpening(double r, double J, double effective_modulus) {
+  return r > 0 ? std::sqrt(32 * r * J / (std::numbers::pi * effective_modulus)) : 0.0;
+}
+
+// Stage 4 where the fitted profile cannot reach the root (the header): the
+// tip at or behind the root -> 0; past it -> the near-tip opening with the
+// frame's J_ff (the field fit's where ok). u from the tip's u_r (half the
+// spread over r -+ u_r), J_ff's and the model allowance.
+void NearTipDeltaStar(double root_m, double u_root_m, const FrameJOptions& options,
+                      FrameJ* out) {
+  const bool fit_ok = out->fit.status == FieldFitJStatus::kOk && out->fit.J > 0;
+  const double J = fit_ok ? out->fit.J : out->status == FrameJStatus::kOk ? out->J_ff : NAN;
+  const double u_J = fit_ok ? out->fit.J_uncertainty : 0.005 * out->J_ff_spread_percent * J;
+  const double E = options.effective_modulus;
+  if (root_m <= 0 && !(E > 0 && J > 0)) {  // no E' or J: 0 without an uncertainty
+    out->delta_star_ok = true;
+    out->delta_star_method = DeltaStarMethod::kAtRoot;
+    return;
+  }
+  if (!(E > 0)) {
+    out->delta_star_why = fmt::format(
+        "the tip is {:.3g} mm past the root, closer than the fitted opening profile reaches; "
+        "the near-tip delta* needs the plate's effective modulus (FrameJOptions::"
+        "effective_modulus, set from --scene)",
+        root_m * 1e3);
+    return;
+  }
+  if (!(J > 0)) {
+    out->delta_star_why = fmt::format(
+        "the tip is {:.3g} mm past the root, closer than the fitted opening profile reaches, "
+        "and the frame has no J_ff for the near-tip delta*",
+        root_m * 1e3);
+    return;
+  }
+  const double d = NearTipOpening(root_m, J, E);
+  const double spread = 0.5 * (NearTipOpening(root_m + u_root_m, J, E) -
+                               NearTipOpening(root_m - u_root_m, J, E));
+  out->delta_star_ok = true;
+  out->delta_star = d;
+  out->delta_star_uncertainty =
+      std::sqrt(spread * spread + std::pow(0.5 * d * u_J / J, 2) +
+                std::pow(kNearTipModelRelative * d, 2));
+  out->delta_star_method = root_m > 0 ? DeltaStarMethod::kNearTip : DeltaStarMethod::kAtRoot;
+}
 
 // The field with the crack band behind the tip (and one band width ahead)
 // marked kCrackBand: subsets there straddle the faces.
@@ -64,7 +121,8 @@ DisplacementField WithCrackBand(const DisplacementField& field, double tip_x, do
 
 FrameJ ComputeFrameJ(const DisplacementField& field, double tip_x_px, double tip_y_px,
                      double tip_s_px, double line_dx, double line_dy, double band_half_width_px,
-                     double scale_m_per_px, double offset_m, const FrameJOptions& options) {
+                     double scale_m_per_px, double offset_m, const FrameJOptions& options,
+                     double tip_uncertainty_px) {
   std::string why;
   if (!options.IsValid(&why)) throw Error(ErrorKind::kUsage, "invalid J options: " + why);
   FrameJ out;
@@ -142,16 +200,16 @@ FrameJ ComputeFrameJ(const DisplacementField& field, double tip_x_px, double tip
   if (options.field_fit)
     out.fit = FitFarFieldJ(banded, cx, cy, c, s, (r_in0 + options.fit_margin_points) * step,
                            options.elastic, scale_m_per_px, options.fit);
-  out.delta_star_ok = r.root_opening.ok;
-  if (root_points < 1) {
-    // The tip has not left the notch root by a grid step: the root is the
-    // tip, whose opening is zero (the onset of growth).
-    out.delta_star_ok = true;
-    out.delta_star = 0;
-    out.delta_star_uncertainty = 0;
+  // Stage 4: delta*, from the profile where its stretch fits between the
+  // notch and the tip, else at or near the tip (NearTipDeltaStar).
+  if (root_px <= jo.opening_ahead_length * step) {
+    NearTipDeltaStar((tip_s_px - s_root) * scale_m_per_px, tip_uncertainty_px * scale_m_per_px,
+                     options, &out);
   } else if (r.root_opening.ok) {
+    out.delta_star_ok = true;
     out.delta_star = r.root_opening.delta;
     out.delta_star_uncertainty = r.root_opening.delta_std;
+    out.delta_star_method = DeltaStarMethod::kProfile;
   } else {
     out.delta_star_why = r.root_opening.why;
   }

@@ -229,7 +229,8 @@ void MeasureFrameJ(const DisplacementField& field, const CrackSequenceOptions& o
   const CrackLine& L = r->line_used;
   r->j = ComputeFrameJ(field, r->tip.tip.x_px, r->tip.tip.y_px, r->tip.tip.s_px, L.x1 - L.x0,
                        L.y1 - L.y0, options.tip.band_half_width_px, options.scale_m_per_px,
-                       options.offset_m, options.j_integral);
+                       options.offset_m, options.j_integral,
+                       r->uncertainty_m / options.scale_m_per_px);
 }
 
 void MakeMonotone(std::vector<FrameResult>* frames) {

@@ -35,6 +35,26 @@ Samples FromOnset(const Samples& s, int first) {
   return out;
 }
 
+// The samples' opening uncertainties from the onset on, in the order of
+// FromOnset (zeros when the caller gives none); throws naming the field.
+std::vector<double> OpeningUncertainty(const FarFieldJSamples& data, const Samples& s, int first) {
+  const std::vector<double>& ux = data.opening_uncertainty;
+  std::vector<double> out(s.x.size() - first, 0.0);
+  if (ux.empty()) return out;
+  BF_CHECK_INPUT(ux.size() == data.opening.size(), "every opening needs one uncertainty",
+                 {.field = "opening_uncertainty",
+                  .value = fmt::format("{} values", ux.size()),
+                  .expected = fmt::format("{} (as many as opening), or none", data.opening.size())});
+  for (size_t i = 0; i < ux.size(); ++i)
+    BF_CHECK_INPUT(std::isfinite(ux[i]) && ux[i] >= 0.0,
+                   "opening uncertainties must be finite and >= 0",
+                   {.field = fmt::format("opening_uncertainty[{}]", i),
+                    .value = std::to_string(ux[i]),
+                    .expected = "u >= 0 [m]"});
+  for (size_t k = first; k < s.x.size(); ++k) out[k - first] = ux[s.order[k]];
+  return out;
+}
+
 // Onset as a sorted index: given by index or opening, else detected.
 int ResolveOnset(const FarFieldJSamples& data, const Samples& s, const LawFreeOptions& options,
                  LawFreeResult* result) {
@@ -190,24 +210,37 @@ LawFreeResult LawFromFarFieldJ(const FarFieldJSamples& data, const LawFreeOption
   // J_ff_i = J_tip,c + sum_j a_j(delta_i) s_j; unknowns (J_tip,c, s).
   const Grid grid = MakeGrid(g.x.back(), options.grid_points);
   const int m = options.grid_points;
+  const std::vector<double> ux = OpeningUncertainty(data, s, onset);
+  std::vector<double> u = g.u;
   Eigen::MatrixXd A(n, m + 1);
   Eigen::VectorXd b(n);
-  for (int i = 0; i < n; ++i) {
-    A(i, 0) = 1.0 / g.u[i];
-    A.block(i, 1, 1, m) = HatIntegrals(grid, g.x[i]) / g.u[i];
-    b[i] = g.y[i] / g.u[i];
-  }
   const Eigen::MatrixXd D = SecondDifferences(m);
   Eigen::MatrixXd P = Eigen::MatrixXd::Zero(m + 1, m + 1);
   P.bottomRightCorner(m, m) = D.transpose() * D;
-  const PenalisedFit fit = SolvePenalised(A, b, P, options.penalty_rule, options.gcv_gamma);
+  PenalisedFit fit;
+  // Effective variance: an opening's uncertainty u_x moves J_ff by sigma u_x,
+  // so u_i^2 = u_J,i^2 + (sigma(delta_i) u_x,i)^2 with sigma from the
+  // previous pass (Orear 1982); two passes after the first settle it.
+  const bool has_ux = std::any_of(ux.begin(), ux.end(), [](double v) { return v > 0.0; });
+  for (int pass = 0; pass < (has_ux ? 3 : 1); ++pass) {
+    for (int i = 0; i < n; ++i) {
+      if (pass > 0) {
+        const double sigma_i = std::max(0.0, HatValues(grid, g.x[i]).dot(fit.x.tail(m)));
+        u[i] = std::hypot(g.u[i], sigma_i * ux[i]);
+      }
+      A(i, 0) = 1.0 / u[i];
+      A.block(i, 1, 1, m) = HatIntegrals(grid, g.x[i]) / u[i];
+      b[i] = g.y[i] / u[i];
+    }
+    fit = SolvePenalised(A, b, P, options.penalty_rule, options.gcv_gamma);
+  }
 
   r.J_tip_c = fit.x[0];
   r.J_tip_c_standard_error = std::sqrt(fit.covariance(0, 0));
   FillSigma(grid, fit, 1, m, options, &r);
   RecordFit(fit, n, options, &r);
   double J_max = -INFINITY;
-  for (int i = 0; i < n; ++i) J_max = std::max(J_max, A.row(i).dot(fit.x) * g.u[i]);
+  for (int i = 0; i < n; ++i) J_max = std::max(J_max, A.row(i).dot(fit.x) * u[i]);
   SteadyStateOrBounds(g, FindPlateau(g, 0, options), J_max, "J_ff", &r);
   r.run_seconds = Seconds(start);
   return r;

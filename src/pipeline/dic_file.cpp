@@ -166,7 +166,7 @@ void WriteDicJ(io::H5Writer& h5, const dic::CrackSequenceResult& r,
   const size_t n = r.frames.size();
   std::vector<double> j(n, NAN), spread(n, NAN), ok(n, 0), delta(n, NAN), u(n, NAN), root(n, NAN);
   std::vector<double> jfit(n, NAN), jfit_u(n, NAN);
-  std::vector<std::string> status, delta_status, fit_status;
+  std::vector<std::string> status, delta_status, fit_status, delta_method;
   for (size_t k = 0; k < n; ++k) {
     const dic::FrameJ& f = r.frames[k].j;
     if (f.fit.status == dic::FieldFitJStatus::kOk) {
@@ -189,6 +189,7 @@ void WriteDicJ(io::H5Writer& h5, const dic::CrackSequenceResult& r,
     if (f.status != dic::FrameJStatus::kNoTip && f.status != dic::FrameJStatus::kNotRequested)
       root[k] = f.root_distance_m;
     delta_status.push_back(DeltaStarStatus(f));
+    delta_method.push_back(dic::DeltaStarMethodName(f.delta_star_method));
   }
   h5.WriteVector("/dic/J_ff", j, "J/m^2", "far-field J, mean over the ok domains (NaN: see J_status)");
   h5.WriteVector("/dic/J_ff_spread", spread, "%", "(max - min) / mean over the ok far-field domains");
@@ -203,6 +204,8 @@ void WriteDicJ(io::H5Writer& h5, const dic::CrackSequenceResult& r,
   h5.WriteVector("/dic/delta_star_uncertainty", u, "m", "one standard deviation");
   h5.WriteVector("/dic/root_distance", root, "m", "tip to initial notch root along the line");
   h5.WriteStrings("/dic/delta_star_status", delta_status);
+  // profile | at_root | near_tip (LEFM near-tip opening) | none (dic/frame_j.hpp)
+  h5.WriteStrings("/dic/delta_star_method", delta_method);
   const dic::ElasticConstants& e = opt.j_integral.elastic;
   h5.WriteAttribute("/dic", "notch_length_m", opt.j_integral.notch_length_m);
   h5.WriteAttribute(
@@ -226,7 +229,7 @@ void WriteDicCsv(const std::string& path, const dic::CrackSequenceResult& r) {
   if (r.j_integral)
     text += ", J_ff [J/m^2], J_ff_spread [%], J_domains_ok, J_status, delta_star [mm], "
             "delta_star_uncertainty [mm], delta_star_status, J_ff_fit [J/m^2], "
-            "J_ff_fit_uncertainty [J/m^2], J_fit_status";
+            "J_ff_fit_uncertainty [J/m^2], J_fit_status, delta_star_method";
   text += "\n";
   auto num = [](bool ok, double v) {
     return ok && std::isfinite(v) ? fmt::format("{:.6g}", v) : std::string();
@@ -264,8 +267,10 @@ void WriteDicCsv(const std::string& path, const dic::CrackSequenceResult& r) {
                           DeltaStarStatus(f.j));
       text.pop_back();
       const bool fit_ok = f.j.fit.status == dic::FieldFitJStatus::kOk;
-      text += fmt::format(", {}, {}, {}\n", num(fit_ok, f.j.fit.J), num(fit_ok, f.j.fit.J_uncertainty),
-                          dic::FieldFitJStatusName(f.j.fit.status));
+      text += fmt::format(", {}, {}, {}, {}\n", num(fit_ok, f.j.fit.J),
+                          num(fit_ok, f.j.fit.J_uncertainty),
+                          dic::FieldFitJStatusName(f.j.fit.status),
+                          dic::DeltaStarMethodName(f.j.delta_star_method));
     }
   }
   WriteTextFileAtomic(path, text);
@@ -403,6 +408,9 @@ DicJSeries ReadDicJSeries(const std::filesystem::path& path) {
   if (r.Exists("/dic/J_fit_status")) s.J_fit_status = r.ReadStrings("/dic/J_fit_status");
   s.J_fit_status.resize(n, "missing");
   s.delta_star_status.resize(n, "missing");
+  // How delta* was read (files before 2026-12-04 have none: "missing").
+  if (r.Exists("/dic/delta_star_method")) s.delta_star_method = r.ReadStrings("/dic/delta_star_method");
+  s.delta_star_method.resize(n, "missing");
   s.notch_length = NumberAttr(r, "/dic", "notch_length_m");
   return s;
 }

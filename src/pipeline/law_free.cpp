@@ -36,6 +36,7 @@ dic::FrameJOptions FrameJOptionsFromScene(const Scene& scene) {
   o.notch_length_m = scene.specimen.notch;
   try {
     o.elastic.Validate();
+    o.effective_modulus = specimen::EffectiveModulus(m, scene.specimen.plane);
   } catch (const Error& e) {
     throw e.WithContext({.file = scene.source});
   }
@@ -88,8 +89,10 @@ bool ZeroOpening(const DicJSeries& s, size_t k) {
 
 // The onset frame (docs/LAW_FREE.md "What each route needs"): the last
 // frame of the leading run whose notch-root opening is zero within its
-// uncertainty (|delta*| <= kOnsetOpeningZ u; dic writes delta* = 0, u = 0
-// while the tip is within a grid step of the root: the root is the tip).
+// uncertainty (|delta*| <= kOnsetOpeningZ u; dic writes delta* = 0 while
+// the tip is at or behind the root, and the near-tip opening with the
+// tip's uncertainty while it is past the root by less than the profile's
+// stretch: dic/frame_j.hpp).
 // The run ends at the first frame with an opening; a zero read after it is
 // an anomaly (ZeroAfterGrowth), not the onset. -1: none.
 int OnsetFrame(const DicJSeries& s) {
@@ -107,9 +110,10 @@ int OnsetFrame(const DicJSeries& s) {
 
 // The last frame of the onset's zero-opening run whose tip is measured at
 // or behind the notch root (crack length <= a0), -1 when none. Frames of
-// the run after it read delta* = 0 because their tip is past the root by
-// less than a grid step: growth there is not resolved, and may have begun
-// after this frame (docs/LAW_FREE.md "Onset not resolved").
+// the run after it read delta* zero within its uncertainty with the tip
+// past the root by less than the tip's uncertainty: growth there is not
+// resolved, and may have begun after this frame (docs/LAW_FREE.md "Onset
+// not resolved").
 int LastFrameAtTheRoot(const DicJSeries& s, int onset) {
   if (onset < 0 || !std::isfinite(s.notch_length)) return -1;
   int at_root = -1;
@@ -142,17 +146,23 @@ laws::FarFieldJSamples JSamples(const DicJSeries& s, const LawFreeRequest& reque
   // The onset not resolved: J_tip,c lies between the last frame at the
   // root and the onset frame; the onset sample's J uncertainty takes half
   // that rise.
-  double onset_spread = 0;
-  if (const int at_root = LastFrameAtTheRoot(s, onset); at_root >= 0 && at_root < onset) {
+  double onset_spread = 0, onset_mid = NAN;
+  const int at_root = LastFrameAtTheRoot(s, onset);
+  // J with the tip still at the root: J_tip,c >= it, so a later frame's
+  // bridging share W / J_ff is at most (J - j_ref) / J (1 without it).
+  const double j_ref = at_root >= 0 ? j_of(at_root) : onset >= 0 ? j_of(onset) : NAN;
+  int widened_near_tip = 0;
+  if (at_root >= 0 && at_root < onset) {
     const double j_root = j_of(at_root), j_onset = j_of(onset);
     if (std::isfinite(j_root) && std::isfinite(j_onset)) {
       onset_spread = 0.5 * std::abs(j_onset - j_root);
+      onset_mid = 0.5 * (j_onset + j_root);
       notes.push_back(fmt::format(
-          "warning: the onset of growth is not resolved: frames {}..{} read delta* = 0 with the "
-          "tip past the notch root by less than a grid step (crack length {:.3f}..{:.3f} mm, "
+          "warning: the onset of growth is not resolved: frames {}..{} read delta* zero within "
+          "its uncertainty with the tip past the notch root (crack length {:.3f}..{:.3f} mm, "
           "a0 {:.3f} mm); growth may have begun after frame {}, so J_tip,c may lie anywhere "
-          "from {:.1f} to {:.1f} J/m^2: the onset sample's uncertainty includes half that "
-          "(+-{:.1f} J/m^2); give --onset if the onset is known",
+          "from {:.1f} to {:.1f} J/m^2: the onset sample takes the middle, its uncertainty "
+          "half that range (+-{:.1f} J/m^2); give --onset if the onset is known",
           at_root + 1, onset, s.crack_length[at_root + 1] * 1e3, s.crack_length[onset] * 1e3,
           s.notch_length * 1e3, at_root, j_root, j_onset, onset_spread));
     }
@@ -184,7 +194,22 @@ laws::FarFieldJSamples JSamples(const DicJSeries& s, const LawFreeRequest& reque
     }
     const bool is_onset = static_cast<int>(k) >= onset && onset >= 0 && !out.onset_index;
     if (is_onset) out.onset_index = static_cast<int>(out.opening.size());
-    out.opening.push_back(s.delta_star[k]);
+    // The onset frame's opening is zero within its uncertainty: the onset
+    // is delta* = 0 by definition, and the laws count openings from it.
+    const bool zero_onset = is_onset && static_cast<int>(k) == onset;
+    out.opening.push_back(zero_onset ? 0.0 : s.delta_star[k]);
+    double ux = s.delta_star_uncertainty[k];
+    if (s.delta_star_method[k] == "near_tip" && !zero_onset) {
+      // The near-tip delta* reads high by up to half the bridging share
+      // (dic/frame_j.hpp); beyond the allowance dic states, widen to it.
+      const double J = j_of(k);
+      const double share = std::isfinite(j_ref) && J > 0 ? std::max(0.0, J - j_ref) / J : 1.0;
+      if (0.5 * share > dic::kNearTipModelRelative) {
+        ux = std::hypot(ux, 0.5 * share * s.delta_star[k]);
+        ++widened_near_tip;
+      }
+    }
+    out.opening_uncertainty.push_back(zero_onset || !std::isfinite(ux) ? 0.0 : ux);
     if (fit_ok) {
       out.J_ff.push_back(s.J_ff_fit[k]);
       out.uncertainty.push_back(std::max(s.J_ff_fit_uncertainty[k],
@@ -203,12 +228,21 @@ laws::FarFieldJSamples JSamples(const DicJSeries& s, const LawFreeRequest& reque
       out.uncertainty.push_back(std::max(0.5 * spread / 100, request.j_relative_floor) *
                                 std::abs(s.J_ff[k]));
     }
-    if (is_onset) out.uncertainty.back() = std::hypot(out.uncertainty.back(), onset_spread);
+    if (is_onset && onset_spread > 0) {
+      out.J_ff.back() = onset_mid;
+      out.uncertainty.back() = std::hypot(out.uncertainty.back(), onset_spread);
+    }
   }
   notes.push_back(want_fit ? fmt::format("J_ff per frame: the field-wide fit's ({} of {} frames "
                                          "from the domains)",
                                          from_domains, out.J_ff.size())
                            : std::string("J_ff per frame: the domains' (--j-source domains)"));
+  if (widened_near_tip > 0)
+    notes.push_back(fmt::format(
+        "{} frame(s) read delta* from the near-tip opening (tip past the root by less than "
+        "the profile's stretch) while bridging may carry more than {:.0f} % of J_ff: their "
+        "opening uncertainty includes half that share (the relation reads high by up to it)",
+        widened_near_tip, 200 * dic::kNearTipModelRelative));
   out.onset_opening = request.onset_opening;
   if (request.onset_opening) return out;
   if (onset >= 0) {

@@ -15,6 +15,7 @@
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/dic/speckle.hpp"
 #include "bridgefit/dic/crack.hpp"
+#include "bridgefit/dic/frame_j.hpp"
 #include "orthotropic_tip_field.hpp"
 
 namespace bridgefit::dic {
@@ -85,7 +86,7 @@ void AddCorrelatedNoise(DisplacementField* f, double rms_px, std::uint64_t seed,
 // The e2e test's last frame: notch root at x = 150 px, tip at 300 px (a
 // 15 mm zone), linear law sigma_c = 1 MPa, delta_c = 2 mm; the applied K
 // gives J_ff = 310 J/m^2 (about the run's).
-BridgedCrackField Bridged(double zone_px) {
+BridgedCrackField Bridged(double zone_px, double sigma_c = 1e6) {
   BridgedCrackField b;
   b.tip_x = 150 + zone_px;
   b.tip_y = 160;
@@ -95,9 +96,9 @@ BridgedCrackField Bridged(double zone_px) {
   b.translation_y = -2;
   b.zone_length = zone_px;
   b.segments = 120;
-  b.traction_over_2mu = [](double delta_px) {
+  b.traction_over_2mu = [sigma_c](double delta_px) {
     const double d = delta_px * kScale;
-    return (d < 2e-3 ? 1e6 * (1 - d / 2e-3) : 0.0) / (2 * kMu);
+    return (d < 2e-3 ? sigma_c * (1 - d / 2e-3) : 0.0) / (2 * kMu);
   };
   b.Solve();
   return b;
@@ -465,6 +466,73 @@ TEST(OrthotropicTip, LekhnitskiiSeriesFindsTheTipOfAnOrthotropicKField) {
     worst_iso = std::max(worst_iso, std::isfinite(e_i) ? std::abs(e_i) : 1e9);
   }
   EXPECT_GT(worst_iso, 3 * worst_ortho) << "Williams' series was expected to read these plates off";
+}
+
+// delta* of a frame whose tip is past the notch root (x = 150 px) by less
+// than the profile's stretch (2 grid points, 10 px): the near-tip opening
+// sqrt(32 r J_ff / (pi E')) (dic/frame_j.hpp) against the bridged crack's
+// solved opening at the root, and the status and method on either side.
+FrameJ FrameAt(const DisplacementField& f, double tip_x, double tip_u_px, double modulus) {
+  FrameJOptions o;
+  o.enabled = true;
+  o.elastic = kElastic;
+  o.notch_length_m = 150 * kScale;
+  o.effective_modulus = modulus;
+  return ComputeFrameJ(f, tip_x, 160, tip_x, 1, 0, 15, kScale, 0, o, tip_u_px);
+}
+
+TEST(FrameJ, NearTipDeltaStarFollowsTheBridgedCracksOpening) {
+  for (double zone : {2.0, 4.5, 7.0, 9.5}) {
+    const BridgedCrackField b = Bridged(zone);
+    const FrameJ r = FrameAt(View(b, b.tip_x), b.tip_x, 1.5, kE);
+    ASSERT_TRUE(r.delta_star_ok) << r.delta_star_why;
+    EXPECT_EQ(r.delta_star_method, DeltaStarMethod::kNearTip);
+    const double exact = b.OpeningAt(zone) * kScale;
+    std::printf("zone %.1f px: delta* %.3f um +- %.3f (exact %.3f um, %+.2f %%)\n", zone,
+                r.delta_star * 1e6, r.delta_star_uncertainty * 1e6, exact * 1e6,
+                100 * (r.delta_star / exact - 1));
+    EXPECT_LE(std::abs(r.delta_star - exact), 2 * r.delta_star_uncertainty) << "zone " << zone;
+    EXPECT_NEAR(r.delta_star / exact, 1.0, 0.03) << "zone " << zone;  // bridging: W/J_ff < 6 %
+  }
+  // Past the stretch the profile reads it; at or behind the root it is 0.
+  const BridgedCrackField past = Bridged(20);
+  EXPECT_EQ(FrameAt(View(past, past.tip_x), past.tip_x, 1.5, kE).delta_star_method,
+            DeltaStarMethod::kProfile);
+  ModeICrackField k;
+  k.tip_x = 147;
+  k.tip_y = 160;
+  k.kappa = kKappa;
+  k.k_over_2mu = KOver2muFor(200);
+  const FrameJ behind = FrameAt(View(k, k.tip_x), k.tip_x, 1.5, kE);
+  ASSERT_TRUE(behind.delta_star_ok);
+  EXPECT_EQ(behind.delta_star_method, DeltaStarMethod::kAtRoot);
+  EXPECT_EQ(behind.delta_star, 0.0);
+  // Without E' a tip past the root has no delta* (a status), not 0.
+  const BridgedCrackField near = Bridged(4.5);
+  const FrameJ no_modulus = FrameAt(View(near, near.tip_x), near.tip_x, 1.5, 0);
+  EXPECT_FALSE(no_modulus.delta_star_ok);
+  EXPECT_NE(no_modulus.delta_star_why.find("effective_modulus"), std::string::npos)
+      << no_modulus.delta_star_why;
+}
+
+// Bridging that carries a large share of J_ff closes the zone: the
+// traction-free relation reads the root high by about W / (2 J_ff) (a
+// uniform traction sigma over r removes 8 sigma r / (pi E'); Dugdale's zone,
+// W = J_ff, reads 2x), which pipeline::JSamples bounds from the J rise.
+TEST(FrameJ, NearTipDeltaStarReadsHighByHalfTheBridgingShare) {
+  for (double sigma_c : {5e6, 10e6}) {
+    const BridgedCrackField b = Bridged(9.5, sigma_c);
+    const FrameJ r = FrameAt(View(b, b.tip_x), b.tip_x, 1.5, kE);
+    ASSERT_TRUE(r.delta_star_ok) << r.delta_star_why;
+    const double exact = b.OpeningAt(9.5) * kScale;
+    const double J = JOf(b.k_over_2mu);
+    const double W = sigma_c * (exact - exact * exact / (2 * 2e-3));
+    const double high = r.delta_star / exact - 1;
+    std::printf("sigma_c %.0f MPa: delta* %+.1f %% high, W / (2 J_ff) %.1f %%\n", sigma_c / 1e6,
+                100 * high, 100 * W / (2 * J));
+    EXPECT_GT(high, 0.5 * W / (2 * J));
+    EXPECT_LT(high, 1.5 * W / (2 * J));
+  }
 }
 
 }  // namespace

@@ -285,6 +285,41 @@ TEST(LawFree, BandCoversTheTruth) {
   EXPECT_GE(double(route_covered[1]) / route_nodes[1], 0.85);
 }
 
+// Openings measured with an uncertainty u_x (the near-tip delta* of
+// dic/frame_j.hpp states 10-40 %): the effective variance (u_J^2 +
+// (sigma u_x)^2) accounts for the scatter it adds to J_ff, so chi^2 per
+// degree of freedom is about 1 and the band still covers; without u_x the
+// fit sees several times the scatter its u_J allow.
+TEST(LawFree, OpeningUncertaintyEntersAsEffectiveVariance) {
+  const Truth truth = MakeTruth("linear", MakeLinearShape());
+  constexpr double kUx = 0.03 * kDeltaC;
+  double ratio_with = 0.0, ratio_without = 0.0;
+  int covered = 0, nodes = 0;
+  constexpr int kSeeds = 20;
+  for (int seed = 1; seed <= kSeeds; ++seed) {
+    FarFieldJSamples d = MakeFarFieldJ(truth, 1.4, seed);
+    Noise noise(1000 + seed);
+    d.onset_index = kPreOnset - 1;
+    d.opening_uncertainty.assign(d.opening.size(), 0.0);
+    for (size_t i = kPreOnset; i < d.opening.size(); ++i) {
+      d.opening[i] += kUx * noise.Next();
+      d.opening_uncertainty[i] = kUx;
+    }
+    const LawFreeResult with = LawFromFarFieldJ(d);
+    d.opening_uncertainty.clear();
+    const LawFreeResult without = LawFromFarFieldJ(d);
+    ratio_with += with.chi2 / (with.points_used - with.effective_dof) / kSeeds;
+    ratio_without += without.chi2 / (without.points_used - without.effective_dof) / kSeeds;
+    const Recovery m = Measure(truth, with);
+    covered += m.covered, nodes += m.nodes;
+  }
+  std::printf("chi^2 / (n - dof): %.2f with u_x, %.2f without; band covers %.1f %%\n", ratio_with,
+              ratio_without, 100.0 * covered / nodes);
+  EXPECT_NEAR(ratio_with, 1.0, 0.3);
+  EXPECT_GT(ratio_without, 3.0);
+  EXPECT_GE(double(covered) / nodes, 0.85);
+}
+
 // The onset given by index, by opening, or detected: the same fit.
 TEST(LawFree, OnsetGivenOrDetectedAgree) {
   const Truth truth = MakeTruth("cubic", MakeCubicShape());
@@ -394,6 +429,14 @@ TEST(LawFree, BadInputThrowsNamingTheField) {
     FarFieldJSamples d = good;
     d.J_ff[3] = NAN;
     ExpectInputError([&] { LawFromFarFieldJ(d); }, "J_ff[3]");
+  }
+  {
+    FarFieldJSamples d = good;
+    d.opening_uncertainty.assign(3, 1e-6);
+    ExpectInputError([&] { LawFromFarFieldJ(d); }, "opening_uncertainty");
+    d.opening_uncertainty.assign(d.opening.size(), 1e-6);
+    d.opening_uncertainty[20] = -1e-6;
+    ExpectInputError([&] { LawFromFarFieldJ(d); }, "opening_uncertainty[20]");
   }
   {
     RCurveSamples d = good_r;

@@ -14,9 +14,22 @@
 // kCrackBand first: with the path found from the data they are correlated
 // across the faces and smeared. delta*'s stretch along the line reaches
 // integral.opening_half_length behind the root and opening_ahead_fraction
-// of the zone ahead of it (2 points at least; a zone that short is a
-// delta* status); a tip within one grid step of the root gives delta* = 0
-// (the root is the tip: the onset of growth).
+// of the zone ahead of it (2 points at least). A tip at or behind the
+// root gives delta* = 0 (the root is the tip: no growth yet). A tip past
+// the root by less than that stretch (a zone of 0-2 grid steps, where the
+// fitted profile would reach past the tip) gives the near-tip opening of
+// a sharp crack with the frame's J_ff at the root's distance r behind the
+// tip, delta* = sqrt(32 r J_ff / (pi E')) (the mode-I LEFM crack opening
+// 8 K sqrt(r / 2 pi) / E' with K^2 = E' J_ff; the relation the reduced
+// model's inverse::AnalyticDeltaRoot iterates), with its
+// standard uncertainty from the tip's (half the spread of delta* over r
+// -+ u_r, 0 floored), J_ff's and kNearTipModelRelative of delta* for the
+// bridging the relation ignores: it is exact for a traction-free zone and
+// reads high by up to 2x for a zone whose bridging carries all of J_ff
+// (Dugdale); on zones of 0.5-1 mm whose bridging carries < 10 % of J_ff
+// (synth's bridged fields, tests/dic/frame_j_test.cpp) it is within a few
+// percent. Without FrameJOptions::effective_modulus such a frame has no
+// delta* (a status).
 
 #include <string>
 
@@ -38,6 +51,9 @@ struct FrameJOptions {
   // the zone (2 points at least, integral.opening_half_length at most);
   // behind the root it is integral.opening_half_length.
   double opening_ahead_fraction = 0.35;
+  // E' for the near-tip delta* (specimen::EffectiveModulus of the scene's
+  // plate; pipeline::FrameJOptionsFromScene sets it) [Pa]; 0: not known.
+  double effective_modulus = 0;
   // Gradient window, fit order, valid fraction, opening rows and half
   // length; `domains`, `metres_per_unit` and `domain_units` are set per frame.
   JIntegralOptions integral;
@@ -48,6 +64,18 @@ struct FrameJOptions {
   FieldFitJOptions fit;
   bool IsValid(std::string* why) const;
 };
+
+// The near-tip delta*'s allowance for the bridging it ignores (see above).
+inline constexpr double kNearTipModelRelative = 0.1;
+
+// How a frame's delta* was read.
+enum class DeltaStarMethod {
+  kNone,     // not read (delta_star_ok false)
+  kProfile,  // the opening profile fitted about the root (stage 4 of j_integral.hpp)
+  kAtRoot,   // the tip at or behind the root: 0
+  kNearTip   // the tip past the root by less than the fitted stretch: near-tip LEFM
+};
+const char* DeltaStarMethodName(DeltaStarMethod method);  // "none", "profile", ...
 
 enum class FrameJStatus {
   kNotRequested,
@@ -68,14 +96,17 @@ struct FrameJ {
   std::string delta_star_why;     // when !delta_star_ok
   double delta_star = 0;          // opening at the notch root [m] (0 unless ok)
   double delta_star_uncertainty = 0;  // standard uncertainty [m]
+  DeltaStarMethod delta_star_method = DeltaStarMethod::kNone;
   FieldFitJResult fit;                // the field-wide fit's J_ff (status kNotRequested when off)
 };
 
-// `field` in px (reference positions); tip and line from a located frame.
-// Never throws for a frame that cannot be measured (a status); throws
+// `field` in px (reference positions); tip and line from a located frame;
+// tip_uncertainty_px the tip's standard uncertainty along the line (for the
+// near-tip delta*). Never throws for a frame that cannot be measured (a status); throws
 // Error(kUsage) for invalid options.
 FrameJ ComputeFrameJ(const DisplacementField& field, double tip_x_px, double tip_y_px,
                      double tip_s_px, double line_dx, double line_dy, double band_half_width_px,
-                     double scale_m_per_px, double offset_m, const FrameJOptions& options);
+                     double scale_m_per_px, double offset_m, const FrameJOptions& options,
+                     double tip_uncertainty_px = 0);
 
 }  // namespace bridgefit::dic

@@ -106,6 +106,10 @@ struct FarFieldJSamples {
   std::vector<double> opening;      // delta* at the initial notch root [m]
   std::vector<double> J_ff;         // far-field J [J/m^2]
   std::vector<double> uncertainty;  // standard uncertainty of J_ff [J/m^2]
+  // Standard uncertainty of each opening [m] (empty: none). It enters as J_ff
+  // uncertainty sigma(delta_i) u_x,i (effective variance: sigma from a first
+  // fit, two more passes).
+  std::vector<double> opening_uncertainty;
   std::optional<int> onset_index;
   std::optional<double> onset_opening;  // [m]
 };

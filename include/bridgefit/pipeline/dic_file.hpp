@@ -43,6 +43,9 @@ struct DicJSeries {
   std::vector<std::string> image;
   std::vector<double> crack_length, J_ff, J_ff_spread_percent, delta_star, delta_star_uncertainty;
   std::vector<std::string> J_status, delta_star_status;
+  // profile | at_root | near_tip | none (dic::DeltaStarMethodName); "missing"
+  // in files without it.
+  std::vector<std::string> delta_star_method;
   // The field-wide fit's J_ff and its standard uncertainty [J/m^2]; status
   // "missing" where the file has none.
   std::vector<double> J_ff_fit, J_ff_fit_uncertainty;
