@@ -411,6 +411,8 @@ DicJSeries ReadDicJSeries(const std::filesystem::path& path) {
   // How delta* was read (files before 2026-12-04 have none: "missing").
   if (r.Exists("/dic/delta_star_method")) s.delta_star_method = r.ReadStrings("/dic/delta_star_method");
   s.delta_star_method.resize(n, "missing");
+  if (r.Exists("/dic/flags")) s.flags = r.ReadStrings("/dic/flags");
+  s.flags.resize(n);
   s.notch_length = NumberAttr(r, "/dic", "notch_length_m");
   return s;
 }

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <map>
 
 #include <fmt/format.h>
@@ -124,6 +125,44 @@ int LastFrameAtTheRoot(const DicJSeries& s, int onset) {
   return at_root;
 }
 
+// Frames after the onset that the DIC flagged (their crack geometry may be
+// off by more than its uncertainty: a path that disagrees with the line,
+// methods that disagree, ...): their delta* and J_ff are measured about that
+// geometry (48-frame runs: delta* 3-9 um off on such frames, 0.5-1.3 um on
+// the others). Skipped, with one note, when at least `min_points` usable
+// frames remain; else kept with a warning. `usable(k)`: the frame would be
+// a sample. Returns the frames to skip.
+std::vector<char> FlaggedToSkip(const DicJSeries& s, int onset, int min_points,
+                                const std::function<bool(size_t)>& usable,
+                                std::vector<std::string>& notes) {
+  std::vector<char> skip(s.image.size(), 0);
+  std::string listed;
+  int flagged = 0, clean = 0;
+  for (size_t k = 0; k < s.image.size(); ++k) {
+    if (!usable(k)) continue;
+    if (static_cast<int>(k) <= onset || s.flags[k].empty()) {
+      ++clean;
+      continue;
+    }
+    skip[k] = 1;
+    ++flagged;
+    listed += fmt::format("{}{} ({})", listed.empty() ? "" : ", ", k, s.flags[k]);
+  }
+  if (flagged == 0) return skip;
+  if (clean >= min_points) {
+    notes.push_back(fmt::format(
+        "{} frame(s) the DIC flagged left out of the J route (their tip or line may be off, and "
+        "delta* and J_ff with it): {}",
+        flagged, listed));
+    return skip;
+  }
+  notes.push_back(fmt::format(
+      "warning: {} frame(s) the DIC flagged are used ({} unflagged, fewer than {}): their tip "
+      "or line may be off, and delta* and J_ff with it: {}",
+      flagged, clean, min_points, listed));
+  return std::vector<char>(s.image.size(), 0);
+}
+
 // Frames with both J and delta* ok -> J route samples; the others skipped
 // with a note each. Unless the request gives the onset, it is the onset
 // frame (OnsetFrame): frames before it (J_tip still rising at the root) are
@@ -167,10 +206,24 @@ laws::FarFieldJSamples JSamples(const DicJSeries& s, const LawFreeRequest& reque
           s.notch_length * 1e3, at_root, j_root, j_onset, onset_spread));
     }
   }
+  auto j_usable = [&](size_t k) {
+    return fit_usable(k) || (s.J_status[k] == "ok" && std::isfinite(s.J_ff[k]));
+  };
+  auto d_usable = [&](size_t k) {
+    return s.delta_star_status[k] == "ok" && std::isfinite(s.delta_star[k]);
+  };
+  const std::vector<char> flagged = FlaggedToSkip(
+      s, onset, request.options.min_points,
+      [&](size_t k) {
+        return j_usable(k) && d_usable(k) && static_cast<int>(k) >= onset &&
+               !(onset >= 0 && static_cast<int>(k) > onset && ZeroOpening(s, k));
+      },
+      notes);
   for (size_t k = 0; k < s.image.size(); ++k) {
     const bool fit_ok = fit_usable(k);
-    const bool j_ok = fit_ok || (s.J_status[k] == "ok" && std::isfinite(s.J_ff[k]));
-    const bool d_ok = s.delta_star_status[k] == "ok" && std::isfinite(s.delta_star[k]);
+    const bool j_ok = j_usable(k);
+    const bool d_ok = d_usable(k);
+    if (flagged[k]) continue;
     if (static_cast<int>(k) < onset && j_ok && d_ok) {
       ++before;
       continue;

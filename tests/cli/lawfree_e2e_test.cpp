@@ -8,9 +8,10 @@
 //
 // What holds and is asserted (measured on this set-up, 16 frames 400 x 320
 // px at 0.1 mm/px, subset 31 px, step 5 px; docs/LAW_FREE.md):
-//  - every frame but the reference has J_ff; delta* too, except frames whose
-//    zone is shorter than 2 grid points + the tip's error (a status, skipped
-//    by lawfree with a note);
+//  - every frame but the reference has J_ff and delta*: from the opening
+//    profile, or where the zone is shorter than the profile's stretch (2
+//    grid points) the near-tip opening sqrt(32 r J_ff / (pi E')), within 2
+//    of its stated u (measured 26.9 um for 26.9 here; dic/frame_j.hpp);
 //  - delta* per frame within 3 % (+ 1 um) of the generator's root opening
 //    where the zone is at least 3 mm, within 10 % below (the stretch reaches
 //    8 points behind the root and 0.35 of the zone ahead of it, 2 points at
@@ -109,16 +110,14 @@ max_crack_length = "45 mm"
   int fit_within_2u = 0, fit_frames = 0;
   for (size_t k = 1; k < dic.image.size(); ++k) {
     ASSERT_EQ(dic.J_status[k], "ok") << "frame " << k;
-    if (dic.delta_star_status[k] != "ok") {
-      // delta* needs a stretch of 2 grid points (10 px = 1 mm) behind the
-      // tip and ahead of the root: a frame with a shorter zone is a status
-      // (and lawfree skips it with a note), never a number.
-      std::printf("frame %2zu: delta* %s (true zone %.2f mm)\n", k, dic.delta_star_status[k].c_str(),
-                  (truth.ColumnSi("crack_length", Dimension::Length())[k] - 30e-3) * 1e3);
-      EXPECT_EQ(dic.delta_star_status[k].rfind("failed: ", 0), 0u);
+    ASSERT_EQ(dic.delta_star_status[k], "ok") << "frame " << k;
+    if (dic.delta_star_method[k] == "near_tip") {
+      // The tip past the root by less than the profile's stretch (2 grid
+      // points, 1 mm): the near-tip opening, a number with its uncertainty.
+      std::printf("frame %2zu: near-tip delta* %.4f +- %.4f mm (true %.4f mm)\n", k,
+                  dic.delta_star[k] * 1e3, dic.delta_star_uncertainty[k] * 1e3, true_delta[k] * 1e3);
+      EXPECT_LE(std::abs(dic.delta_star[k] - true_delta[k]), 2 * dic.delta_star_uncertainty[k]);
       EXPECT_LT(truth.ColumnSi("crack_length", Dimension::Length())[k] - 30e-3, 2.5e-3);
-      EXPECT_NE(lawfree.out.find(fmt::format("frame {} (", k)), std::string::npos);
-      continue;
     }
     const double j_err = dic.J_ff[k] / true_j[k] - 1;
     std::printf("frame %2zu: J_ff %7.2f (true %7.2f, %+5.1f %%, spread %4.1f %%), delta* %.4f mm "

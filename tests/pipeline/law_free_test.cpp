@@ -118,6 +118,61 @@ TEST(LawFree, JRouteRecoversTheLawAndSkipsAFailedFrameWithANote) {
   fs::remove_all(dir);
 }
 
+// Frames the DIC flagged (here a path that disagrees with the line, their
+// delta* 10 % high as a tilted line reads it; 48-frame synth runs: 3-9 um
+// off) are left out with one note while enough others remain: the law
+// stays exact (0.00 %; with them 2.6 % off); with too few others they are
+// used, with a warning.
+TEST(LawFree, JRouteLeavesOutFramesTheDicFlagged) {
+  const fs::path dir = TempDir("flagged");
+  dic::CrackSequenceResult run = ExactRun(26, -1);
+  for (int k : {12, 20, 22, 24}) {
+    run.frames[k].path_disagrees_with_hint = true;
+    run.frames[k].j.delta_star *= 1.10;
+  }
+  WriteDicH5((dir / "dic.h5").string(), run, JOptions());
+  LawFreeRequest request;
+  request.dic_file = dir / "dic.h5";
+  auto worst_of = [](const laws::LawFreeResult& r) {
+    double worst = 0;
+    for (size_t j = 0; j < r.delta.size(); ++j)
+      if (r.delta[j] <= 0.8 * kDeltaC)
+        worst = std::max(worst, std::abs(r.sigma[j] - Sigma(r.delta[j])) / kSigmaC);
+    return worst;
+  };
+  auto has_note = [](const LawFreeRun& out, const std::string& words) {
+    for (const std::string& n : out.notes)
+      if (n.find(words) != std::string::npos) return true;
+    return false;
+  };
+  const LawFreeRun out = RunLawFree(request);
+  ASSERT_TRUE(out.far_field.has_value());
+  EXPECT_EQ(out.far_field->points_used, 21);  // 25 frames with a tip, 4 flagged
+  EXPECT_TRUE(has_note(out, "4 frame(s) the DIC flagged left out"));
+  EXPECT_TRUE(has_note(out, "24 (path_disagrees_with_line)"));
+  // The same samples through the laws unit, flagged frames included.
+  laws::FarFieldJSamples all;
+  for (size_t k = 1; k < run.frames.size(); ++k) {
+    all.opening.push_back(run.frames[k].j.delta_star);
+    all.J_ff.push_back(run.frames[k].j.J_ff);
+    all.uncertainty.push_back(request.j_relative_floor * run.frames[k].j.J_ff);
+  }
+  all.onset_index = 0;
+  const double with_flagged = worst_of(laws::LawFromFarFieldJ(all, request.options));
+  std::printf("worst |sigma error|: %.2f %% without the flagged frames, %.2f %% with them\n",
+              100 * worst_of(*out.far_field), 100 * with_flagged);
+  EXPECT_LT(worst_of(*out.far_field), 0.005);
+  EXPECT_GT(with_flagged, 0.02);
+  // All but 8 flagged: too few others, so every frame is used, with a warning.
+  for (int k = 9; k < 26; ++k) run.frames[k].path_disagrees_with_hint = true;
+  WriteDicH5((dir / "dic.h5").string(), run, JOptions());
+  const LawFreeRun kept = RunLawFree(request);
+  ASSERT_TRUE(kept.far_field.has_value());
+  EXPECT_EQ(kept.far_field->points_used, 25);
+  EXPECT_TRUE(has_note(kept, "warning: 17 frame(s) the DIC flagged are used"));
+  fs::remove_all(dir);
+}
+
 // The onset of growth is the last frame whose notch-root opening is zero
 // (docs/LAW_FREE.md "Onset of growth"), not a kink in J_ff: frames before
 // it (J_tip still rising at the root, delta* = 0 on all of them) are left
@@ -392,12 +447,14 @@ TEST(LawFree, FrameJOptionsFromTheScene) {
   EXPECT_EQ(o.notch_length_m, 30e-3);
   EXPECT_EQ(o.elastic.E, 3e9);
   EXPECT_EQ(o.elastic.nu, 0.3);
+  EXPECT_EQ(o.effective_modulus, 3e9);  // the near-tip delta*'s E'
   // Plane strain, isotropic: the plane-stress pair with the same in-plane
   // response, E / (1 - nu^2) and nu / (1 - nu).
   scene.specimen.plane = PlaneCondition::kPlaneStrain;
   o = FrameJOptionsFromScene(scene);
   EXPECT_DOUBLE_EQ(o.elastic.E, 3e9 / (1 - 0.09));
   EXPECT_DOUBLE_EQ(o.elastic.nu, 0.3 / 0.7);
+  EXPECT_DOUBLE_EQ(o.effective_modulus, 3e9 / (1 - 0.09));
   scene.material.orthotropic = true;
   scene.material.E1 = 20e9;
   scene.material.E2 = 6e9;

@@ -46,6 +46,8 @@ struct DicJSeries {
   // profile | at_root | near_tip | none (dic::DeltaStarMethodName); "missing"
   // in files without it.
   std::vector<std::string> delta_star_method;
+  // The frame's DIC flags (";"-separated, "" when none; docs/DIC.md).
+  std::vector<std::string> flags;
   // The field-wide fit's J_ff and its standard uncertainty [J/m^2]; status
   // "missing" where the file has none.
   std::vector<double> J_ff_fit, J_ff_fit_uncertainty;
