@@ -163,6 +163,46 @@ std::vector<char> FlaggedToSkip(const DicJSeries& s, int onset, int min_points,
   return std::vector<char>(s.image.size(), 0);
 }
 
+// The onset not resolved (frames of the zero-opening run after `at_root`
+// have their tip past the root): J_tip,c lies between J at `at_root` and at
+// the onset frame; the onset sample takes the middle and half the range,
+// with a warning. spread 0: resolved.
+struct OnsetRange {
+  double spread = 0, mid = NAN;
+};
+OnsetRange UnresolvedOnset(const DicJSeries& s, int onset, int at_root,
+                           const std::function<double(size_t)>& j_of,
+                           std::vector<std::string>& notes) {
+  OnsetRange range;
+  if (at_root < 0 || at_root >= onset) return range;
+  const double j_root = j_of(at_root), j_onset = j_of(onset);
+  if (!std::isfinite(j_root) || !std::isfinite(j_onset)) return range;
+  range.spread = 0.5 * std::abs(j_onset - j_root);
+  range.mid = 0.5 * (j_onset + j_root);
+  notes.push_back(fmt::format(
+      "warning: the onset of growth is not resolved: frames {}..{} read delta* zero within "
+      "its uncertainty with the tip past the notch root (crack length {:.3f}..{:.3f} mm, "
+      "a0 {:.3f} mm); growth may have begun after frame {}, so J_tip,c may lie anywhere "
+      "from {:.1f} to {:.1f} J/m^2: the onset sample takes the middle, its uncertainty "
+      "half that range (+-{:.1f} J/m^2); give --onset if the onset is known",
+      at_root + 1, onset, s.crack_length[at_root + 1] * 1e3, s.crack_length[onset] * 1e3,
+      s.notch_length * 1e3, at_root, j_root, j_onset, range.spread));
+  return range;
+}
+
+// Frame k's opening uncertainty for the J route. A near-tip delta* reads
+// high by up to half the bridging share W / J_ff (dic/frame_j.hpp), at most
+// (J - j_ref) / J: beyond the allowance dic states, it is widened to that
+// (counted in *widened).
+double OpeningUncertainty(const DicJSeries& s, size_t k, double J, double j_ref, int* widened) {
+  double ux = std::isfinite(s.delta_star_uncertainty[k]) ? s.delta_star_uncertainty[k] : 0.0;
+  if (s.delta_star_method[k] != "near_tip") return ux;
+  const double share = std::isfinite(j_ref) && J > 0 ? std::max(0.0, J - j_ref) / J : 1.0;
+  if (0.5 * share <= dic::kNearTipModelRelative) return ux;
+  ++*widened;
+  return std::hypot(ux, 0.5 * share * s.delta_star[k]);
+}
+
 // Frames with both J and delta* ok -> J route samples; the others skipped
 // with a note each. Unless the request gives the onset, it is the onset
 // frame (OnsetFrame): frames before it (J_tip still rising at the root) are
@@ -182,30 +222,12 @@ laws::FarFieldJSamples JSamples(const DicJSeries& s, const LawFreeRequest& reque
   auto j_of = [&](size_t k) {
     return fit_usable(k) ? s.J_ff_fit[k] : s.J_status[k] == "ok" ? s.J_ff[k] : NAN;
   };
-  // The onset not resolved: J_tip,c lies between the last frame at the
-  // root and the onset frame; the onset sample's J uncertainty takes half
-  // that rise.
-  double onset_spread = 0, onset_mid = NAN;
   const int at_root = LastFrameAtTheRoot(s, onset);
+  const OnsetRange range = UnresolvedOnset(s, onset, at_root, j_of, notes);
   // J with the tip still at the root: J_tip,c >= it, so a later frame's
   // bridging share W / J_ff is at most (J - j_ref) / J (1 without it).
   const double j_ref = at_root >= 0 ? j_of(at_root) : onset >= 0 ? j_of(onset) : NAN;
   int widened_near_tip = 0;
-  if (at_root >= 0 && at_root < onset) {
-    const double j_root = j_of(at_root), j_onset = j_of(onset);
-    if (std::isfinite(j_root) && std::isfinite(j_onset)) {
-      onset_spread = 0.5 * std::abs(j_onset - j_root);
-      onset_mid = 0.5 * (j_onset + j_root);
-      notes.push_back(fmt::format(
-          "warning: the onset of growth is not resolved: frames {}..{} read delta* zero within "
-          "its uncertainty with the tip past the notch root (crack length {:.3f}..{:.3f} mm, "
-          "a0 {:.3f} mm); growth may have begun after frame {}, so J_tip,c may lie anywhere "
-          "from {:.1f} to {:.1f} J/m^2: the onset sample takes the middle, its uncertainty "
-          "half that range (+-{:.1f} J/m^2); give --onset if the onset is known",
-          at_root + 1, onset, s.crack_length[at_root + 1] * 1e3, s.crack_length[onset] * 1e3,
-          s.notch_length * 1e3, at_root, j_root, j_onset, onset_spread));
-    }
-  }
   auto j_usable = [&](size_t k) {
     return fit_usable(k) || (s.J_status[k] == "ok" && std::isfinite(s.J_ff[k]));
   };
@@ -251,18 +273,8 @@ laws::FarFieldJSamples JSamples(const DicJSeries& s, const LawFreeRequest& reque
     // is delta* = 0 by definition, and the laws count openings from it.
     const bool zero_onset = is_onset && static_cast<int>(k) == onset;
     out.opening.push_back(zero_onset ? 0.0 : s.delta_star[k]);
-    double ux = s.delta_star_uncertainty[k];
-    if (s.delta_star_method[k] == "near_tip" && !zero_onset) {
-      // The near-tip delta* reads high by up to half the bridging share
-      // (dic/frame_j.hpp); beyond the allowance dic states, widen to it.
-      const double J = j_of(k);
-      const double share = std::isfinite(j_ref) && J > 0 ? std::max(0.0, J - j_ref) / J : 1.0;
-      if (0.5 * share > dic::kNearTipModelRelative) {
-        ux = std::hypot(ux, 0.5 * share * s.delta_star[k]);
-        ++widened_near_tip;
-      }
-    }
-    out.opening_uncertainty.push_back(zero_onset || !std::isfinite(ux) ? 0.0 : ux);
+    out.opening_uncertainty.push_back(
+        zero_onset ? 0.0 : OpeningUncertainty(s, k, j_of(k), j_ref, &widened_near_tip));
     if (fit_ok) {
       out.J_ff.push_back(s.J_ff_fit[k]);
       out.uncertainty.push_back(std::max(s.J_ff_fit_uncertainty[k],
@@ -281,9 +293,9 @@ laws::FarFieldJSamples JSamples(const DicJSeries& s, const LawFreeRequest& reque
       out.uncertainty.push_back(std::max(0.5 * spread / 100, request.j_relative_floor) *
                                 std::abs(s.J_ff[k]));
     }
-    if (is_onset && onset_spread > 0) {
-      out.J_ff.back() = onset_mid;
-      out.uncertainty.back() = std::hypot(out.uncertainty.back(), onset_spread);
+    if (is_onset && range.spread > 0) {
+      out.J_ff.back() = range.mid;
+      out.uncertainty.back() = std::hypot(out.uncertainty.back(), range.spread);
     }
   }
   notes.push_back(want_fit ? fmt::format("J_ff per frame: the field-wide fit's ({} of {} frames "
