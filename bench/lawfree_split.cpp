@@ -48,43 +48,36 @@ int main(int argc, char** argv) {
       request.j_source = pipeline::LawFreeRequest::JSource::kDomains;
     std::printf(
         "frame  J_ff meas/true-1 [%%]  u [%%]  delta* meas [um]  true [um]  "
-        "err [%%]  true J - J_tip - W(true delta) [J/m^2]\n");
-    laws::FarFieldJSamples mm, tm, mt, tt;
-    // As the pipeline: the last frame with delta* = 0 is the onset, the
-    // zero-opening frames before it are left out.
-    size_t last_zero = 0;
-    for (size_t k = 0; k < s.image.size(); ++k)
-      if (s.J_status[k] == "ok" && s.delta_star_status[k] == "ok" && s.delta_star[k] == 0.0)
-        last_zero = k;
+        "err [%%]  true J - J_tip - W(true delta) [J/m^2]  delta* method  flags\n");
+    // Per frame, as the pipeline takes J_ff (the field fit's where ok).
     for (size_t k = 0; k < s.image.size(); ++k) {
       if (s.J_status[k] != "ok" || s.delta_star_status[k] != "ok") continue;
-      if (s.delta_star[k] == 0.0 && k != last_zero) continue;
-      // As pipeline::RunLawFree takes J_ff: the field fit's where ok.
       const bool fit = request.j_source == pipeline::LawFreeRequest::JSource::kFieldFit &&
                        s.J_fit_status[k] == "ok";
       const double spread = std::isfinite(s.J_ff_spread_percent[k]) ? s.J_ff_spread_percent[k] : 0;
       const double j = fit ? s.J_ff_fit[k] : s.J_ff[k];
       const double u = fit ? std::max(s.J_ff_fit_uncertainty[k], request.j_fit_relative_floor * j)
                            : std::max(0.5 * spread / 100, request.j_relative_floor) * j;
-      std::printf("%5zu  %+8.2f  %8.2f  %10.3f  %10.3f  %+7.2f  %+8.3f\n", k,
+      std::printf("%5zu  %+8.2f  %8.2f  %10.3f  %10.3f  %+7.2f  %+8.3f  %s %s\n", k,
                   100 * (j / true_j[k] - 1), 100 * u / j, s.delta_star[k] * 1e6, true_d[k] * 1e6,
                   true_d[k] > 0 ? 100 * (s.delta_star[k] / true_d[k] - 1) : 0.0,
-                  true_j[k] - j_tip - law.Work(true_d[k]));
-      auto add = [&](laws::FarFieldJSamples& o, double j, double d) {
-        o.opening.push_back(d);
-        o.J_ff.push_back(j);
-        o.uncertainty.push_back(u);
-      };
-      add(mm, j, s.delta_star[k]);
-      add(tm, true_j[k], s.delta_star[k]);
-      add(mt, j, true_d[k]);
-      add(tt, true_j[k], true_d[k]);
+                  true_j[k] - j_tip - law.Work(true_d[k]), s.delta_star_method[k].c_str(),
+                  s.flags[k].c_str());
     }
-    // The onset as the pipeline takes it: the frame with delta* = 0 (dic's
-    // onset marker; synth's frame 1), the same sample in all four.
-    for (size_t i = 0; i < mm.opening.size(); ++i)
-      if (mm.opening[i] == 0.0)
-        mm.onset_index = tm.onset_index = mt.onset_index = tt.onset_index = static_cast<int>(i);
+    // The samples as `bridgefit lawfree` assembles them
+    // (pipeline::FarFieldJSamplesOf), from the series with the generator's J
+    // and/or delta_root swapped in: one rule for all four.
+    auto samples = [&](bool use_true_j, bool use_true_d) {
+      pipeline::DicJSeries c = s;
+      for (size_t k = 0; k < c.image.size(); ++k) {
+        if (use_true_j && std::isfinite(true_j[k])) c.J_ff[k] = c.J_ff_fit[k] = true_j[k];
+        if (use_true_d && std::isfinite(true_d[k])) c.delta_star[k] = true_d[k];
+      }
+      std::vector<std::string> notes;
+      return pipeline::FarFieldJSamplesOf(c, request, notes);
+    };
+    const laws::FarFieldJSamples mm = samples(false, false), tm = samples(true, false),
+                                 mt = samples(false, true), tt = samples(true, true);
     auto report = [&](const char* name, const laws::FarFieldJSamples& in) {
       laws::LawFreeResult r;
       try {

@@ -203,13 +203,15 @@ double OpeningUncertainty(const DicJSeries& s, size_t k, double J, double j_ref,
   return std::hypot(ux, 0.5 * share * s.delta_star[k]);
 }
 
+}  // namespace
+
 // Frames with both J and delta* ok -> J route samples; the others skipped
 // with a note each. Unless the request gives the onset, it is the onset
 // frame (OnsetFrame): frames before it (J_tip still rising at the root) are
 // left out with one note, and without such a frame the laws unit detects
 // the onset from J_ff's shape, with a warning.
-laws::FarFieldJSamples JSamples(const DicJSeries& s, const LawFreeRequest& request,
-                                std::vector<std::string>& notes) {
+laws::FarFieldJSamples FarFieldJSamplesOf(const DicJSeries& s, const LawFreeRequest& request,
+                                          std::vector<std::string>& notes) {
   laws::FarFieldJSamples out;
   const int onset = request.onset_opening ? -1 : OnsetFrame(s);
   int before = 0, from_domains = 0;
@@ -326,6 +328,8 @@ laws::FarFieldJSamples JSamples(const DicJSeries& s, const LawFreeRequest& reque
   return out;
 }
 
+namespace {
+
 // R points -> (delta_root, R): delta* per frame interpolated linearly in
 // crack length (frames at one length averaged), never extrapolated.
 laws::RCurveSamples RSamples(const DicJSeries& s, const RCurve& rc, const LawFreeRequest& request,
@@ -393,7 +397,7 @@ LawFreeRun RunLawFree(const LawFreeRequest& request) {
   run.frames = static_cast<int>(series.image.size());
   std::vector<std::string> failures;
   if (request.far_field_route) {
-    run.j_samples = JSamples(series, request, run.notes);
+    run.j_samples = FarFieldJSamplesOf(series, request, run.notes);
     try {
       run.far_field = laws::LawFromFarFieldJ(run.j_samples, request.options);
     } catch (const Error& e) {

@@ -117,9 +117,14 @@ void WriteLawFreeH5(const std::filesystem::path& path, const LawFreeRun& run) {
   h5.WriteAttribute("/lawfree", "rcurve_file", run.rcurve_file);
   h5.WriteAttribute("/lawfree", "frames", static_cast<double>(run.frames));
   h5.WriteAttribute("/lawfree", "run_s", run.wall_s);
-  if (run.far_field)
+  if (run.far_field) {
     WriteRoute(h5, kFarFieldGroup, *run.far_field, run.j_samples.opening, run.j_samples.J_ff,
                run.j_samples.uncertainty);
+    if (!run.j_samples.opening_uncertainty.empty())
+      h5.WriteVector(std::string(kFarFieldGroup) + "/sample_opening_uncertainty",
+                     run.j_samples.opening_uncertainty, "m",
+                     "one standard uncertainty of delta* (effective variance)");
+  }
   if (run.r_curve)
     WriteRoute(h5, kRCurveGroup, *run.r_curve, run.r_samples.opening, run.r_samples.R,
                run.r_samples.uncertainty);
@@ -143,6 +148,8 @@ LawFreeRun ReadLawFreeH5(const std::filesystem::path& path) {
     run.far_field = ReadRoute(r, path.string(), kFarFieldGroup, laws::LawFreeRoute::kFarFieldJ,
                               &run.j_samples.opening, &run.j_samples.J_ff,
                               &run.j_samples.uncertainty);
+  run.j_samples.opening_uncertainty =
+      detail::VectorOrEmpty(r, std::string(kFarFieldGroup) + "/sample_opening_uncertainty");
   if (r.Exists(std::string(kRCurveGroup) + "/sigma"))
     run.r_curve = ReadRoute(r, path.string(), kRCurveGroup, laws::LawFreeRoute::kElasticZoneR,
                             &run.r_samples.opening, &run.r_samples.R, &run.r_samples.uncertainty);

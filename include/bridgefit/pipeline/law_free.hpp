@@ -55,7 +55,8 @@ struct LawFreeRequest {
   // J route: delta* at the onset [m]. Absent: the onset frame is the last
   // of the leading frames whose delta* is zero within 2 of its standard
   // uncertainties (a zero after growth began: skipped, a warning; dic writes
-  // delta* = 0 while the tip is within a grid step of the notch root), the
+  // delta* = 0 while the tip is at or behind the notch root, the near-tip
+  // opening with the tip's uncertainty just past it), the
   // frames before it are left out (a note); without such a frame the onset
   // is detected from J_ff's shape, with a warning note.
   std::optional<double> onset_opening;
@@ -80,6 +81,16 @@ struct LawFreeRun {
   double wall_s = 0;
   std::string BriefReport() const;  // with units
 };
+
+struct DicJSeries;  // pipeline/dic_file.hpp
+
+// The J route's samples from a DIC series as RunLawFree assembles them
+// (docs/LAW_FREE.md "What each route needs": the onset frame and its
+// range, flagged frames, near-tip openings, the J source and floors);
+// what was left out and assumed goes to `notes`. bench/lawfree_split feeds
+// it series with true J or delta* swapped in.
+laws::FarFieldJSamples FarFieldJSamplesOf(const DicJSeries& series, const LawFreeRequest& request,
+                                          std::vector<std::string>& notes);
 
 // Throws Error(kUsage) for an invalid request, Error(kInput) naming the file
 // and field for unreadable input (a dic.h5 without J: rerun dic with
