@@ -398,6 +398,8 @@ TEST(LawFree, WriterAndReaderRoundTrip) {
   EXPECT_EQ(b.notes, a.notes);
   EXPECT_EQ(back.j_samples.opening, out.j_samples.opening);
   EXPECT_EQ(back.j_samples.J_ff, out.j_samples.J_ff);
+  EXPECT_EQ(back.j_samples.opening_uncertainty, out.j_samples.opening_uncertainty);
+  EXPECT_EQ(back.j_samples.opening_uncertainty.size(), out.j_samples.opening.size());
   // A file without /lawfree names itself and the group.
   try {
     ReadLawFreeH5(dir / "dic.h5");
