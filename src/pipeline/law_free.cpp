@@ -133,7 +133,7 @@ int LastFrameAtTheRoot(const DicJSeries& s, int onset) {
 // frames remain; else kept with a warning. `usable(k)`: the frame would be
 // a sample. Returns the frames to skip.
 std::vector<char> FlaggedToSkip(const DicJSeries& s, int onset, int min_points,
-                                const std::function<bool(size_t)>& usable,
+                                const std::function<bool(size_t)>& usable, const char* route,
                                 std::vector<std::string>& notes) {
   std::vector<char> skip(s.image.size(), 0);
   std::string listed;
@@ -151,15 +151,15 @@ std::vector<char> FlaggedToSkip(const DicJSeries& s, int onset, int min_points,
   if (flagged == 0) return skip;
   if (clean >= min_points) {
     notes.push_back(fmt::format(
-        "{} frame(s) the DIC flagged left out of the J route (their tip or line may be off, and "
+        "{} frame(s) the DIC flagged left out of the {} route (their tip or line may be off, and "
         "delta* and J_ff with it): {}",
-        flagged, listed));
+        flagged, route, listed));
     return skip;
   }
   notes.push_back(fmt::format(
-      "warning: {} frame(s) the DIC flagged are used ({} unflagged, fewer than {}): their tip "
-      "or line may be off, and delta* and J_ff with it: {}",
-      flagged, clean, min_points, listed));
+      "warning: {} frame(s) the DIC flagged are used by the {} route ({} unflagged, fewer than "
+      "{}): their tip or line may be off, and delta* and J_ff with it: {}",
+      flagged, route, clean, min_points, listed));
   return std::vector<char>(s.image.size(), 0);
 }
 
@@ -242,7 +242,7 @@ laws::FarFieldJSamples FarFieldJSamplesOf(const DicJSeries& s, const LawFreeRequ
         return j_usable(k) && d_usable(k) && static_cast<int>(k) >= onset &&
                !(onset >= 0 && static_cast<int>(k) > onset && ZeroOpening(s, k));
       },
-      notes);
+      "J", notes);
   for (size_t k = 0; k < s.image.size(); ++k) {
     const bool fit_ok = fit_usable(k);
     const bool j_ok = j_usable(k);
@@ -334,10 +334,16 @@ namespace {
 // crack length (frames at one length averaged), never extrapolated.
 laws::RCurveSamples RSamples(const DicJSeries& s, const RCurve& rc, const LawFreeRequest& request,
                              std::vector<std::string>& notes) {
+  auto usable = [&](size_t k) {
+    return s.delta_star_status[k] == "ok" && std::isfinite(s.delta_star[k]) &&
+           std::isfinite(s.crack_length[k]);
+  };
+  // Frames the DIC flagged: their delta* is doubtful here too (FlaggedToSkip).
+  const std::vector<char> flagged =
+      FlaggedToSkip(s, -1, request.options.min_points, usable, "R", notes);
   std::map<double, std::pair<double, int>> by_length;  // a -> (sum delta, count)
   for (size_t k = 0; k < s.image.size(); ++k)
-    if (s.delta_star_status[k] == "ok" && std::isfinite(s.delta_star[k]) &&
-        std::isfinite(s.crack_length[k])) {
+    if (usable(k) && !flagged[k]) {
       auto& e = by_length[s.crack_length[k]];
       e.first += s.delta_star[k];
       ++e.second;

@@ -336,6 +336,9 @@ TEST(LawFree, RRouteMatchesRPointsToFramesByCrackLength) {
     run.frames[k].j.delta_star = delta;
     run.frames[k].crack_length_m = kA0 + 50 * delta;
   }
+  // A flagged frame whose delta* is 20 % high is left out here too.
+  run.frames[12].path_disagrees_with_hint = true;
+  run.frames[12].j.delta_star *= 1.2;
   WriteDicH5((dir / "dic.h5").string(), run, JOptions());
   // R points between the frames (eq. 3), some outside them.
   std::string csv = "crack_length [mm], R [J/m^2], R_uncertainty [J/m^2]\n";
@@ -357,6 +360,11 @@ TEST(LawFree, RRouteMatchesRPointsToFramesByCrackLength) {
   bool noted = false;
   for (const std::string& n : out.notes) noted = noted || n.find("outside the frames") != std::string::npos;
   EXPECT_TRUE(noted);
+  bool flag_noted = false;
+  for (const std::string& n : out.notes)
+    flag_noted = flag_noted || (n.find("1 frame(s) the DIC flagged left out of the R route") == 0 &&
+                                n.find("12 (path_disagrees_with_line)") != std::string::npos);
+  EXPECT_TRUE(flag_noted);
   EXPECT_NEAR(out.r_curve->J_tip_c, kJtip, 0.02 * kJtip);
   double worst = 0;
   for (size_t j = 0; j < out.r_curve->delta.size(); ++j)
