@@ -163,7 +163,7 @@ void PrintDicResult(const dic::CrackSequenceResult& result, const dic::CrackSequ
         const bool ok = j.status == dic::FrameJStatus::kOk;
         const bool fit_ok = j.fit.status == dic::FieldFitJStatus::kOk;
         std::cout << fmt::format(
-            "{:5} {:>14} {:>10} {:>14} {:>12} {:>14} {:>10}  {}{}{}\n", k,
+            "{:5} {:>14} {:>10} {:>14} {:>12} {:>14} {:>10}  {}{}{}{}\n", k,
             ok ? fmt::format("{:.5g}", j.J_ff) : "-",
             ok ? fmt::format("{:.2f}", j.J_ff_spread_percent) : "-",
             j.delta_star_ok ? fmt::format("{:.5g}", j.delta_star * 1e3) : "-",
@@ -171,6 +171,9 @@ void PrintDicResult(const dic::CrackSequenceResult& result, const dic::CrackSequ
             fit_ok ? fmt::format("{:.5g}", j.fit.J) : "-",
             fit_ok ? fmt::format("{:.2g}", j.fit.J_uncertainty) : "-",
             dic::FrameJStatusName(j.status), j.why.empty() ? "" : " (" + j.why + ")",
+            j.delta_star_method == dic::DeltaStarMethod::kNearTip
+                ? " (delta*: near-tip opening, tip just past the root)"
+                : "",
             fit_ok || j.fit.status == dic::FieldFitJStatus::kNotRequested
                 ? ""
                 : fmt::format(" (fit: {}{})", dic::FieldFitJStatusName(j.fit.status),
