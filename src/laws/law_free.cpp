@@ -212,6 +212,12 @@ LawFreeResult LawFromFarFieldJ(const FarFieldJSamples& data, const LawFreeOption
   const int m = options.grid_points;
   const std::vector<double> ux = OpeningUncertainty(data, s, onset);
   std::vector<double> u = g.u;
+  // Unweighted rows (1, a_j(delta_i)), built once; each pass divides by u.
+  Eigen::MatrixXd G(n, m + 1);
+  for (int i = 0; i < n; ++i) {
+    G(i, 0) = 1.0;
+    G.block(i, 1, 1, m) = HatIntegrals(grid, g.x[i]);
+  }
   Eigen::MatrixXd A(n, m + 1);
   Eigen::VectorXd b(n);
   const Eigen::MatrixXd D = SecondDifferences(m);
@@ -228,8 +234,7 @@ LawFreeResult LawFromFarFieldJ(const FarFieldJSamples& data, const LawFreeOption
         const double sigma_i = std::max(0.0, HatValues(grid, g.x[i]).dot(fit.x.tail(m)));
         u[i] = std::hypot(g.u[i], sigma_i * ux[i]);
       }
-      A(i, 0) = 1.0 / u[i];
-      A.block(i, 1, 1, m) = HatIntegrals(grid, g.x[i]) / u[i];
+      A.row(i) = G.row(i) / u[i];
       b[i] = g.y[i] / u[i];
     }
     fit = SolvePenalised(A, b, P, options.penalty_rule, options.gcv_gamma);
@@ -240,7 +245,7 @@ LawFreeResult LawFromFarFieldJ(const FarFieldJSamples& data, const LawFreeOption
   FillSigma(grid, fit, 1, m, options, &r);
   RecordFit(fit, n, options, &r);
   double J_max = -INFINITY;
-  for (int i = 0; i < n; ++i) J_max = std::max(J_max, A.row(i).dot(fit.x) * u[i]);
+  for (int i = 0; i < n; ++i) J_max = std::max(J_max, G.row(i).dot(fit.x));
   SteadyStateOrBounds(g, FindPlateau(g, 0, options), J_max, "J_ff", &r);
   r.run_seconds = Seconds(start);
   return r;

@@ -26,9 +26,9 @@
 // -+ u_r, 0 floored), J_ff's and kNearTipModelRelative of delta* for the
 // bridging the relation ignores: it is exact for a traction-free zone and
 // reads high by up to 2x for a zone whose bridging carries all of J_ff
-// (Dugdale); on zones of 0.5-1 mm whose bridging carries < 10 % of J_ff
-// (synth's bridged fields, tests/dic/frame_j_test.cpp) it is within a few
-// percent. Without FrameJOptions::effective_modulus such a frame has no
+// (Dugdale); on zones of 0.2-1 mm whose bridging carries < 10 % of J_ff
+// it reads 1.2-2.6 % high (the bridged crack of tests/dic/j_fit_test.cpp,
+// FrameJ.*). Without FrameJOptions::effective_modulus such a frame has no
 // delta* (a status).
 
 #include <string>
