@@ -94,6 +94,22 @@ int detail::CorrelatorState::Threads() const {
   return opt.threads > 0 ? opt.threads : omp_get_max_threads();
 }
 
+detail::SubsetAcrossCrack::SubsetAcrossCrack(const CrackLine& line, double length_px, int half_size)
+    : line_(line), length_(length_px) {
+  const double L = line.Length();
+  const double tx = L > 0 ? (line.x1 - line.x0) / L : 0, ty = L > 0 ? (line.y1 - line.y0) / L : 0;
+  // Half extent of a subset square along the line normal and along the line.
+  half_s_ = (half_size + 0.5) * (std::abs(tx) + std::abs(ty));
+  half_n_ = half_s_ + 0.5;
+}
+
+bool detail::SubsetAcrossCrack::operator()(double x, double y) const {
+  if (!(length_ > 0)) return false;
+  double s, n;
+  line_.ToLocal(x, y, &s, &n);
+  return std::abs(n) <= half_n_ && s >= -half_s_ && s <= length_ + half_s_;
+}
+
 void Correlator::Impl::BuildGrid(const Image& reference) {
   const int M = opt.subset_size / 2;
   const int x0 = std::max(opt.roi_x0 < 0 ? 0 : opt.roi_x0, M + 2);
@@ -112,15 +128,7 @@ void Correlator::Impl::BuildGrid(const Image& reference) {
   grid.zncc.assign(n, 0); grid.iterations.assign(n, 0);
   grid.status.assign(n, PointStatus::kUnreached);
   eligible.assign(n, 1);
-  const double L = opt.has_crack ? opt.crack.Length() : 0;
-  double tx = 0, ty = 0;
-  if (opt.has_crack) {
-    tx = (opt.crack.x1 - opt.crack.x0) / L;
-    ty = (opt.crack.y1 - opt.crack.y0) / L;
-  }
-  // Half extent of a subset square along the line normal and along the line.
-  const double half_n = (M + 0.5) * (std::abs(tx) + std::abs(ty)) + 0.5;
-  const double half_s = (M + 0.5) * (std::abs(tx) + std::abs(ty));
+  const detail::SubsetAcrossCrack band(opt.crack, opt.has_crack ? opt.crack.Length() : 0, M);
   for (int iy = 0; iy < grid.ny; ++iy)
     for (int ix = 0; ix < grid.nx; ++ix) {
       const size_t i = static_cast<size_t>(iy) * grid.nx + ix;
@@ -132,15 +140,23 @@ void Correlator::Impl::BuildGrid(const Image& reference) {
         eligible[i] = 0;
         continue;
       }
-      if (opt.has_crack) {
-        double s, nn;
-        opt.crack.ToLocal(grid.x[i], grid.y[i], &s, &nn);
-        if (std::abs(nn) <= half_n && s >= -half_s && s <= L + half_s) {
-          grid.status[i] = PointStatus::kCrackBand;
-          eligible[i] = 0;
-        }
+      if (opt.has_crack && band(grid.x[i], grid.y[i])) {
+        grid.status[i] = PointStatus::kCrackBand;
+        eligible[i] = 0;
       }
     }
+}
+
+void Correlator::Impl::SetLocatedCrack(const CrackLine& line, double length_px) {
+  if (!(length_px > 0)) {
+    across_crack.clear();
+    return;
+  }
+  if (!(line.Length() >= 1.0))
+    throw Error(ErrorKind::kUsage, "the located crack's line must be at least 1 px long");
+  const detail::SubsetAcrossCrack across(line, length_px, opt.subset_size / 2);
+  across_crack.assign(grid.size(), 0);
+  for (size_t i = 0; i < grid.size(); ++i) across_crack[i] = across(grid.x[i], grid.y[i]) ? 1 : 0;
 }
 
 void Correlator::Impl::SetActive(const std::vector<char>& active) {
@@ -252,12 +268,17 @@ DisplacementField Correlator::Impl::Next(const Image& frame, CorrelationSummary*
     // The update test leaves out the points lost at the last update: a
     // crack fails the subsets across it for good, and once they had passed
     // the threshold they called a new reference at every frame (each
-    // update adds the composed motions' error).
+    // update adds the composed motions' error). Nor does it count subsets
+    // across the crack located in the last frame: the crack, not
+    // decorrelation. (Subsets moved out of the image still count: left out,
+    // the real aldic sequence kept its first reference and lost the tip of
+    // its last frame to the decorrelated zone ahead of it.)
     size_t used = 0, good = 0;
     double zsum = 0;
     for (size_t i = 0; i < n; ++i) {
       if (!eligible[i] || !OnLattice(i, sample_stride)) continue;
       if (ref_lost[i]) continue;
+      if (!across_crack.empty() && across_crack[i]) continue;
       ++used;
       if (res[i].status == PointStatus::kOk) {
         ++good;
@@ -277,12 +298,19 @@ DisplacementField Correlator::Impl::Next(const Image& frame, CorrelationSummary*
       // A point that failed in the new reference frame (its subset across
       // the open crack, or decorrelated) has no motion there: it stays
       // lost. Filling it from its neighbours would average both faces and
-      // bring it back as a valid point with the crack's jump smeared.
-      for (size_t i = 0; i < n; ++i)
-        ref_lost[i] = eligible[i] && !prev_ok[i] ? 1 : 0;
+      // bring it back as a valid point with the crack's jump smeared. A
+      // point across the crack located there is lost too, whether it
+      // failed or not: its subset in the new reference holds the gap.
+      for (size_t i = 0; i < n; ++i) {
+        const bool across = !across_crack.empty() && across_crack[i];
+        ref_lost[i] = (eligible[i] && !prev_ok[i]) || across ? 1 : 0;
+        if (across) ref_known[i] = 0;
+      }
       FillUnknown(ref_p, ref_known);
       for (size_t i = 0; i < n; ++i)
-        if (!ref_known[i]) lost_status[i] = prev_status[i];
+        if (!ref_known[i])
+          lost_status[i] = !across_crack.empty() && across_crack[i] ? PointStatus::kCrackBand
+                                                                    : prev_status[i];
       ref_index = frame_index - 1;
       ++updates;
       continue;
@@ -483,6 +511,9 @@ DisplacementField Correlator::Next(const Image& frame, CorrelationSummary* summa
   return impl_->Next(frame, summary);
 }
 void Correlator::SetActive(const std::vector<char>& active) { impl_->SetActive(active); }
+void Correlator::SetLocatedCrack(const CrackLine& line, double length_px) {
+  impl_->SetLocatedCrack(line, length_px);
+}
 DisplacementField Correlator::Extend(const std::vector<char>& active, CorrelationSummary* summary) {
   return impl_->Extend(active, summary);
 }

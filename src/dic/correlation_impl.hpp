@@ -13,6 +13,20 @@
 namespace bridgefit::dic {
 namespace detail {
 
+// Whether a subset of half size `half_size` (px) centred at (x, y)
+// straddles the crack `line` from its start to `length_px` along it: the
+// static crack band (CorrelationOptions::crack) and the crack located in a
+// frame (Correlator::SetLocatedCrack) share this rule.
+class SubsetAcrossCrack {
+ public:
+  SubsetAcrossCrack(const CrackLine& line, double length_px, int half_size);
+  bool operator()(double x, double y) const;
+
+ private:
+  CrackLine line_;
+  double length_ = 0, half_s_ = 0, half_n_ = 0;
+};
+
 // The data of a Correlator (what a pass reads and writes).
 struct CorrelatorState {
   CorrelationOptions opt;
@@ -31,6 +45,9 @@ struct CorrelatorState {
   std::vector<Params> ref_p;     // point motion original -> current reference
   std::vector<char> ref_known;
   std::vector<char> ref_lost;    // failed in the current reference's frame: never filled
+  // Subsets across the crack located in the frame last correlated
+  // (SetLocatedCrack; empty: none known).
+  std::vector<char> across_crack;
   Image prev_image;
   int frame_index = 0;
   std::vector<Params> prev_total;  // last frame's total motion
@@ -85,6 +102,7 @@ struct Correlator::Impl : detail::CorrelatorState {
   }
   void FillUnknown(std::vector<Params>& p, std::vector<char>& known) const;
   void SetActive(const std::vector<char>& active);
+  void SetLocatedCrack(const CrackLine& line, double length_px);
   // eligible = static and (active or on the update test's lattice: stride 4
   // before the first frame, whose coarse pass runs on that lattice, then
   // sample_stride); hidden = eligible and not active.

@@ -306,6 +306,9 @@ CrackSequenceResult AnalyzeCrackSequence(const std::vector<std::filesystem::path
     DisplacementField field = correlator->Next(frame, &r.correlation);
     LocateCrackInField(field, options, path_opt, &r);
     band.Complete(&field, &r);  // the points the location read and the band lacked
+    // The crack as located here: its subsets leave the update test and are
+    // lost if this frame becomes the reference (Correlator::SetLocatedCrack).
+    if (r.tip.tip.found) correlator->SetLocatedCrack(r.line_used, r.tip.tip.s_px);
     solve_seconds += r.correlation.wall_s;
     solves += static_cast<double>(r.correlation.solves);
     correlated += static_cast<double>(r.correlation.points);

@@ -164,6 +164,15 @@ class Correlator {
   // keep the union as their active set. Throws Error(kUsage) before the
   // first frame or on a size mismatch.
   DisplacementField Extend(const std::vector<char>& active, CorrelationSummary* summary = nullptr);
+  // The crack as located in the frame last correlated: along `line` from its
+  // start to `length_px` (the tip). Subsets across it (the crack band's rule)
+  // leave the reference-update test (a crack is not decorrelation), and at
+  // an update they are lost like failed points: in the new reference their
+  // subset holds the open gap, which does not move with the material, and
+  // its increments read it (measured: 0.3-0.5 px off on a bridged crack
+  // opened 0.7 px, the crack path found 2-7 px off). length_px <= 0 clears
+  // it. Throws Error(kUsage) for a line shorter than 1 px.
+  void SetLocatedCrack(const CrackLine& line, double length_px);
 
  private:
   struct Impl;
