@@ -145,6 +145,28 @@ double RefineOnSmearedPoints(const std::vector<ColumnPoint>& pts, const ColumnSu
     return n0;
   }
   const double w = std::max(1.0, 2.0 * g - 1.0);
+  // Where the crack can be: between the last point below whose subset is
+  // whole on the lower face (f = 0 within the noise) and the first point
+  // above whose subset is whole on the upper one, each half a subset away.
+  // A subset across an open gap does not mix the faces by area (the gap's
+  // pixels pull it; measured f = -0.06 and 1.06 just inside the subset's
+  // reach), so the ramp's centre can fall outside: then the interval's middle.
+  const double noise = std::sqrt((ra + rb) / std::max(1, ca + cb - 4)) / (va - vb);
+  const double tol = std::max(0.03, 3.0 * std::abs(noise));
+  double whole_below = -1e300, whole_above = 1e300;
+  {
+    std::vector<std::pair<double, double>> sorted = nf;
+    std::sort(sorted.begin(), sorted.end());
+    for (const auto& [n, f] : sorted) {
+      if (std::abs(f) > tol) break;
+      whole_below = n;
+    }
+    for (auto it = sorted.rbegin(); it != sorted.rend(); ++it) {
+      if (std::abs(1.0 - it->second) > tol) break;
+      whole_above = it->first;
+    }
+  }
+  const double lo_bound = whole_below + 0.5 * w, hi_bound = whole_above - 0.5 * w;
   double best_n = n0, best_cost = std::numeric_limits<double>::infinity();
   for (double nc = n0 - 0.5 * g; nc <= n0 + 0.5 * g + 1e-9; nc += 0.1) {
     double cost = 0;
@@ -157,6 +179,8 @@ double RefineOnSmearedPoints(const std::vector<ColumnPoint>& pts, const ColumnSu
       best_n = nc;
     }
   }
+  if (lo_bound <= hi_bound && hi_bound - lo_bound < 2 * g && (best_n < lo_bound || best_n > hi_bound))
+    return 0.5 * (lo_bound + hi_bound);
   return best_n;
 }
 
