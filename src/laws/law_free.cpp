@@ -128,6 +128,12 @@ void RecordFit(const PenalisedFit& fit, int points, const LawFreeOptions& option
         fmt::format("the penalty sits on the edge of its search range "
                     "(log10 relative {:.1f}): the choice is not a true optimum",
                     fit.log10_relative));
+  if (fit.null_space_allowance_dof > 0.0)
+    r->notes.push_back(fmt::format(
+        "the penalty chose sigma linear in delta (effective dof {:.1f}): the data do not resolve "
+        "curvature, so the band allows for the best curved fit (effective dof {:.1f}), which a "
+        "law that curves unseen may follow",
+        fit.trace_h, fit.null_space_allowance_dof));
   if (fit.noise_scale > 1.5)
     r->notes.push_back(
         fmt::format("the data scatter {:.2f} times their stated uncertainty; the "

@@ -44,8 +44,15 @@
 // cover the truth on average over the points (Nychka 1988) because they
 // include the smoothing bias on average, which the plain sampling covariance
 // does not; s^2 = max(1, chi^2 / (n - tr H)) widens it when the data scatter
-// more than their stated u_i. Negative fitted sigma is clipped to 0 (a
-// note counts the nodes; the band is left as computed).
+// more than their stated u_i. Where the criterion's best fit lies in the
+// penalty's null space (tr H within 0.5 of its dimension: sigma linear),
+// that band is only the line's own and a curved law the data do not resolve
+// falls out of it (exponential law over 0.3 delta_c: 76 % of the nodes
+// covered); the band then allows for the best curved alternative (the
+// criterion's best fit with tr H >= the null space + 0.5): its covariance
+// plus d d^T, d the step from the line to it (91.7 %; a note says so).
+// Negative fitted sigma is clipped to 0 (a note counts the nodes; the band
+// is left as computed).
 //
 // Steady state: the samples from index p on are "flat within their noise"
 // when they cover at least `plateau_span` of the opening range and
