@@ -307,6 +307,7 @@ NotchRootOpening OpeningAt(const DisplacementField& f, const Grid& g, double alo
   struct Side {
     std::vector<double> s, n, un, ut;
     double a0n = 0, a0t = 0, var = 0;
+    double a0n_flat = 0;  // without the n term
     bool ok = false;
   } sides[2];
   for (std::size_t i = 0; i < f.size(); ++i) {
@@ -347,6 +348,9 @@ NotchRootOpening OpeningAt(const DisplacementField& f, const Grid& g, double alo
     const Eigen::Matrix4d inv = (X.transpose() * X).inverse();
     side.a0n = coef(0, 0);
     side.a0t = coef(0, 1);
+    // The same rows without the trend in n: their mean level carried to the line.
+    const Eigen::VectorXd flat = X.leftCols(3).colPivHouseholderQr().solve(Y.col(0));
+    side.a0n_flat = flat(0);
     side.var = rss / std::max(1, m - 4) * inv(0, 0);
     side.ok = true;
     (k == 0 ? out.points_upper : out.points_lower) = m;
@@ -360,7 +364,10 @@ NotchRootOpening OpeningAt(const DisplacementField& f, const Grid& g, double alo
   out.ok = true;
   out.delta = (sides[0].a0n - sides[1].a0n) * metres_per_unit;
   out.sliding = (sides[0].a0t - sides[1].a0t) * metres_per_unit;
-  out.delta_std = std::sqrt(sides[0].var + sides[1].var) * metres_per_unit;
+  const double delta_flat = (sides[0].a0n_flat - sides[1].a0n_flat) * metres_per_unit;
+  out.delta_model_std = 0.5 * std::abs(out.delta - delta_flat);
+  out.delta_std = std::hypot(std::sqrt(sides[0].var + sides[1].var) * metres_per_unit,
+                             out.delta_model_std);
   return out;
 }
 

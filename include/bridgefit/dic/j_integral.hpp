@@ -132,7 +132,15 @@ struct NotchRootOpening {
   bool ok = false;
   std::string why;       // when !ok: a side lacked points, or the root is too near the tip
   double delta = 0;      // normal opening at the root, m
-  double delta_std = 0;  // its standard uncertainty (fit residuals), m
+  // Its standard uncertainty, m: the fit residuals' and, in quadrature,
+  // delta_model_std.
+  double delta_std = 0;
+  // Half the difference to the opening read without the rows' linear trend
+  // in n (each side's value at the nearest row carried to the line): the
+  // extrapolation across the band (16 px at subset 31) is a model, and on
+  // bridged synth frames the two readings bracket the true opening
+  // (-0.6 and +0.8 um at 47.6 um). m.
+  double delta_model_std = 0;
   double sliding = 0;    // tangential jump at the root, m
   int points_upper = 0, points_lower = 0;
 };
