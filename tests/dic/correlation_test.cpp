@@ -65,6 +65,30 @@ Image Translated(const SpeckleRenderer& renderer, double du, double dv, std::uin
       seed);
 }
 
+// Frame k of a crack along Y = 60 from X = 0, its tip at 60 + 10 k px,
+// opening linearly to 0.3 k px at X = 0, under a rigid motion (0.8 k,
+// -0.5 k) px; each face moves by GrowingCrackOpening(k, X) off the rigid motion.
+double GrowingCrackTip(int k) { return 60.0 + 10.0 * k; }
+double GrowingCrackOpening(int k, double X) {
+  const double tip = GrowingCrackTip(k);
+  return X < tip ? 0.3 * k * (tip - X) / tip : 0.0;
+}
+DisplacementFunction GrowingCrack(int k) {
+  return [k](double X, double Y, double* u, double* v) {
+    const double open = GrowingCrackOpening(k, X);
+    *u = 0.8 * k;
+    *v = -0.5 * k + (Y < 60 ? -open : open);
+  };
+}
+
+// 21 px subsets on a grid of `step` px, as the sequence tests use.
+CorrelationOptions SmallSubsets(int step) {
+  CorrelationOptions opt;
+  opt.subset_size = 21;
+  opt.step = step;
+  return opt;
+}
+
 // Acceptance: rigid sub-pixel translation, 31x31 subsets, realistic noise:
 // |mean error| < 0.005 px and std < 0.01 px in both directions.
 class TranslationTest : public ::testing::TestWithParam<std::pair<double, double>> {};
@@ -171,9 +195,7 @@ TEST(Correlation, IncrementalSequenceAccumulatesDisplacement) {
   // are beyond any single-step search from the original reference guess.
   const SpeckleRenderer renderer(RealisticSpeckle(220, 120));
   const Image ref = renderer.RenderReference(10);
-  CorrelationOptions opt;
-  opt.subset_size = 21;
-  opt.step = 10;
+  CorrelationOptions opt = SmallSubsets(10);
   opt.roi_x0 = 70;  // keep the subsets inside every frame
   Correlator correlator(opt, ref);
   for (int k = 1; k <= 5; ++k) {
@@ -212,24 +234,14 @@ TEST(Correlation, IncrementalSequenceAccumulatesDisplacement) {
 TEST(Correlation, AGrowingCrackCallsNoUpdateAFrame) {
   const SpeckleRenderer renderer(RealisticSpeckle(200, 120));
   const Image ref = renderer.RenderReference(20);
-  CorrelationOptions opt;
-  opt.subset_size = 21;
-  opt.step = 5;
+  const CorrelationOptions opt = SmallSubsets(5);
   CorrelationOptions fixed = opt;
   fixed.incremental = false;
   Correlator updating(opt, ref), single(fixed, ref);
-  auto motion = [](int k) {
-    return [k](double X, double Y, double* u, double* v) {
-      const double tip = 60 + 10 * k;  // faces at Y = 60 from X = 0
-      const double open = X < tip ? 0.3 * k * (tip - X) / tip : 0.0;
-      *u = 0.8 * k;
-      *v = -0.5 * k + (Y < 60 ? -open : open);
-    };
-  };
   int updates = 0;
   DisplacementField previous;
   for (int k = 1; k <= 10; ++k) {
-    const Image frame = renderer.Render(motion(k), 20 + k);
+    const Image frame = renderer.Render(GrowingCrack(k), 20 + k);
     CorrelationSummary summary;
     const DisplacementField a = updating.Next(frame, &summary);
     const DisplacementField b = single.Next(frame);
@@ -268,35 +280,23 @@ TEST(Correlation, AGrowingCrackCallsNoUpdateAFrame) {
 TEST(Correlation, PointsAcrossTheLocatedCrackAreLostAtAnUpdate) {
   const SpeckleRenderer renderer(RealisticSpeckle(200, 120));
   const Image ref = renderer.RenderReference(30);
-  CorrelationOptions opt;
-  opt.subset_size = 21;
-  opt.step = 5;
+  CorrelationOptions opt = SmallSubsets(5);
   opt.update_min_mean_zncc = 0.9999;
   CorrelationOptions fixed = opt;
   fixed.incremental = false;
   const int M = opt.subset_size / 2;
-  auto tip_at = [](int k) { return 60.0 + 10.0 * k; };
-  auto opening = [&](int k, double X) {
-    const double tip = tip_at(k);
-    return X < tip ? 0.3 * k * (tip - X) / tip : 0.0;
-  };
   double worst_away_unlocated = 0;
   for (const bool located : {false, true}) {
     Correlator updating(opt, ref), single(fixed, ref);
     int updates = 0, beyond_faces = 0, lost_across = 0;
     double worst_away = 0, worst_beyond = 0;
     for (int k = 1; k <= 10; ++k) {
-      const Image frame = renderer.Render(
-          [&](double X, double Y, double* u, double* v) {
-            *u = 0.8 * k;
-            *v = -0.5 * k + (Y < 60 ? -opening(k, X) : opening(k, X));
-          },
-          30 + k);
+      const Image frame = renderer.Render(GrowingCrack(k), 30 + k);
       CorrelationSummary summary;
       const DisplacementField a = updating.Next(frame, &summary);
       const DisplacementField b = single.Next(frame);
       updates = summary.reference_updates;
-      if (located) updating.SetLocatedCrack({0, 60, 199, 60}, tip_at(k));
+      if (located) updating.SetLocatedCrack({0, 60, 199, 60}, GrowingCrackTip(k));
       for (size_t i = 0; i < a.size(); ++i) {
         if (!a.ok(i)) {
           lost_across += a.status[i] == PointStatus::kCrackBand;
@@ -307,8 +307,8 @@ TEST(Correlation, PointsAcrossTheLocatedCrackAreLostAtAnUpdate) {
         // The faces' motion over the subset's reach along the crack; a
         // subset reaching past the tip (where this motion ends in a kink no
         // subset shape follows) reads the same in the single-reference run.
-        const double open_max = opening(k, a.x[i] - M);
-        if (a.x[i] + M >= tip_at(k)) continue;
+        const double open_max = GrowingCrackOpening(k, a.x[i] - M);
+        if (a.x[i] + M >= GrowingCrackTip(k)) continue;
         const double low = -0.5 * k - open_max, high = -0.5 * k + open_max;
         const double beyond = std::max(low - a.v[i], a.v[i] - high);
         if (beyond > 0.05) ++beyond_faces;
