@@ -164,8 +164,10 @@ class Correlator {
   // keep the union as their active set. Throws Error(kUsage) before the
   // first frame or on a size mismatch.
   DisplacementField Extend(const std::vector<char>& active, CorrelationSummary* summary = nullptr);
-  // The crack as located in the frame last correlated: along `line` from its
-  // start to `length_px` (the tip). Subsets across it (the crack band's rule)
+  // The crack as located in the frame last correlated (it holds until the
+  // next call: the sequence calls it for every frame whose tip it finds):
+  // along `line` from its start to `length_px` (the tip). Subsets across it
+  // (the crack band's rule)
   // leave the reference-update test (a crack is not decorrelation), and at
   // an update they are lost like failed points: in the new reference their
   // subset holds the open gap, which does not move with the material, and
