@@ -278,7 +278,7 @@ DisplacementField Correlator::Impl::Next(const Image& frame, CorrelationSummary*
     for (size_t i = 0; i < n; ++i) {
       if (!eligible[i] || !OnLattice(i, sample_stride)) continue;
       if (ref_lost[i]) continue;
-      if (!across_crack.empty() && across_crack[i]) continue;
+      if (AcrossCrack(i)) continue;
       ++used;
       if (res[i].status == PointStatus::kOk) {
         ++good;
@@ -302,15 +302,12 @@ DisplacementField Correlator::Impl::Next(const Image& frame, CorrelationSummary*
       // point across the crack located there is lost too, whether it
       // failed or not: its subset in the new reference holds the gap.
       for (size_t i = 0; i < n; ++i) {
-        const bool across = !across_crack.empty() && across_crack[i];
-        ref_lost[i] = (eligible[i] && !prev_ok[i]) || across ? 1 : 0;
-        if (across) ref_known[i] = 0;
+        ref_lost[i] = (eligible[i] && !prev_ok[i]) || AcrossCrack(i) ? 1 : 0;
+        if (AcrossCrack(i)) ref_known[i] = 0;
       }
       FillUnknown(ref_p, ref_known);
       for (size_t i = 0; i < n; ++i)
-        if (!ref_known[i])
-          lost_status[i] = !across_crack.empty() && across_crack[i] ? PointStatus::kCrackBand
-                                                                    : prev_status[i];
+        if (!ref_known[i]) lost_status[i] = AcrossCrack(i) ? PointStatus::kCrackBand : prev_status[i];
       ref_index = frame_index - 1;
       ++updates;
       continue;

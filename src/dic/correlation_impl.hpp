@@ -48,6 +48,7 @@ struct CorrelatorState {
   // Subsets across the crack located in the frame last correlated
   // (SetLocatedCrack; empty: none known).
   std::vector<char> across_crack;
+  bool AcrossCrack(size_t i) const { return !across_crack.empty() && across_crack[i]; }
   Image prev_image;
   int frame_index = 0;
   std::vector<Params> prev_total;  // last frame's total motion

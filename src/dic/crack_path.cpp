@@ -154,17 +154,14 @@ double RefineOnSmearedPoints(const std::vector<ColumnPoint>& pts, const ColumnSu
   const double noise = std::sqrt((ra + rb) / std::max(1, ca + cb - 4)) / (va - vb);
   const double tol = std::max(0.03, 3.0 * std::abs(noise));
   double whole_below = -1e300, whole_above = 1e300;
-  {
-    std::vector<std::pair<double, double>> sorted = nf;
-    std::sort(sorted.begin(), sorted.end());
-    for (const auto& [n, f] : sorted) {
-      if (std::abs(f) > tol) break;
-      whole_below = n;
-    }
-    for (auto it = sorted.rbegin(); it != sorted.rend(); ++it) {
-      if (std::abs(1.0 - it->second) > tol) break;
-      whole_above = it->first;
-    }
+  std::sort(nf.begin(), nf.end());  // by n (the ramp fit below does not mind the order)
+  for (const auto& [n, f] : nf) {
+    if (std::abs(f) > tol) break;
+    whole_below = n;
+  }
+  for (auto it = nf.rbegin(); it != nf.rend(); ++it) {
+    if (std::abs(1.0 - it->second) > tol) break;
+    whole_above = it->first;
   }
   const double lo_bound = whole_below + 0.5 * w, hi_bound = whole_above - 0.5 * w;
   double best_n = n0, best_cost = std::numeric_limits<double>::infinity();

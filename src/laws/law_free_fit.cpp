@@ -92,9 +92,28 @@ TailTest TestTail(const Samples& s, int p, double z) {
 // One point of the lambda search.
 struct StepFit {
   bool ok = false;
-  double lambda = 0.0, score = 0.0, chi2 = 0.0, trace_h = 0.0;
+  double log10_relative = 0.0, lambda = 0.0, score = 0.0, chi2 = 0.0, trace_h = 0.0;
   Eigen::VectorXd x;
 };
+
+// The usable step with the lowest score among those `admit` accepts (the
+// first of equal ones); -1 when none.
+template <class Admit>
+int BestStep(const std::vector<StepFit>& steps, Admit admit) {
+  int best = -1;
+  for (int k = 0; k < static_cast<int>(steps.size()); ++k)
+    if (steps[k].ok && admit(steps[k]) && (best < 0 || steps[k].score < steps[best].score)) best = k;
+  return best;
+}
+
+// Wahba's posterior covariance s^2 (A^T A + lambda P)^-1 of a step, with
+// s^2 = max(1, chi^2 / (n - tr H)) (returned in *scale2).
+Eigen::MatrixXd PosteriorCovariance(const Eigen::MatrixXd& AtA, const Eigen::MatrixXd& P,
+                                    const StepFit& step, double n, double* scale2) {
+  *scale2 = std::max(1.0, step.chi2 / (n - step.trace_h));
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(AtA + step.lambda * P);
+  return *scale2 * ldlt.solve(Eigen::MatrixXd::Identity(AtA.rows(), AtA.cols()));
+}
 
 // At the null-space end of the penalty (the criterion's best fit has no
 // curvature: sigma linear), the Bayesian band is the line's own
@@ -109,16 +128,12 @@ void AllowForUnresolvedCurvature(const Eigen::MatrixXd& AtA, const Eigen::Matrix
                                  const std::vector<StepFit>& steps, PenalisedFit* fit) {
   const int null_dim = static_cast<int>(P.cols()) - Eigen::FullPivLU<Eigen::MatrixXd>(P).rank();
   if (!(fit->trace_h < null_dim + 0.5)) return;
-  const StepFit* alt = nullptr;
-  for (const StepFit& step : steps)
-    if (step.ok && step.trace_h >= null_dim + 0.5 && (!alt || step.score < alt->score)) alt = &step;
-  if (!alt) return;
-  const double scale2 = std::max(1.0, alt->chi2 / (n - alt->trace_h));
-  const Eigen::LDLT<Eigen::MatrixXd> ldlt(AtA + alt->lambda * P);
-  const Eigen::VectorXd d = alt->x - fit->x;
-  fit->covariance = scale2 * ldlt.solve(Eigen::MatrixXd::Identity(AtA.rows(), AtA.cols())) +
-                    d * d.transpose();
-  fit->null_space_allowance_dof = alt->trace_h;
+  const int alt = BestStep(steps, [&](const StepFit& s) { return s.trace_h >= null_dim + 0.5; });
+  if (alt < 0) return;
+  double scale2 = 1.0;
+  const Eigen::VectorXd d = steps[alt].x - fit->x;
+  fit->covariance = PosteriorCovariance(AtA, P, steps[alt], n, &scale2) + d * d.transpose();
+  fit->null_space_allowance_dof = steps[alt].trace_h;
 }
 
 }  // namespace
@@ -222,9 +237,6 @@ PenalisedFit SolvePenalised(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
   // log10(lambda / base) from -10 to 6 in steps of 0.1.
   constexpr int kSteps = 161;
   constexpr double kFirst = -10.0, kStep = 0.1;
-  PenalisedFit best;
-  double best_score = std::numeric_limits<double>::infinity();
-  int best_step = -1;
   std::vector<StepFit> steps(kSteps);
   for (int step = 0; step < kSteps; ++step) {
     const double t = kFirst + kStep * step;
@@ -249,26 +261,24 @@ PenalisedFit SolvePenalised(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
         score = chi2 <= n ? -t : 1e6 + t;
         break;
     }
-    steps[step] = {.ok = true, .lambda = lambda, .score = score, .chi2 = chi2, .trace_h = trace_h,
-                   .x = x};
-    if (score < best_score) {
-      best_score = score;
-      best_step = step;
-      best.x = x;
-      best.lambda = lambda;
-      best.log10_relative = t;
-      best.chi2 = chi2;
-      best.trace_h = trace_h;
-    }
+    steps[step] = {.ok = true, .log10_relative = t, .lambda = lambda, .score = score,
+                   .chi2 = chi2, .trace_h = trace_h, .x = x};
   }
+  const int best_step = BestStep(steps, [](const StepFit&) { return true; });
   if (best_step < 0)
     throw Error(ErrorKind::kRuntime, "the penalised least squares found no usable penalty",
                 {.expected = "samples that determine sigma on the grid"});
+  const StepFit& chosen = steps[best_step];
+  PenalisedFit best;
+  best.x = chosen.x;
+  best.lambda = chosen.lambda;
+  best.log10_relative = chosen.log10_relative;
+  best.chi2 = chosen.chi2;
+  best.trace_h = chosen.trace_h;
   best.at_search_edge = best_step == 0 || best_step == kSteps - 1;
-  const double scale2 = std::max(1.0, best.chi2 / (n - best.trace_h));
+  double scale2 = 1.0;
+  best.covariance = PosteriorCovariance(AtA, P, chosen, n, &scale2);
   best.noise_scale = std::sqrt(scale2);
-  const Eigen::LDLT<Eigen::MatrixXd> ldlt(AtA + best.lambda * P);
-  best.covariance = scale2 * ldlt.solve(Eigen::MatrixXd::Identity(AtA.rows(), AtA.cols()));
   AllowForUnresolvedCurvature(AtA, P, n, steps, &best);
   return best;
 }

@@ -43,9 +43,10 @@ struct PenalisedFit {
   double chi2 = 0.0, trace_h = 0.0, noise_scale = 1.0;
   bool at_search_edge = false;  // the criterion's minimum lies on the lambda grid's edge
   // The chosen fit lies in the penalty's null space (tr H within 0.5 of its
-  // dimension: sigma linear): `covariance` then includes d d^T, d the step to
-  // the fit with one more effective degree of freedom (the band's allowance
-  // for curvature the data do not resolve). 0 when not applied.
+  // dimension: sigma linear): `covariance` is then the best curved
+  // alternative's plus d d^T, d the step to it (the band's allowance for
+  // curvature the data do not resolve), and this is that alternative's
+  // tr H. 0 when not applied.
   double null_space_allowance_dof = 0.0;
 };
 PenalisedFit SolvePenalised(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,

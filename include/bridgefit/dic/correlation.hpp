@@ -167,13 +167,13 @@ class Correlator {
   // The crack as located in the frame last correlated (it holds until the
   // next call: the sequence calls it for every frame whose tip it finds):
   // along `line` from its start to `length_px` (the tip). Subsets across it
-  // (the crack band's rule)
-  // leave the reference-update test (a crack is not decorrelation), and at
-  // an update they are lost like failed points: in the new reference their
-  // subset holds the open gap, which does not move with the material, and
-  // its increments read it (measured: 0.3-0.5 px off on a bridged crack
-  // opened 0.7 px, the crack path found 2-7 px off). length_px <= 0 clears
-  // it. Throws Error(kUsage) for a line shorter than 1 px.
+  // (the crack band's rule) leave the reference-update test (a crack is not
+  // decorrelation), and at an update they are lost like failed points: in
+  // the new reference their subset holds the open gap, which does not move
+  // with the material, and its increments read it (measured: 0.3-0.5 px off
+  // on a bridged crack opened 0.7 px, the crack path found 2-7 px off).
+  // length_px <= 0 clears it. Throws Error(kUsage) for a line shorter than
+  // 1 px.
   void SetLocatedCrack(const CrackLine& line, double length_px);
 
  private:
