@@ -120,16 +120,25 @@ void RunDic(SpecimenOutcome& out) {
     throw Error(e.kind(), "the DIC of the specimen's images failed: " + e.message(), e.context())
         .WithContext({.file = out.dic->folder.string()});
   }
-  pipeline::FitRequest::FrameCrackLengths frames;
-  frames.source = source;
+  // The lengths as `rcurve --crack-length-from` reads them from the CSV:
+  // the doubtful ones left out.
+  pipeline::DicCrackLengths lengths;
+  std::vector<std::string> flags;
   for (std::size_t k = 0; k < result.frames.size(); ++k) {
     const dic::FrameResult& f = result.frames[k];
-    frames.image.push_back(f.image);
-    frames.crack_length.push_back(f.has_length ? f.crack_length_m : NAN);
+    lengths.image.push_back(f.image);
+    lengths.crack_length.push_back(f.has_length ? f.crack_length_m : NAN);
+    flags.push_back(f.Flags());
     const std::string file = std::filesystem::path(f.image).filename().string();
     if (k > 0 && !f.has_length) out.notes.push_back(fmt::format("DIC {}: no crack length", file));
     else if (f.flagged) out.notes.push_back(fmt::format("DIC {}: flagged {}", file, f.Flags()));
   }
+  pipeline::LeaveOutDoubtfulLengths(flags, lengths);
+  out.notes.insert(out.notes.end(), lengths.notes.begin(), lengths.notes.end());
+  pipeline::FitRequest::FrameCrackLengths frames;
+  frames.source = source;
+  frames.image = std::move(lengths.image);
+  frames.crack_length = std::move(lengths.crack_length);
   out.request.frame_crack_lengths = std::move(frames);
   // The dic file's one writer, through a temporary file of this process
   // (numbered: two campaigns of one process may run side by side).

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string_view>
 #include <fmt/format.h>
 
 #include "bridgefit/core/error.hpp"
@@ -53,6 +54,18 @@ std::string FrameResult::Flags() const {
   add(tip.williams_window_short, "williams_window_short");
   add(tip_beyond_band, "tip_beyond_band");
   return out;
+}
+
+bool FlagsDoubtLength(const std::string& flags) {
+  std::size_t begin = 0;
+  while (begin < flags.size()) {
+    std::size_t end = flags.find(';', begin);
+    if (end == std::string::npos) end = flags.size();
+    const std::string_view flag(flags.data() + begin, end - begin);
+    if (!flag.empty() && flag != "path_disagrees_with_line") return true;
+    begin = end + 1;
+  }
+  return false;
 }
 
 std::string CrackSequenceResult::BriefReport() const {
@@ -239,7 +252,9 @@ void MakeMonotone(std::vector<FrameResult>* frames) {
   for (const FrameResult& f : *frames) {
     values.push_back(f.crack_length_raw_m);
     sigmas.push_back(f.uncertainty_m);
-    valid.push_back(f.has_length ? 1 : 0);
+    // A doubtful length may be wrong by more than its uncertainty: pooled
+    // with its neighbours it would move their lengths with it.
+    valid.push_back(f.has_length && !f.LengthDoubtful() ? 1 : 0);
   }
   const std::vector<double> mono = MonotoneNonDecreasing(values, sigmas, valid);
   for (size_t k = 0; k < frames->size(); ++k)

@@ -371,7 +371,28 @@ DicCrackLengths ReadDicCrackLengths(const std::string& path) {
       throw Error(ErrorKind::kInput, "the crack-length file lacks a column",
                   {.file = path, .field = column,
                    .expected = "the CSV of `bridgefit dic --csv` (image, crack_length [mm])"});
-  return {frames.TextColumn("image"), frames.ColumnSi("crack_length", Dimension::Length())};
+  DicCrackLengths out{frames.TextColumn("image"),
+                      frames.ColumnSi("crack_length", Dimension::Length()), {}};
+  if (frames.Find("flags") >= 0) LeaveOutDoubtfulLengths(frames.TextColumn("flags"), out);
+  return out;
+}
+
+void LeaveOutDoubtfulLengths(const std::vector<std::string>& flags, DicCrackLengths& frames) {
+  BF_CHECK_INPUT(flags.size() == frames.image.size(), "one flags entry per frame");
+  std::string listed;
+  int count = 0;
+  for (size_t k = 0; k < flags.size(); ++k) {
+    if (!std::isfinite(frames.crack_length[k]) || !dic::FlagsDoubtLength(flags[k])) continue;
+    frames.crack_length[k] = NAN;
+    ++count;
+    listed += fmt::format("{}{} ({})", listed.empty() ? "" : ", ",
+                          std::filesystem::path(frames.image[k]).filename().string(), flags[k]);
+  }
+  if (count > 0)
+    frames.notes.push_back(fmt::format(
+        "{} DIC frame(s) left out of the crack lengths (their flags put the length in doubt; "
+        "the R curve interpolates over them): {}",
+        count, listed));
 }
 
 DicJSeries ReadDicJSeries(const std::filesystem::path& path) {

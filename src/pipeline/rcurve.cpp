@@ -45,6 +45,7 @@ RCurveRun RunRCurve(const RCurveRequest& request) {
   if (!request.crack_length_from.empty()) {
     // `bridgefit dic --csv`: one row per frame, its image and crack length.
     const DicCrackLengths frames = ReadDicCrackLengths(request.crack_length_from);
+    frame_notes = frames.notes;
     run.record = experiment::CrackLengthFromFrames(run.record, frames.image, frames.crack_length,
                                                    request.crack_length_from, &frame_notes);
   }

@@ -11,6 +11,7 @@
 
 #include "bridgefit/dic/crack.hpp"
 #include "bridgefit/dic/crack_path.hpp"
+#include "bridgefit/dic/sequence.hpp"
 
 namespace bridgefit::dic {
 namespace {
@@ -158,6 +159,38 @@ TEST(CrackFlags, MethodsDisagreeInUnitsOfTheirUncertainty) {
   EXPECT_FALSE(MethodsDisagree(long_crack, o));
   // One method alone cannot disagree.
   EXPECT_FALSE(MethodsDisagree(Tips(100, nan, nan), o));
+}
+
+// The monotone fit of the lengths: a frame whose length is in doubt (a tip
+// at the image edge read 5 mm short, as a real orthotropic run did) stays
+// out of it and keeps its raw length and flags; pooled, it pulled two
+// unflagged predecessors 0.5 mm below their own reading, outside their
+// 0.3 mm uncertainty. A frame flagged only for the given line (the length is
+// measured along the path found) takes part: its short reading is pooled.
+TEST(CrackFlags, ADoubtfulLengthStaysOutOfTheMonotoneFit) {
+  EXPECT_FALSE(FlagsDoubtLength(""));
+  EXPECT_FALSE(FlagsDoubtLength("path_disagrees_with_line"));
+  EXPECT_TRUE(FlagsDoubtLength("path_disagrees_with_line;tip_at_edge"));
+  EXPECT_TRUE(FlagsDoubtLength("methods_disagree"));
+  const double raw_mm[] = {35.2, 35.7, 36.1, 31.0, 36.6, 37.1, 37.0};
+  std::vector<FrameResult> frames(std::size(raw_mm));
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    frames[k].has_length = true;
+    frames[k].crack_length_raw_m = raw_mm[k] * 1e-3;
+    frames[k].uncertainty_m = (k == 3 ? 0.87 : 0.15) * 1e-3;
+  }
+  frames[3].tip.tip_at_edge = true;
+  frames[3].tip.methods_disagree = true;
+  frames[6].path_disagrees_with_hint = true;
+  for (FrameResult& f : frames) f.flagged = !f.Flags().empty();
+  MakeMonotone(&frames);
+  for (std::size_t k = 0; k <= 4; ++k)
+    EXPECT_DOUBLE_EQ(frames[k].crack_length_m, frames[k].crack_length_raw_m) << "frame " << k;
+  EXPECT_TRUE(frames[3].LengthDoubtful());
+  EXPECT_FALSE(frames[6].LengthDoubtful());
+  // 37.1 and 37.0 (equal weights) pool to 37.05.
+  EXPECT_NEAR(frames[5].crack_length_m, 37.05e-3, 1e-12);
+  EXPECT_NEAR(frames[6].crack_length_m, 37.05e-3, 1e-12);
 }
 
 }  // namespace

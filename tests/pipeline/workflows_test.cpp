@@ -15,10 +15,13 @@
 #include <optional>
 #include <sstream>
 
+#include <fmt/format.h>
+
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/io/csv.hpp"
 #include "bridgefit/io/scene_file.hpp"
 #include "bridgefit/laws/law.hpp"
+#include "bridgefit/pipeline/dic_file.hpp"
 #include "bridgefit/pipeline/law.hpp"
 #include "bridgefit/pipeline/rcurve.hpp"
 #include "bridgefit/pipeline/rcurve_file.hpp"
@@ -146,6 +149,58 @@ TEST(RCurveWorkflow, RunEqualsTheReductionAndItsFilesReadBack) {
   EXPECT_NE(text.find("      a [mm]      da [mm]      R [J/m^2]     +- [J/m^2]\n"),
             std::string::npos)
       << text;
+}
+
+// `rcurve --crack-length-from dic.csv`: a frame whose flags put its length
+// in doubt (here 5 mm for about 39 mm, tip_at_edge) is left out and the rows
+// around it are interpolated between its neighbours; a frame flagged only
+// path_disagrees_with_line (the given line was off, the length is measured
+// on the path found) keeps its length. Oracle: the record's rows at the
+// frames hold the DIC lengths, the left-out row lies between its neighbours.
+TEST(RCurveWorkflow, DicFramesWithADoubtfulLengthAreLeftOutWithANote) {
+  WorkDir dir;
+  dic::CrackSequenceResult dic_run;
+  for (int k = 0; k <= 9; ++k) {
+    dic::FrameResult f;
+    f.image = (kSample / "images" / fmt::format("frame_{:02d}.png", k)).string();
+    if (k > 0) {
+      f.has_length = true;
+      f.crack_length_m = f.crack_length_raw_m = (30.0 + 4.5 * k) * 1e-3;
+      f.uncertainty_m = 0.2e-3;
+    }
+    dic_run.frames.push_back(f);
+  }
+  dic_run.frames[3].crack_length_m = dic_run.frames[3].crack_length_raw_m = 5e-3;
+  dic_run.frames[3].tip.tip_at_edge = true;
+  dic_run.frames[5].path_disagrees_with_hint = true;
+  const fs::path csv = dir.path / "dic.csv";
+  WriteDicCsv(csv.string(), dic_run);
+
+  const DicCrackLengths read = ReadDicCrackLengths(csv.string());
+  EXPECT_TRUE(std::isnan(read.crack_length[3]));
+  EXPECT_NEAR(read.crack_length[5], 52.5e-3, 1e-8);
+  ASSERT_EQ(read.notes.size(), 1u);
+  EXPECT_NE(read.notes[0].find("frame_03.png (tip_at_edge)"), std::string::npos) << read.notes[0];
+  EXPECT_EQ(read.notes[0].find("frame_05"), std::string::npos) << read.notes[0];
+
+  RCurveRequest request = SampleRCurveRequest();
+  request.crack_length_from = csv.string();
+  const RCurveRun run = RunRCurve(request);
+  const ExperimentRecord& record = run.record;
+  auto row_of = [&](int frame) {
+    for (std::size_t r = 0; r < record.images.size(); ++r)
+      if (record.images[r].find(fmt::format("frame_{:02d}", frame)) != std::string::npos) return r;
+    return record.images.size();
+  };
+  ASSERT_LT(row_of(4), record.size());
+  EXPECT_NEAR(record.crack_length[row_of(2)], 39.0e-3, 1e-8);
+  EXPECT_NEAR(record.crack_length[row_of(5)], 52.5e-3, 1e-8);
+  const double left_out = record.crack_length[row_of(3)];
+  EXPECT_GT(left_out, 39.0e-3);
+  EXPECT_LT(left_out, 48.0e-3);
+  bool noted = false;
+  for (const std::string& n : run.result.notes) noted = noted || n.find("frame_03.png") != std::string::npos;
+  EXPECT_TRUE(noted) << "the R curve's notes do not name the left-out frame";
 }
 
 TEST(RCurveWorkflow, InvalidOptionsAreRefusedBeforeTheRecordIsRead) {

@@ -42,6 +42,10 @@ struct CrackSequenceOptions {
   bool IsValid(std::string* why) const;
 };
 
+// The rule behind FrameResult::LengthDoubtful, on a Flags() string as the
+// DIC CSV and HDF5 hold it.
+bool FlagsDoubtLength(const std::string& flags);
+
 struct FrameResult {
   std::string image;
   bool has_length = false;     // false: no detectable opening (or no tip)
@@ -59,6 +63,11 @@ struct FrameResult {
   // path fits the crack points badly (the length along it may be off; see
   // path.polyline_x/y).
   std::string Flags() const;
+  // Flags that put the length itself in doubt: every flag but
+  // path_disagrees_with_line (the given line was off; the length is measured
+  // along the path found). A doubtful length stays out of the monotone fit
+  // and out of the R curve built from the frames.
+  bool LengthDoubtful() const { return FlagsDoubtLength(Flags()); }
   double crack_length_m = 0;   // monotone in time
   double crack_length_raw_m = 0;  // this frame's own estimate
   double uncertainty_m = 0;
@@ -103,8 +112,10 @@ void LocateCrackInField(const DisplacementField& field, const CrackSequenceOptio
 void MeasureFrameJ(const DisplacementField& field, const CrackSequenceOptions& options,
                    FrameResult* r);
 
-// crack_length_m of the frames with a length: non-decreasing in time
-// (weighted isotonic regression of the raw lengths).
+// crack_length_m of the frames with a length not in doubt: non-decreasing
+// in time (weighted isotonic regression of their raw lengths). A frame whose
+// length is in doubt (LengthDoubtful) keeps its raw length (it may lie below
+// its predecessors) and its flags.
 void MakeMonotone(std::vector<FrameResult>* frames);
 
 // Tip and path settings for exported fields, in the field's unit: stations

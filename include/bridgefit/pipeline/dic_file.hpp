@@ -25,13 +25,21 @@ void WriteDicCsv(const std::string& path, const dic::CrackSequenceResult& result
 void WriteDicH5(const std::string& path, const dic::CrackSequenceResult& result,
                 const dic::CrackSequenceOptions& options);
 
-// The image and crack length [m] of each frame of a DIC CSV (NaN: no tip).
+// The image and crack length [m] of each frame of a DIC CSV (NaN: no tip,
+// or a length in doubt, see LeaveOutDoubtfulLengths).
 struct DicCrackLengths {
   std::vector<std::string> image;
   std::vector<double> crack_length;
+  std::vector<std::string> notes;  // the frames left out, and why
 };
-// Throws Error(kInput) naming the file and the missing column.
+// Throws Error(kInput) naming the file and the missing column. With a flags
+// column (every CSV of `dic` since 2026-11) the doubtful lengths are left out.
 DicCrackLengths ReadDicCrackLengths(const std::string& path);
+// The frames whose flags (one Flags() string per frame) put their length in
+// doubt (dic::FlagsDoubtLength) lose it (NaN): the R curve interpolates over
+// them instead of taking a length that may be off by more than its
+// uncertainty. One note in frames.notes lists them with their flags.
+void LeaveOutDoubtfulLengths(const std::vector<std::string>& flags, DicCrackLengths& frames);
 
 // The J-integral route's input from a dic.h5 (issue 21): per frame the
 // image, crack length [m], J_ff [J/m^2] and its spread [%], delta* and its
