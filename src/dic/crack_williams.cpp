@@ -317,13 +317,37 @@ TipScan ScanTip(const std::vector<const LocalPoint*>& set, double lo, double hi,
   return out;
 }
 
+// The window's share of the tip's uncertainty: the tip found in a window of
+// kWindowModelRadius x the fit radius minus the tip. A field the series does
+// not hold (a second crack, a grip, a zone the closing terms miss) pulls
+// the tip by an amount that changes with the window; the white-noise sigma
+// does not see it (a second crack as strong 25 px above, its tip 30 px
+// behind: the tip 10.8 px short at a sigma of 0.2 px). The smaller window's
+// own extra noise explains shift^2 = sigma_small^2 - sigma^2 on average
+// (nested fits); the rest is the share.
+constexpr double kWindowModelRadius = 0.7;
+
+void WindowShare(const std::vector<LocalPoint>& pts, const std::vector<char>& readable, double xs,
+                 double ys, double lo, double hi, const TipBasis& basis, const TipScan& scan,
+                 CrackTipResult& res) {
+  const CrackTipOptions& o = *basis.o;
+  const TipScan smaller = ScanTip(
+      WindowPoints(pts, readable, xs, ys, kWindowModelRadius * o.fit_radius_px, o), lo, hi, basis);
+  if (!smaller.found) return;
+  const double shift = smaller.s - scan.s;
+  const double noise2 = std::max(0.0, smaller.sigma * smaller.sigma - scan.sigma * scan.sigma);
+  res.williams_window_shift_px = shift;
+  res.williams_window_share_px = std::sqrt(std::max(0.0, shift * shift - noise2));
+}
+
 }  // namespace
 
 // Stages: window centre -> continuum not hidden by a failed cluster ->
 // enough of it ahead of the centre on both sides of the line? -> tip scan ->
 // the scan again with the radius one station smaller: a tip that moves by
 // more than twice its uncertainty (at least one station / sqrt(12)) is
-// unstable, not used.
+// unstable, not used -> the model's shares of the uncertainty (closing
+// tractions, the window's size).
 void WilliamsTip(const DisplacementField& field, const std::vector<LocalPoint>& pts,
                  const CrackTipOptions& o, CrackTipResult& res) {
   const double ds = o.station_spacing_px;
@@ -387,7 +411,10 @@ void WilliamsTip(const DisplacementField& field, const std::vector<LocalPoint>& 
   // frame's length is not stated tighter than the model allows.
   const TipScan closed = ScanTip(set, lo, hi, basis, 2);
   res.williams_closing_shift_px = closed.found ? closed.s - scan.s : 0.0;
-  t.uncertainty_px = std::hypot(resolved, res.williams_closing_shift_px);
+  WindowShare(pts, readable, xs, ys, lo, hi, basis, scan, res);
+  t.uncertainty_px = std::sqrt(resolved * resolved +
+                               res.williams_closing_shift_px * res.williams_closing_shift_px +
+                               res.williams_window_share_px * res.williams_window_share_px);
 }
 
 }  // namespace bridgefit::dic::detail

@@ -216,21 +216,27 @@ TEST(CrackTip, TipBeyondTheFieldIsFlagged) {
   EXPECT_TRUE(r.tip_at_edge);
 }
 
-// A second crack as strong, 30 px above the first, its tip 60 px behind:
-// its field reaches into the Williams window and the path search. The main
-// crack's tip is within 2 sigma of the truth (sigma at least one station /
-// sqrt(12)) or the frame is flagged - never a confident wrong tip. (At half
-// the K the Williams tip is 4 px short, the sqrt tip 3 px ahead of it: not
-// flagged, a known gap - the Williams sigma does not see the misfit.)
+// A second crack 0.25-1 x as strong, 25-40 px above or below the first,
+// its tip 90 px behind to 60 px ahead: its field reaches into the Williams
+// window and the path search. The main crack's tip is within 2 sigma of the
+// truth (sigma at least one station / sqrt(12)) or the frame is flagged -
+// never a confident wrong tip. Without the window's share of the
+// uncertainty (crack_williams.cpp WindowShare) the placement as strong, 25
+// px above, 30 px behind fails: 10.8 px short at 2 sigma 10.7 px.
 TEST(CrackTip, SecondCrackNearbyIsWithinTwoSigmaOrFlagged) {
-  for (double k2 : {1.0}) {
+  struct Second { double k2, dx, dy; };
+  for (const Second c : {Second{1.0, -60, 30}, Second{0.5, -60, 30}, Second{0.25, -60, 30},
+                         Second{0.5, -30, 25}, Second{0.5, -90, 40}, Second{0.5, 20, 35},
+                         Second{0.5, -60, -30}, Second{1.0, 0, 40}, Second{1.0, -30, 25},
+                         Second{1.0, 20, 35}, Second{0.5, 60, 30}}) {
+    const double k2 = c.k2;
     ModeICrackField main_crack, second;
     main_crack.tip_x = 180;
     main_crack.tip_y = 101;
     main_crack.k_over_2mu = 0.05;
     second = main_crack;
-    second.tip_x = 120;
-    second.tip_y = 131;
+    second.tip_x = main_crack.tip_x + c.dx;
+    second.tip_y = main_crack.tip_y + c.dy;
     second.k_over_2mu = k2 * main_crack.k_over_2mu;
     DisplacementField f = CrackedField(main_crack, 300, 200, 4, 11, NearCrack::kFailed);
     for (size_t i = 0; i < f.size(); ++i) {
@@ -238,26 +244,28 @@ TEST(CrackTip, SecondCrackNearbyIsWithinTwoSigmaOrFlagged) {
       second(f.x[i], f.y[i], &u, &v);
       f.u[i] += u;
       f.v[i] += v;
-      if (f.x[i] < second.tip_x && std::abs(f.y[i] - second.tip_y) < 11)
+      if (f.x[i] < second.tip_x && std::abs(f.y[i] - second.tip_y) < 11 && f.status[i] == PointStatus::kOk)
         f.status[i] = PointStatus::kLowCorrelation;  // straddling subsets fail
     }
     CrackPathOptions o = PathOptions(4, 11);
     o.has_hint = true;
     o.hint = {2, 101, 298, 101};
+    // No path found: the sequence measures along the given line and flags
+    // the frame path_not_found.
     const CrackPathResult p = FindCrackPath(f, o);
-    ASSERT_TRUE(p.found) << p.why_not_found;
     CrackTipOptions t;
-    t.line = p.line;
+    t.line = p.found ? p.line : o.hint;
     t.station_spacing_px = 4;
     t.band_half_width_px = 11;
     const CrackTipResult r = LocateCrackTip(f, t, TipMethod::kWilliams);
     ASSERT_TRUE(r.tip.found);
     const double sigma = std::max(r.tip.uncertainty_px, 4 / std::sqrt(12.0));
     const double err = r.tip.x_px - main_crack.tip_x;
-    const bool flagged = r.methods_disagree || r.tip_at_edge || p.curved || p.disagrees_with_hint;
-    std::printf("second crack K x %.1f: tip %.2f px (%s; williams %.2f sqrt %.2f jump %.2f), error "
+    const bool flagged =
+        !p.found || r.methods_disagree || r.tip_at_edge || p.curved || p.disagrees_with_hint;
+    std::printf("second crack K x %.2f at (%+.0f, %+.0f): tip %.2f px (%s; williams %.2f sqrt %.2f jump %.2f), error "
                 "%+.2f, 2 sigma %.2f, flagged %d | %s\n",
-                k2, r.tip.x_px, TipMethodName(r.method), r.williams.s_px, r.sqrt_cod.s_px, r.jump.s_px,
+                k2, c.dx, c.dy, r.tip.x_px, TipMethodName(r.method), r.williams.s_px, r.sqrt_cod.s_px, r.jump.s_px,
                 err, 2 * sigma, flagged, p.BriefReport().c_str());
     std::printf("  sigmas williams %.2f sqrt %.2f jump %.2f, sqrt near-tip share %.2f, unstable %d\n", r.williams.uncertainty_px, r.sqrt_cod.uncertainty_px, r.jump.uncertainty_px, r.sqrt_near_tip_share, r.williams_unstable);
     EXPECT_TRUE(std::abs(err) <= 2 * sigma || flagged) << "error " << err << " px";

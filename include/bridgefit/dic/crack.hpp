@@ -109,6 +109,12 @@ struct CrackTipResult {
   // and linear, a bridged crack's near-tip field) minus the traction-free
   // tip; part of williams.uncertainty_px (added in quadrature).
   double williams_closing_shift_px = 0;
+  // The tip found in the window of kWindowModelRadius x the fit radius minus
+  // the tip; what of it the smaller window's extra noise does not explain
+  // (the misfit of a field the series does not hold: a second crack, a
+  // grip) is part of williams.uncertainty_px (added in quadrature).
+  double williams_window_shift_px = 0;
+  double williams_window_share_px = 0;
   TipMethod method = TipMethod::kWilliams;  // the method that gave `tip`
   TipEstimate tip;
   // The found tips differ by more than their stated uncertainties allow
