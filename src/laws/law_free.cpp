@@ -364,11 +364,25 @@ std::string LawFreeResult::Summary() const {
     out += fmt::format("  not identified: J_B >= {:.1f} J/m^2, delta_c >= {:.4g} mm\n", J_B.value,
                        1e3 * delta_c.value);
   }
-  const double peak = *std::max_element(sigma.begin(), sigma.end());
+  if (!sigma.empty()) {
+    // The peak with its band: a number printed without one would read as
+    // sigma_c measured to its last digit.
+    const size_t k = std::max_element(sigma.begin(), sigma.end()) - sigma.begin();
+    const double half = 0.5 * (sigma_upper[k] - sigma_lower[k]);
+    out += fmt::format("  peak sigma {:.4g} MPa at delta {:.4g} mm (95 % band {:.4g} .. {:.4g} MPa)\n",
+                       1e-6 * sigma[k], 1e3 * delta[k], 1e-6 * std::max(0.0, sigma_lower[k]),
+                       1e-6 * sigma_upper[k]);
+    if (half > 0.5 * sigma[k])
+      out += fmt::format(
+          "  warning: the peak is not resolved (its band is +-{:.0f} % wide): the frames do not "
+          "pin sigma there; a family fit (`fit --law compare`) or more frames near that opening "
+          "would\n",
+          100 * half / sigma[k]);
+  }
   out += fmt::format(
-      "  peak sigma {:.4g} MPa; penalty {:.3g} (log10 relative {:.1f}), "
-      "effective dof {:.1f}, chi2 {:.1f}, noise scale {:.2f}, {:.3f} s\n",
-      1e-6 * peak, penalty, penalty_log10_relative, effective_dof, chi2, noise_scale, run_seconds);
+      "  penalty {:.3g} (log10 relative {:.1f}), effective dof {:.1f}, chi2 {:.1f}, noise scale "
+      "{:.2f}, {:.3f} s\n",
+      penalty, penalty_log10_relative, effective_dof, chi2, noise_scale, run_seconds);
   for (const std::string& note : notes) out += "  note: " + note + "\n";
   return out;
 }

@@ -440,11 +440,6 @@ std::string LawFreeRun::BriefReport() const {
     if (!r) return;
     s += fmt::format("{}:\n", name);
     s += r->Summary();
-    if (!r->sigma.empty()) {
-      const auto peak = std::max_element(r->sigma.begin(), r->sigma.end()) - r->sigma.begin();
-      s += fmt::format("  peak sigma {:.4g} MPa at delta {:.4g} mm; grid to {:.4g} mm\n",
-                       r->sigma[peak] * 1e-6, r->delta[peak] * 1e3, r->delta.back() * 1e3);
-    }
   };
   route("J_ff(delta*) route (eq. 1)", far_field);
   route("R(delta_root) route (eq. 3)", r_curve);
