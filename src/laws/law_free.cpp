@@ -345,6 +345,7 @@ bool LawFreeResult::IsValid(std::string* why) const {
 }
 
 std::string LawFreeResult::Summary() const {
+  constexpr double z95 = 1.959964;
   std::string out = fmt::format(
       "bridging law without a family, {} route: {} samples, sigma on {} nodes to {:.4g} mm\n",
       route == LawFreeRoute::kFarFieldJ ? "J_ff(delta*)" : "R(delta_root)", points_used,
@@ -354,10 +355,13 @@ std::string LawFreeResult::Summary() const {
                        onset_detected ? "detected" : "given");
   out += J_tip_c_given
              ? fmt::format("  J_tip,c = {:.1f} J/m^2 (given)\n", J_tip_c)
-             : fmt::format("  J_tip,c = {:.1f} +- {:.1f} J/m^2\n", J_tip_c, J_tip_c_standard_error);
+             : fmt::format("  J_tip,c = {:.1f} +- {:.1f} J/m^2 (1 standard error; 95 %: {:.1f} .. "
+                           "{:.1f})\n",
+                           J_tip_c, J_tip_c_standard_error, J_tip_c - z95 * J_tip_c_standard_error,
+                           J_tip_c + z95 * J_tip_c_standard_error);
   if (identified) {
     out += fmt::format(
-        "  J_B = {:.1f} +- {:.1f} J/m^2, delta_c = {:.4g} mm (steady state, {} "
+        "  J_B = {:.1f} +- {:.1f} J/m^2 (1 standard error), delta_c = {:.4g} mm (steady state, {} "
         "samples)\n",
         J_B.value, J_B.standard_error, 1e3 * delta_c.value, plateau_points);
   } else {
