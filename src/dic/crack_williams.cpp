@@ -48,10 +48,11 @@ struct TipBasis {
       ortho->Eval(r, t, u1, u2);
       return;
     }
+    const WilliamsPowers powers(r, t, 1, std::max({1, o->mode1_terms, 2 * o->mode2_terms - 1}));
     int c = 0;
-    for (int n = 1; n <= o->mode1_terms; ++n, ++c) WilliamsModeI(n, r, t, o->kappa, u1 + c, u2 + c);
+    for (int n = 1; n <= o->mode1_terms; ++n, ++c) powers.ModeI(n, o->kappa, u1 + c, u2 + c);
     for (int m = 0; m < o->mode2_terms; ++m, ++c)
-      WilliamsModeII(2 * m + 1, r, t, o->kappa, u1 + c, u2 + c);
+      powers.ModeII(2 * m + 1, o->kappa, u1 + c, u2 + c);
   }
   // Closing traction sigma22 = 1 on the faces: strains (s12, s22) sigma22,
   // as (s12 / s22 x, y); isotropic s12 / s22 = -nu' = -(3 - kappa)/(1 + kappa).

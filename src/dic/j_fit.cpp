@@ -69,15 +69,16 @@ struct Basis {
       ortho->Eval(r, t, u1.data() + 3, u2.data() + 3);
       return;
     }
+    const detail::WilliamsPowers powers(r, t, lo, hi);
     int c = 3;
     for (int n = lo; n <= hi; ++n) {
       if (n == 0) continue;
-      detail::WilliamsModeI(n, r, t, kappa, &u1(c), &u2(c));
+      powers.ModeI(n, kappa, &u1(c), &u2(c));
       ++c;
     }
     for (int n = lo; n <= hi; ++n) {
       if (n == 0 || n == 2) continue;
-      detail::WilliamsModeII(n, r, t, kappa, &u1(c), &u2(c));
+      powers.ModeII(n, kappa, &u1(c), &u2(c));
       ++c;
     }
   }

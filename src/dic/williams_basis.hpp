@@ -6,7 +6,12 @@
 // are the terms singular at the expansion's centre, which a Laurent series
 // about a point inside the bridging zone needs outside it).
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <complex>
+
+#include "bridgefit/core/error.hpp"
 
 namespace bridgefit::dic::detail {
 
@@ -20,5 +25,51 @@ inline void WilliamsModeII(int n, double r, double t, double kappa, double* fx, 
   *fx = -rn * (kappa * std::sin(h * t) - h * std::sin((h - 2) * t) + (h - sgn) * std::sin(h * t));
   *fy = rn * (kappa * std::cos(h * t) + h * std::cos((h - 2) * t) - (h - sgn) * std::cos(h * t));
 }
+
+// The same terms for every order n in [lo, hi] at one point, from the powers
+// P_n = r^(n/2) e^(i n t/2) of w = sqrt(r) e^(i t/2) (products, one sincos
+// and one sqrt a point instead of a pow and four sincos a term; the fits
+// evaluate about 10^8 terms a sequence): with Q_n = P_n e^(-2 i t),
+//   mode I:  fx = (kappa + h + s) Re P - h Re Q,  fy = (kappa - h - s) Im P + h Im Q,
+//   mode II: fx = -(kappa + h - s) Im P + h Im Q, fy = (kappa - h + s) Re P + h Re Q,
+// h = n/2, s = +1 for even n, -1 for odd: WilliamsModeI / II above, to
+// rounding (tests/dic/j_integral_test.cpp). t in [-pi, pi] as atan2 gives it.
+class WilliamsPowers {
+ public:
+  static constexpr int kMaxOrders = 40;
+  WilliamsPowers(double r, double t, int lo, int hi) : lo_(lo) {
+    const std::complex<double> w = std::sqrt(r) * std::complex<double>(std::cos(0.5 * t), std::sin(0.5 * t));
+    const std::complex<double> e = std::complex<double>(std::cos(t), -std::sin(t));
+    rot_ = e * e;
+    // P_lo by repeated products (or quotients), then up.
+    std::complex<double> p(1.0, 0.0);
+    if (lo >= 0) {
+      for (int k = 0; k < lo; ++k) p *= w;
+    } else {
+      const std::complex<double> inv = 1.0 / w;
+      for (int k = 0; k < -lo; ++k) p *= inv;
+    }
+    if (!(hi >= lo && hi - lo < kMaxOrders))
+      throw Error(ErrorKind::kUsage, "Williams series: at most 40 orders, lowest <= highest");
+    for (int k = 0; k <= hi - lo; ++k, p *= w) p_[k] = p;
+  }
+  void ModeI(int n, double kappa, double* fx, double* fy) const {
+    const std::complex<double> P = p_[n - lo_], Q = P * rot_;
+    const double h = 0.5 * n, s = (n % 2 == 0) ? 1.0 : -1.0;
+    *fx = (kappa + h + s) * P.real() - h * Q.real();
+    *fy = (kappa - h - s) * P.imag() + h * Q.imag();
+  }
+  void ModeII(int n, double kappa, double* fx, double* fy) const {
+    const std::complex<double> P = p_[n - lo_], Q = P * rot_;
+    const double h = 0.5 * n, s = (n % 2 == 0) ? 1.0 : -1.0;
+    *fx = -(kappa + h - s) * P.imag() + h * Q.imag();
+    *fy = (kappa - h + s) * P.real() + h * Q.real();
+  }
+
+ private:
+  int lo_;
+  std::complex<double> rot_;
+  std::array<std::complex<double>, kMaxOrders> p_{};
+};
 
 }  // namespace bridgefit::dic::detail

@@ -17,9 +17,36 @@
 #include "bridgefit/dic/crack.hpp"
 #include "bridgefit/dic/frame_j.hpp"
 #include "orthotropic_tip_field.hpp"
+#include "../../src/dic/williams_basis.hpp"
 
 namespace bridgefit::dic {
 namespace {
+
+// The Williams terms from powers of sqrt(r) e^(i t/2) (what both fits
+// evaluate) against their closed form (one pow and four sincos a term), for
+// orders -13..8, r from 0.05 to 3, t over [-pi, pi] with both face values:
+// equal to rounding (relative 1e-12 of the term's scale r^(n/2)).
+TEST(WilliamsBasis, PowersEqualTheClosedForm) {
+  const double kappa = (3 - 0.3) / (1 + 0.3);
+  double worst = 0;
+  for (double r : {0.05, 0.3, 1.0, 1.7, 3.0})
+    for (double t : {-M_PI, -2.5, -1.0, -1e-9, 0.0, 0.4, 1.6, 3.0, M_PI}) {
+      const detail::WilliamsPowers powers(r, t, -13, 8);
+      for (int n = -13; n <= 8; ++n) {
+        const double scale = std::pow(r, 0.5 * n) * (kappa + std::abs(n) + 2);
+        double fx, fy, gx, gy;
+        detail::WilliamsModeI(n, r, t, kappa, &fx, &fy);
+        powers.ModeI(n, kappa, &gx, &gy);
+        worst = std::max({worst, std::abs(fx - gx) / scale, std::abs(fy - gy) / scale});
+        detail::WilliamsModeII(n, r, t, kappa, &fx, &fy);
+        powers.ModeII(n, kappa, &gx, &gy);
+        worst = std::max({worst, std::abs(fx - gx) / scale, std::abs(fy - gy) / scale});
+      }
+    }
+  std::printf("Williams powers vs closed form: worst relative difference %.2e\n", worst);
+  EXPECT_LT(worst, 1e-12);
+  EXPECT_THROW(detail::WilliamsPowers(1.0, 0.0, -30, 30), Error);
+}
 
 constexpr double kScale = 1e-4;  // metres per px (0.1 mm, the e2e test's)
 constexpr double kE = 3e9, kNu = 0.3;
