@@ -380,19 +380,34 @@ DicCrackLengths ReadDicCrackLengths(const std::string& path) {
 void LeaveOutDoubtfulLengths(const std::vector<std::string>& flags, DicCrackLengths& frames) {
   BF_CHECK_INPUT(flags.size() == frames.image.size(), "one flags entry per frame");
   std::string listed;
-  int count = 0;
+  std::vector<size_t> doubtful;
+  int clean = 0;
   for (size_t k = 0; k < flags.size(); ++k) {
-    if (!std::isfinite(frames.crack_length[k]) || !dic::FlagsDoubtLength(flags[k])) continue;
-    frames.crack_length[k] = NAN;
-    ++count;
+    if (!std::isfinite(frames.crack_length[k])) continue;
+    if (!dic::FlagsDoubtLength(flags[k])) {
+      ++clean;
+      continue;
+    }
+    doubtful.push_back(k);
     listed += fmt::format("{}{} ({})", listed.empty() ? "" : ", ",
                           std::filesystem::path(frames.image[k]).filename().string(), flags[k]);
   }
-  if (count > 0)
+  if (doubtful.empty()) return;
+  // An R curve needs two lengths: with fewer left, the doubtful ones stay,
+  // and the warning travels with the curve.
+  if (clean < 2) {
     frames.notes.push_back(fmt::format(
-        "{} DIC frame(s) left out of the crack lengths (their flags put the length in doubt; "
-        "the R curve interpolates over them): {}",
-        count, listed));
+        "warning: {} DIC frame(s) whose flags put the length in doubt are used for the crack "
+        "lengths ({} without a doubt, fewer than 2): the R curve may be off by more than the "
+        "lengths' uncertainty; check the crack line, the ROI and the flags ({}) in the DIC CSV",
+        doubtful.size(), clean, listed));
+    return;
+  }
+  for (size_t k : doubtful) frames.crack_length[k] = NAN;
+  frames.notes.push_back(fmt::format(
+      "{} DIC frame(s) left out of the crack lengths (their flags put the length in doubt; "
+      "the R curve interpolates over them): {}",
+      doubtful.size(), listed));
 }
 
 DicJSeries ReadDicJSeries(const std::filesystem::path& path) {

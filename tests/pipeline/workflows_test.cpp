@@ -183,6 +183,14 @@ TEST(RCurveWorkflow, DicFramesWithADoubtfulLengthAreLeftOutWithANote) {
   EXPECT_NE(read.notes[0].find("frame_03.png (tip_at_edge)"), std::string::npos) << read.notes[0];
   EXPECT_EQ(read.notes[0].find("frame_05"), std::string::npos) << read.notes[0];
 
+  // Fewer than two lengths without a doubt: all stay, with a warning.
+  DicCrackLengths few{{"a.png", "b.png", "c.png"}, {30e-3, 31e-3, 29e-3}, {}};
+  LeaveOutDoubtfulLengths({"", "tip_at_edge", "methods_disagree"}, few);
+  EXPECT_DOUBLE_EQ(few.crack_length[1], 31e-3);
+  EXPECT_DOUBLE_EQ(few.crack_length[2], 29e-3);
+  ASSERT_EQ(few.notes.size(), 1u);
+  EXPECT_EQ(few.notes[0].rfind("warning: 2 DIC frame(s)", 0), 0u) << few.notes[0];
+
   RCurveRequest request = SampleRCurveRequest();
   request.crack_length_from = csv.string();
   const RCurveRun run = RunRCurve(request);

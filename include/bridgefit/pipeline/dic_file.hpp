@@ -38,7 +38,9 @@ DicCrackLengths ReadDicCrackLengths(const std::string& path);
 // The frames whose flags (one Flags() string per frame) put their length in
 // doubt (dic::FlagsDoubtLength) lose it (NaN): the R curve interpolates over
 // them instead of taking a length that may be off by more than its
-// uncertainty. One note in frames.notes lists them with their flags.
+// uncertainty. One note in frames.notes lists them with their flags. With
+// fewer than two lengths not in doubt they all stay, and the note is a
+// warning.
 void LeaveOutDoubtfulLengths(const std::vector<std::string>& flags, DicCrackLengths& frames);
 
 // The J-integral route's input from a dic.h5 (issue 21): per frame the
