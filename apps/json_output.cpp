@@ -172,6 +172,8 @@ nlohmann::json LawFreeResultJson(const laws::LawFreeResult& r) {
           {"sigma_standard_error_Pa", r.sigma_standard_error},
           {"sigma_lower_Pa", r.sigma_lower},
           {"sigma_upper_Pa", r.sigma_upper},
+          {"resolved", std::vector<bool>(r.resolved.begin(), r.resolved.end())},
+          {"resolved_fraction", r.resolved_fraction},
           {"J_tip_c_J_per_m2", NumberOrNull(r.J_tip_c)},
           {"J_tip_c_standard_error_J_per_m2", NumberOrNull(r.J_tip_c_standard_error)},
           {"J_tip_c_given", r.J_tip_c_given},

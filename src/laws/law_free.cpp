@@ -186,6 +186,7 @@ bool LawFreeOptions::IsValid(std::string* why) const {
   if (grid_points < 4) return fail(fmt::format("grid_points must be >= 4, got {}", grid_points));
   if (min_points < 4) return fail(fmt::format("min_points must be >= 4, got {}", min_points));
   if (!(band_z > 0.0)) return fail("band_z must be > 0");
+  if (!(resolved_fraction > 0.0)) return fail("resolved_fraction must be > 0");
   if (!(gcv_gamma >= 1.0 && gcv_gamma < 3.0)) return fail("gcv_gamma must be in [1, 3)");
   if (!(plateau_span > 0.0 && plateau_span < 1.0)) return fail("plateau_span must be in (0, 1)");
   if (plateau_min_points < 3) return fail("plateau_min_points must be >= 3");
@@ -253,6 +254,7 @@ LawFreeResult LawFromFarFieldJ(const FarFieldJSamples& data, const LawFreeOption
   double J_max = -INFINITY;
   for (int i = 0; i < n; ++i) J_max = std::max(J_max, G.row(i).dot(fit.x));
   SteadyStateOrBounds(g, FindPlateau(g, 0, options), J_max, "J_ff", &r);
+  MarkResolved(options.resolved_fraction, r);
   r.run_seconds = Seconds(start);
   return r;
 }
@@ -315,8 +317,25 @@ LawFreeResult LawFromRCurve(const RCurveSamples& data, const LawFreeOptions& opt
         "true law is sigma + C delta with unknown C >= {:.4g} Pa/m",
         r.null_space_slope_min));
   }
+  MarkResolved(options.resolved_fraction, r);
   r.run_seconds = Seconds(start);
   return r;
+}
+
+void MarkResolved(double fraction, LawFreeResult& r) {
+  r.resolved_fraction = fraction;
+  r.resolved.assign(r.delta.size(), 0);
+  const bool up_to_c_delta = r.route == LawFreeRoute::kElasticZoneR && !r.identified;
+  if (r.sigma.empty() || up_to_c_delta || r.sigma_lower.size() != r.sigma.size() ||
+      r.sigma_upper.size() != r.sigma.size())
+    return;
+  const double peak = *std::max_element(r.sigma.begin(), r.sigma.end());
+  for (size_t j = 0; j < r.sigma.size(); ++j)
+    r.resolved[j] = peak > 0.0 && 0.5 * (r.sigma_upper[j] - r.sigma_lower[j]) <= fraction * peak;
+}
+
+int LawFreeResult::ResolvedCount() const {
+  return static_cast<int>(std::count(resolved.begin(), resolved.end(), 1));
 }
 
 bool LawFreeResult::IsValid(std::string* why) const {
@@ -376,6 +395,21 @@ std::string LawFreeResult::Summary() const {
     out += fmt::format("  peak sigma {:.4g} MPa at delta {:.4g} mm (95 % band {:.4g} .. {:.4g} MPa)\n",
                        1e-6 * sigma[k], 1e3 * delta[k], 1e-6 * std::max(0.0, sigma_lower[k]),
                        1e-6 * sigma_upper[k]);
+    const int count = ResolvedCount();
+    if (count > 0) {
+      size_t first = resolved.size(), last = 0;
+      for (size_t j = 0; j < resolved.size(); ++j)
+        if (resolved[j]) first = std::min(first, j), last = j;
+      out += fmt::format(
+          "  sigma resolved to +-{:.0f} % of the peak (95 % band) on {} of {} nodes, delta {:.4g} "
+          ".. {:.4g} mm; elsewhere read the curve with its band\n",
+          100 * resolved_fraction, count, resolved.size(), 1e3 * delta[first], 1e3 * delta[last]);
+    } else if (!resolved.empty()) {
+      out += fmt::format(
+          "  sigma resolved to +-{:.0f} % of the peak nowhere: the curve is the penalty's shape "
+          "inside its band (more frames pin it)\n",
+          100 * resolved_fraction);
+    }
     if (half > 0.5 * sigma[k])
       out += fmt::format(
           "  warning: the peak is not resolved (its band is +-{:.0f} % wide): the frames do not "

@@ -29,6 +29,9 @@ void WriteRoute(io::H5Writer& h5, const std::string& g, const laws::LawFreeResul
   h5.WriteVector(g + "/sigma_standard_error", r.sigma_standard_error, "Pa");
   h5.WriteVector(g + "/sigma_lower", r.sigma_lower, "Pa", "band: sigma - z se, unclipped");
   h5.WriteVector(g + "/sigma_upper", r.sigma_upper, "Pa", "band: sigma + z se");
+  std::vector<double> resolved(r.resolved.begin(), r.resolved.end());
+  h5.WriteVector(g + "/resolved", resolved, "1",
+                 "1: the band's half-width is at most resolved_fraction x the peak sigma");
   h5.WriteVector(g + "/J_tip_c", {r.J_tip_c}, "J/m^2", "crack-tip toughness");
   h5.WriteVector(g + "/J_tip_c_standard_error", {r.J_tip_c_standard_error}, "J/m^2");
   h5.WriteVector(g + "/J_B", {r.J_B.value}, "J/m^2",
@@ -54,6 +57,7 @@ void WriteRoute(io::H5Writer& h5, const std::string& g, const laws::LawFreeResul
   h5.WriteAttribute(g, "effective_dof", r.effective_dof);
   h5.WriteAttribute(g, "chi2", r.chi2);
   h5.WriteAttribute(g, "noise_scale", r.noise_scale);
+  h5.WriteAttribute(g, "resolved_fraction", r.resolved_fraction);
   h5.WriteAttribute(g, "run_s", r.run_seconds);
 }
 
@@ -72,6 +76,13 @@ laws::LawFreeResult ReadRoute(const io::H5Reader& r, const std::string& file, co
   out.sigma_standard_error = detail::VectorOrEmpty(r, g + "/sigma_standard_error");
   out.sigma_lower = detail::VectorOrEmpty(r, g + "/sigma_lower");
   out.sigma_upper = detail::VectorOrEmpty(r, g + "/sigma_upper");
+  // Files before 2026-12-05 hold no flag: the one rule at its default.
+  const std::vector<double> resolved = detail::VectorOrEmpty(r, g + "/resolved");
+  if (resolved.size() == out.delta.size()) {
+    out.resolved.assign(resolved.begin(), resolved.end());
+    const double fraction = detail::NumberAttr(r, g, "resolved_fraction");
+    out.resolved_fraction = std::isfinite(fraction) ? fraction : laws::LawFreeOptions{}.resolved_fraction;
+  }
   out.J_tip_c = Scalar(r, g + "/J_tip_c");
   out.J_tip_c_standard_error = Scalar(r, g + "/J_tip_c_standard_error");
   out.J_B.value = Scalar(r, g + "/J_B");
@@ -88,6 +99,7 @@ laws::LawFreeResult ReadRoute(const io::H5Reader& r, const std::string& file, co
   out.delta_c.identified = flag("delta_c_identified");
   out.J_tip_c_given = flag("J_tip_c_given");
   out.onset_detected = flag("onset_detected");
+  if (out.resolved.empty()) laws::MarkResolved(laws::LawFreeOptions{}.resolved_fraction, out);
   auto integer = [&](const char* key) {
     const double v = detail::NumberAttr(r, g, key);
     return std::isfinite(v) ? static_cast<int>(v) : 0;

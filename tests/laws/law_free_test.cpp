@@ -423,6 +423,47 @@ TEST(LawFree, ThePeakIsPrintedWithItsBandAndAWideOneIsWarned) {
       << vague.Summary();
 }
 
+// Where the summary says sigma is resolved (band half-width <= 10 % of the
+// peak), the truth is within 10 % of the peak of the curve: the claim holds
+// if the band does. Four laws, J_ff at 0.5 % and 2 % noise (u scaled with
+// it), 20 seeds each (measured: 5839 of 6560 nodes resolved, 99.1 % of
+// them within 10 % of the peak); the R route without steady state resolves nothing
+// (sigma there is known only up to + C delta).
+TEST(LawFree, TheResolvedNodesAreWithinTheirShareOfThePeak) {
+  std::vector<Truth> laws = Families();
+  laws.push_back(Trilinear());
+  int resolved = 0, within = 0, nodes = 0;
+  for (const Truth& truth : laws)
+    for (double scale : {1.0, 4.0})
+      for (int seed = 200; seed < 220; ++seed) {
+        FarFieldJSamples data = MakeFarFieldJ(truth, 1.4, seed);
+        // Scale the noise about the noise-free value J = u / kNoise.
+        for (size_t i = 0; i < data.J_ff.size(); ++i) {
+          const double J = data.uncertainty[i] / kNoise;
+          data.J_ff[i] = J + scale * (data.J_ff[i] - J);
+          data.uncertainty[i] *= scale;
+        }
+        const LawFreeResult r = LawFromFarFieldJ(data);
+        ASSERT_EQ(r.resolved.size(), r.delta.size());
+        const double peak = *std::max_element(r.sigma.begin(), r.sigma.end());
+        for (size_t j = 0; j < r.delta.size(); ++j) {
+          ++nodes;
+          if (!r.resolved[j]) continue;
+          ++resolved;
+          within += std::abs(r.sigma[j] - truth.Law().Traction(r.delta[j])) <= 0.10 * peak;
+        }
+      }
+  const double share = double(within) / resolved;
+  std::printf("resolved %d of %d nodes; within 10 %% of the peak there: %.1f %%\n", resolved, nodes,
+              100 * share);
+  EXPECT_GT(resolved, nodes / 4);  // not vacuous
+  EXPECT_LT(resolved, nodes);      // and not everywhere
+  EXPECT_GE(share, 0.95);
+  const LawFreeResult open = LawFromRCurve(MakeRCurve(MakeTruth("linear", MakeLinearShape()), 0.6, 3));
+  ASSERT_FALSE(open.identified);
+  EXPECT_EQ(open.ResolvedCount(), 0);
+}
+
 // Data scattering twice their stated u: the band is widened and a note says so.
 TEST(LawFree, UnderstatedUncertaintyWidensTheBand) {
   const Truth truth = MakeTruth("linear", MakeLinearShape());

@@ -395,6 +395,9 @@ TEST(LawFree, WriterAndReaderRoundTrip) {
   EXPECT_EQ(b.sigma_standard_error, a.sigma_standard_error);
   EXPECT_EQ(b.sigma_lower, a.sigma_lower);
   EXPECT_EQ(b.sigma_upper, a.sigma_upper);
+  EXPECT_EQ(b.resolved, a.resolved);
+  EXPECT_EQ(a.resolved.size(), a.delta.size());
+  EXPECT_EQ(b.resolved_fraction, a.resolved_fraction);
   EXPECT_EQ(b.J_tip_c, a.J_tip_c);
   EXPECT_EQ(b.J_B.value, a.J_B.value);
   EXPECT_EQ(b.J_B.identified, a.J_B.identified);

@@ -104,6 +104,10 @@ struct LawFreeOptions {
   // Onset detection (J_ff route, when the caller gives no onset; see above).
   int onset_window = 4;
   double onset_kink_ratio = 5.0;
+  // A node is resolved where its band's half-width is at most this share of
+  // the peak sigma: there the data pin sigma; elsewhere the curve is the
+  // penalty's shape inside a wide band (LawFreeResult::resolved).
+  double resolved_fraction = 0.10;
   bool IsValid(std::string* why) const;
 };
 
@@ -167,13 +171,23 @@ struct LawFreeResult {
   double chi2 = 0.0;                    // weighted residual sum at the chosen lambda
   double noise_scale = 1.0;             // s = sqrt(max(1, chi2 / (n - tr H))), applied to the band
   double run_seconds = 0.0;
+  // Per node: the band's half-width is at most resolved_fraction x the peak
+  // sigma (MarkResolved). None on the R route without steady state (sigma
+  // is known there only up to + C delta).
+  std::vector<char> resolved;
+  double resolved_fraction = 0.10;
   std::vector<std::string> notes;  // warnings and what was assumed
 
   bool IsValid(std::string* why) const;
+  int ResolvedCount() const;
   // Several lines: route, J_tip,c, J_B, delta_c (value or bound), penalty,
   // fit quality, notes.
   std::string Summary() const;
 };
+
+// Sets r.resolved and r.resolved_fraction from the band (the one rule; the
+// file reader applies it to files written before the flag existed).
+void MarkResolved(double fraction, LawFreeResult& r);
 
 // Samples may come in any order (they are sorted by opening). Throw
 // bridgefit::Error (kInput) naming the field and what was expected for sizes
