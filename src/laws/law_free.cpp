@@ -413,8 +413,8 @@ std::string LawFreeResult::Summary() const {
     if (half > 0.5 * sigma[k])
       out += fmt::format(
           "  warning: the peak is not resolved (its band is +-{:.0f} % wide): the frames do not "
-          "pin sigma there; a family fit (`fit --law compare`) or more frames near that opening "
-          "would\n",
+          "pin sigma there; more frames near that opening, or a family fit (`fit --law "
+          "compare`), pin it better\n",
           100 * half / sigma[k]);
   }
   out += fmt::format(
