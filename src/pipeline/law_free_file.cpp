@@ -174,7 +174,8 @@ report::LawFreeView ReadLawFreeView(const std::filesystem::path& path) {
   view.file = path;
   auto add = [&](const char* route, const std::optional<laws::LawFreeResult>& r) {
     if (!r) return;
-    view.curves.push_back({route, r->delta, r->sigma, r->sigma_lower, r->sigma_upper, r->identified});
+    view.curves.push_back({route, r->delta, r->sigma, r->sigma_lower, r->sigma_upper, r->identified,
+                           r->resolved, r->resolved_fraction});
   };
   add("J_ff(delta*)", run.far_field);
   add("R(delta_root)", run.r_curve);

@@ -171,12 +171,18 @@ std::string LawFreeCurves(const ReportInput& in, FigureSet& set, double* x_max) 
   for (size_t c = 0; c < in.law_free->curves.size() && c < 2; ++c) {
     const LawFreeView::Curve& k = in.law_free->curves[c];
     const std::string file = fmt::format("lawfree_{}.dat", c);
-    std::string dat = "# delta[mm] sigma[MPa] lower[MPa] upper[MPa]\n";
+    // Column 5: sigma where the band is within +-resolved_fraction of the
+    // peak (the data pin it), NaN elsewhere (gnuplot leaves a gap).
+    std::string dat = "# delta[mm] sigma[MPa] lower[MPa] upper[MPa] resolved_sigma[MPa]\n";
+    int resolved = 0;
     for (size_t j = 0; j < k.delta.size() && j < k.sigma.size(); ++j) {
       const double lo = j < k.lower.size() ? k.lower[j] : NAN;
       const double hi = j < k.upper.size() ? k.upper[j] : NAN;
-      dat += fmt::format("{:.8g} {:.8g} {:.8g} {:.8g}\n", k.delta[j] * 1e3, k.sigma[j] * 1e-6,
-                         std::max(lo, 0.0) * 1e-6, hi * 1e-6);
+      const bool pinned = j < k.resolved.size() && k.resolved[j];
+      resolved += pinned;
+      dat += fmt::format("{:.8g} {:.8g} {:.8g} {:.8g} {}\n", k.delta[j] * 1e3, k.sigma[j] * 1e-6,
+                         std::max(lo, 0.0) * 1e-6, hi * 1e-6,
+                         pinned ? fmt::format("{:.8g}", k.sigma[j] * 1e-6) : std::string("NaN"));
     }
     WriteFile(set.dir / file, dat);
     if (!k.delta.empty()) *x_max = std::max(*x_max, k.delta.back());
@@ -189,10 +195,16 @@ std::string LawFreeCurves(const ReportInput& in, FigureSet& set, double* x_max) 
     plot += fmt::format(", '{}' u 1:3:4 w filledcurves fc rgb '{}' fs transparent solid 0.25 t '{} 95% band'",
                         file, colours[c], what);
     plot += fmt::format(", '{}' u 1:2 w l lw 2 lc rgb '{}' t '{}'", file, colours[c], what);
+    if (resolved > 0)
+      plot += fmt::format(", '{}' u 1:5 w l lw 5 lc rgb '{}' t 'resolved: band within +-{:.0f}% of the peak'",
+                          file, colours[c], 100 * k.resolved_fraction);
   }
   if (!in.law_free->curves.empty())
     set.notes.push_back("law figure: the law-free sigma(delta) from " + in.law_free->file.string() +
-                        " drawn over the fit (where they disagree beyond the band, the family is wrong)");
+                        " drawn over the fit (where they disagree beyond the band, the family is wrong; " +
+                        fmt::format("thick where the data pin sigma to +-{:.0f} % of its peak, thin "
+                                    "where the curve is the smoothing penalty's shape inside its band)",
+                                    100 * in.law_free->curves.front().resolved_fraction));
   return plot;
 }
 

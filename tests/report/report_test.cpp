@@ -306,9 +306,13 @@ TEST(Report, LawFreeCurveDrawnOverTheFittedLaw) {
     r.delta.push_back(d);
     r.sigma.push_back(0.45e6 * (1 - d / 2e-3));
     r.sigma_standard_error.push_back(0.05e6);
-    r.sigma_lower.push_back(r.sigma.back() - 0.5e6);  // negative: drawn from 0
-    r.sigma_upper.push_back(r.sigma.back() + 0.1e6);
+    // Nodes 0-4 pinned (band +-0.02 MPa, within 10 % of the 0.45 MPa peak:
+    // resolved, drawn thick); the rest wide, the lower end negative (drawn from 0).
+    const bool pinned = j <= 4;
+    r.sigma_lower.push_back(r.sigma.back() - (pinned ? 0.02e6 : 0.5e6));
+    r.sigma_upper.push_back(r.sigma.back() + (pinned ? 0.02e6 : 0.1e6));
   }
+  laws::MarkResolved(0.10, r);
   run.far_field = r;
   pipeline::WriteLawFreeH5(dir / "lawfree.h5", run);
   report::ReportOptions options;
@@ -318,14 +322,20 @@ TEST(Report, LawFreeCurveDrawnOverTheFittedLaw) {
   std::ifstream in(dir / "report" / "lawfree_0.dat");
   std::string line;
   std::getline(in, line);
-  EXPECT_NE(line.find("delta[mm] sigma[MPa] lower[MPa] upper[MPa]"), std::string::npos) << line;
-  double d, sigma, lo, hi;
+  EXPECT_NE(line.find("delta[mm] sigma[MPa] lower[MPa] upper[MPa] resolved_sigma[MPa]"),
+            std::string::npos)
+      << line;
   int rows = 0;
-  while (in >> d >> sigma >> lo >> hi) {
-    EXPECT_NEAR(d, r.delta[rows] * 1e3, 1e-9);
-    EXPECT_NEAR(sigma, r.sigma[rows] * 1e-6, 1e-7);
-    EXPECT_EQ(lo, 0.0);
-    EXPECT_NEAR(hi, r.sigma_upper[rows] * 1e-6, 1e-7);
+  while (std::getline(in, line)) {
+    std::istringstream row(line);
+    std::string d, sigma, lo, hi, pinned;
+    ASSERT_TRUE(row >> d >> sigma >> lo >> hi >> pinned) << line;
+    EXPECT_NEAR(std::stod(d), r.delta[rows] * 1e3, 1e-9);
+    EXPECT_NEAR(std::stod(sigma), r.sigma[rows] * 1e-6, 1e-7);
+    EXPECT_NEAR(std::stod(lo), rows <= 4 ? r.sigma_lower[rows] * 1e-6 : 0.0, 1e-7);
+    EXPECT_NEAR(std::stod(hi), r.sigma_upper[rows] * 1e-6, 1e-7);
+    if (rows <= 4) EXPECT_NEAR(std::stod(pinned), r.sigma[rows] * 1e-6, 1e-7) << line;
+    else EXPECT_EQ(pinned, "NaN") << line;
     ++rows;
   }
   EXPECT_EQ(rows, 11);
@@ -333,6 +343,7 @@ TEST(Report, LawFreeCurveDrawnOverTheFittedLaw) {
   std::stringstream text;
   text << gp.rdbuf();
   EXPECT_NE(text.str().find("'lawfree_0.dat' u 1:2 w l"), std::string::npos);
+  EXPECT_NE(text.str().find("'lawfree_0.dat' u 1:5 w l lw 5"), std::string::npos);
   EXPECT_NE(text.str().find("'lawfree_0.dat' u 1:3:4 w filledcurves"), std::string::npos);
   fs::remove_all(dir);
 }

@@ -109,6 +109,9 @@ struct LawFreeView {
     std::string route;  // "J_ff(delta*)" or "R(delta_root)"
     std::vector<double> delta, sigma, lower, upper;  // [m], [Pa]
     bool identified = false;  // false: J_B, delta_c bounds only (R route: sigma + C delta)
+    // Per node: the band is within +-resolved_fraction of the peak (drawn thick).
+    std::vector<char> resolved;
+    double resolved_fraction = 0.10;
   };
   std::filesystem::path file;
   std::vector<Curve> curves;
