@@ -1,9 +1,9 @@
 #include "bridgefit/dic/sequence.hpp"
 
+#include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
 #include <string_view>
-#include <fmt/format.h>
 
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/core/progress.hpp"

@@ -38,7 +38,8 @@ class WilliamsPowers {
  public:
   static constexpr int kMaxOrders = 40;
   WilliamsPowers(double r, double t, int lo, int hi) : lo_(lo) {
-    const std::complex<double> w = std::sqrt(r) * std::complex<double>(std::cos(0.5 * t), std::sin(0.5 * t));
+    const std::complex<double> w =
+        std::sqrt(r) * std::complex<double>(std::cos(0.5 * t), std::sin(0.5 * t));
     const std::complex<double> e = std::complex<double>(std::cos(t), -std::sin(t));
     rot_ = e * e;
     // P_lo by repeated products (or quotients), then up.

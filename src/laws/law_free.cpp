@@ -374,10 +374,11 @@ std::string LawFreeResult::Summary() const {
                        onset_detected ? "detected" : "given");
   out += J_tip_c_given
              ? fmt::format("  J_tip,c = {:.1f} J/m^2 (given)\n", J_tip_c)
-             : fmt::format("  J_tip,c = {:.1f} +- {:.1f} J/m^2 (1 standard error; 95 %: {:.1f} .. "
-                           "{:.1f})\n",
-                           J_tip_c, J_tip_c_standard_error, J_tip_c - z95 * J_tip_c_standard_error,
-                           J_tip_c + z95 * J_tip_c_standard_error);
+             : fmt::format(
+                   "  J_tip,c = {:.1f} +- {:.1f} J/m^2 (1 standard error; 95 %: {:.1f} .. "
+                   "{:.1f})\n",
+                   J_tip_c, J_tip_c_standard_error, J_tip_c - z95 * J_tip_c_standard_error,
+                   J_tip_c + z95 * J_tip_c_standard_error);
   if (identified) {
     out += fmt::format(
         "  J_B = {:.1f} +- {:.1f} J/m^2 (1 standard error), delta_c = {:.4g} mm (steady state, {} "
@@ -392,9 +393,10 @@ std::string LawFreeResult::Summary() const {
     // sigma_c measured to its last digit.
     const size_t k = std::max_element(sigma.begin(), sigma.end()) - sigma.begin();
     const double half = 0.5 * (sigma_upper[k] - sigma_lower[k]);
-    out += fmt::format("  peak sigma {:.4g} MPa at delta {:.4g} mm (95 % band {:.4g} .. {:.4g} MPa)\n",
-                       1e-6 * sigma[k], 1e3 * delta[k], 1e-6 * std::max(0.0, sigma_lower[k]),
-                       1e-6 * sigma_upper[k]);
+    out +=
+        fmt::format("  peak sigma {:.4g} MPa at delta {:.4g} mm (95 % band {:.4g} .. {:.4g} MPa)\n",
+                    1e-6 * sigma[k], 1e3 * delta[k], 1e-6 * std::max(0.0, sigma_lower[k]),
+                    1e-6 * sigma_upper[k]);
     const int count = ResolvedCount();
     if (count > 0) {
       size_t first = resolved.size(), last = 0;

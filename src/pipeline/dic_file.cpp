@@ -371,8 +371,8 @@ DicCrackLengths ReadDicCrackLengths(const std::string& path) {
       throw Error(ErrorKind::kInput, "the crack-length file lacks a column",
                   {.file = path, .field = column,
                    .expected = "the CSV of `bridgefit dic --csv` (image, crack_length [mm])"});
-  DicCrackLengths out{frames.TextColumn("image"),
-                      frames.ColumnSi("crack_length", Dimension::Length()), {}};
+  DicCrackLengths out{
+      frames.TextColumn("image"), frames.ColumnSi("crack_length", Dimension::Length()), {}};
   if (frames.Find("flags") >= 0) LeaveOutDoubtfulLengths(frames.TextColumn("flags"), out);
   return out;
 }

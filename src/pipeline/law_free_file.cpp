@@ -81,7 +81,8 @@ laws::LawFreeResult ReadRoute(const io::H5Reader& r, const std::string& file, co
   if (resolved.size() == out.delta.size()) {
     out.resolved.assign(resolved.begin(), resolved.end());
     const double fraction = detail::NumberAttr(r, g, "resolved_fraction");
-    out.resolved_fraction = std::isfinite(fraction) ? fraction : laws::LawFreeOptions{}.resolved_fraction;
+    out.resolved_fraction =
+        std::isfinite(fraction) ? fraction : laws::LawFreeOptions{}.resolved_fraction;
   }
   out.J_tip_c = Scalar(r, g + "/J_tip_c");
   out.J_tip_c_standard_error = Scalar(r, g + "/J_tip_c_standard_error");

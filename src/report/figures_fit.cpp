@@ -196,15 +196,17 @@ std::string LawFreeCurves(const ReportInput& in, FigureSet& set, double* x_max) 
                         file, colours[c], what);
     plot += fmt::format(", '{}' u 1:2 w l lw 2 lc rgb '{}' t '{}'", file, colours[c], what);
     if (resolved > 0)
-      plot += fmt::format(", '{}' u 1:5 w l lw 5 lc rgb '{}' t 'resolved: band within +-{:.0f}% of the peak'",
-                          file, colours[c], 100 * k.resolved_fraction);
+      plot += fmt::format(
+          ", '{}' u 1:5 w l lw 5 lc rgb '{}' t 'resolved: band within +-{:.0f}% of the peak'", file,
+          colours[c], 100 * k.resolved_fraction);
   }
   if (!in.law_free->curves.empty())
-    set.notes.push_back("law figure: the law-free sigma(delta) from " + in.law_free->file.string() +
-                        " drawn over the fit (where they disagree beyond the band, the family is wrong; " +
-                        fmt::format("thick where the data pin sigma to +-{:.0f} % of its peak, thin "
-                                    "where the curve is the smoothing penalty's shape inside its band)",
-                                    100 * in.law_free->curves.front().resolved_fraction));
+    set.notes.push_back(
+        "law figure: the law-free sigma(delta) from " + in.law_free->file.string() +
+        " drawn over the fit (where they disagree beyond the band, the family is wrong; " +
+        fmt::format("thick where the data pin sigma to +-{:.0f} % of its peak, thin "
+                    "where the curve is the smoothing penalty's shape inside its band)",
+                    100 * in.law_free->curves.front().resolved_fraction));
   return plot;
 }
 

@@ -224,11 +224,13 @@ TEST(CrackTip, TipBeyondTheFieldIsFlagged) {
 // uncertainty (crack_williams.cpp WindowShare) the placement as strong, 25
 // px above, 30 px behind fails: 10.8 px short at 2 sigma 10.7 px.
 TEST(CrackTip, SecondCrackNearbyIsWithinTwoSigmaOrFlagged) {
-  struct Second { double k2, dx, dy; };
-  for (const Second c : {Second{1.0, -60, 30}, Second{0.5, -60, 30}, Second{0.25, -60, 30},
-                         Second{0.5, -30, 25}, Second{0.5, -90, 40}, Second{0.5, 20, 35},
-                         Second{0.5, -60, -30}, Second{1.0, 0, 40}, Second{1.0, -30, 25},
-                         Second{1.0, 20, 35}, Second{0.5, 60, 30}}) {
+  struct Second {
+    double k2, dx, dy;
+  };
+  for (const Second c :
+       {Second{1.0, -60, 30}, Second{0.5, -60, 30}, Second{0.25, -60, 30}, Second{0.5, -30, 25},
+        Second{0.5, -90, 40}, Second{0.5, 20, 35}, Second{0.5, -60, -30}, Second{1.0, 0, 40},
+        Second{1.0, -30, 25}, Second{1.0, 20, 35}, Second{0.5, 60, 30}}) {
     const double k2 = c.k2;
     ModeICrackField main_crack, second;
     main_crack.tip_x = 180;
@@ -244,7 +246,8 @@ TEST(CrackTip, SecondCrackNearbyIsWithinTwoSigmaOrFlagged) {
       second(f.x[i], f.y[i], &u, &v);
       f.u[i] += u;
       f.v[i] += v;
-      if (f.x[i] < second.tip_x && std::abs(f.y[i] - second.tip_y) < 11 && f.status[i] == PointStatus::kOk)
+      if (f.x[i] < second.tip_x && std::abs(f.y[i] - second.tip_y) < 11 &&
+          f.status[i] == PointStatus::kOk)
         f.status[i] = PointStatus::kLowCorrelation;  // straddling subsets fail
     }
     CrackPathOptions o = PathOptions(4, 11);
@@ -263,10 +266,12 @@ TEST(CrackTip, SecondCrackNearbyIsWithinTwoSigmaOrFlagged) {
     const double err = r.tip.x_px - main_crack.tip_x;
     const bool flagged =
         !p.found || r.methods_disagree || r.tip_at_edge || p.curved || p.disagrees_with_hint;
-    std::printf("second crack K x %.2f at (%+.0f, %+.0f): tip %.2f px (%s; williams %.2f sqrt %.2f jump %.2f), error "
-                "%+.2f, 2 sigma %.2f, flagged %d | %s\n",
-                k2, c.dx, c.dy, r.tip.x_px, TipMethodName(r.method), r.williams.s_px, r.sqrt_cod.s_px, r.jump.s_px,
-                err, 2 * sigma, flagged, p.BriefReport().c_str());
+    std::printf(
+        "second crack K x %.2f at (%+.0f, %+.0f): tip %.2f px (%s; williams %.2f sqrt %.2f jump "
+        "%.2f), error "
+        "%+.2f, 2 sigma %.2f, flagged %d | %s\n",
+        k2, c.dx, c.dy, r.tip.x_px, TipMethodName(r.method), r.williams.s_px, r.sqrt_cod.s_px,
+        r.jump.s_px, err, 2 * sigma, flagged, p.BriefReport().c_str());
     std::printf("  sigmas williams %.2f sqrt %.2f jump %.2f, sqrt near-tip share %.2f, unstable %d\n", r.williams.uncertainty_px, r.sqrt_cod.uncertainty_px, r.jump.uncertainty_px, r.sqrt_near_tip_share, r.williams_unstable);
     EXPECT_TRUE(std::abs(err) <= 2 * sigma || flagged) << "error " << err << " px";
   }

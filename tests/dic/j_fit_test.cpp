@@ -12,12 +12,12 @@
 #include <functional>
 #include <random>
 
+#include "../../src/dic/williams_basis.hpp"
 #include "bridgefit/core/error.hpp"
-#include "bridgefit/dic/speckle.hpp"
 #include "bridgefit/dic/crack.hpp"
 #include "bridgefit/dic/frame_j.hpp"
+#include "bridgefit/dic/speckle.hpp"
 #include "orthotropic_tip_field.hpp"
-#include "../../src/dic/williams_basis.hpp"
 
 namespace bridgefit::dic {
 namespace {

@@ -413,7 +413,8 @@ TEST(LawFree, ThePeakIsPrintedWithItsBandAndAWideOneIsWarned) {
   EXPECT_LE(sharp.sigma_lower[k], truth.sigma_c);
   EXPECT_GE(sharp.sigma_upper[k], truth.sigma_c);
   const std::string text = sharp.Summary();
-  EXPECT_NE(text.find(fmt::format("peak sigma {:.4g} MPa", 1e-6 * sharp.sigma[k])), std::string::npos)
+  EXPECT_NE(text.find(fmt::format("peak sigma {:.4g} MPa", 1e-6 * sharp.sigma[k])),
+            std::string::npos)
       << text;
   EXPECT_NE(text.find("(95 % band "), std::string::npos) << text;
   EXPECT_EQ(text.find("not resolved"), std::string::npos) << text;
@@ -459,7 +460,8 @@ TEST(LawFree, TheResolvedNodesAreWithinTheirShareOfThePeak) {
   EXPECT_GT(resolved, nodes / 4);  // not vacuous
   EXPECT_LT(resolved, nodes);      // and not everywhere
   EXPECT_GE(share, 0.95);
-  const LawFreeResult open = LawFromRCurve(MakeRCurve(MakeTruth("linear", MakeLinearShape()), 0.6, 3));
+  const LawFreeResult open =
+      LawFromRCurve(MakeRCurve(MakeTruth("linear", MakeLinearShape()), 0.6, 3));
   ASSERT_FALSE(open.identified);
   EXPECT_EQ(open.ResolvedCount(), 0);
 }

@@ -207,7 +207,8 @@ TEST(RCurveWorkflow, DicFramesWithADoubtfulLengthAreLeftOutWithANote) {
   EXPECT_GT(left_out, 39.0e-3);
   EXPECT_LT(left_out, 48.0e-3);
   bool noted = false;
-  for (const std::string& n : run.result.notes) noted = noted || n.find("frame_03.png") != std::string::npos;
+  for (const std::string& n : run.result.notes)
+    noted = noted || n.find("frame_03.png") != std::string::npos;
   EXPECT_TRUE(noted) << "the R curve's notes do not name the left-out frame";
 }
 

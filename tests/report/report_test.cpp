@@ -334,8 +334,10 @@ TEST(Report, LawFreeCurveDrawnOverTheFittedLaw) {
     EXPECT_NEAR(std::stod(sigma), r.sigma[rows] * 1e-6, 1e-7);
     EXPECT_NEAR(std::stod(lo), rows <= 4 ? r.sigma_lower[rows] * 1e-6 : 0.0, 1e-7);
     EXPECT_NEAR(std::stod(hi), r.sigma_upper[rows] * 1e-6, 1e-7);
-    if (rows <= 4) EXPECT_NEAR(std::stod(pinned), r.sigma[rows] * 1e-6, 1e-7) << line;
-    else EXPECT_EQ(pinned, "NaN") << line;
+    if (rows <= 4)
+      EXPECT_NEAR(std::stod(pinned), r.sigma[rows] * 1e-6, 1e-7) << line;
+    else
+      EXPECT_EQ(pinned, "NaN") << line;
     ++rows;
   }
   EXPECT_EQ(rows, 11);
