@@ -6,7 +6,6 @@
 // are the terms singular at the expansion's centre, which a Laurent series
 // about a point inside the bridging zone needs outside it).
 
-#include <algorithm>
 #include <array>
 #include <cmath>
 #include <complex>
@@ -33,11 +32,13 @@ inline void WilliamsModeII(int n, double r, double t, double kappa, double* fx, 
 //   mode I:  fx = (kappa + h + s) Re P - h Re Q,  fy = (kappa - h - s) Im P + h Im Q,
 //   mode II: fx = -(kappa + h - s) Im P + h Im Q, fy = (kappa - h + s) Re P + h Re Q,
 // h = n/2, s = +1 for even n, -1 for odd: WilliamsModeI / II above, to
-// rounding (tests/dic/j_integral_test.cpp). t in [-pi, pi] as atan2 gives it.
+// rounding (tests/dic/j_fit_test.cpp). t in [-pi, pi] as atan2 gives it.
 class WilliamsPowers {
  public:
   static constexpr int kMaxOrders = 40;
   WilliamsPowers(double r, double t, int lo, int hi) : lo_(lo) {
+    if (!(hi >= lo && hi - lo < kMaxOrders))
+      throw Error(ErrorKind::kUsage, "Williams series: at most 40 orders, lowest <= highest");
     const std::complex<double> w =
         std::sqrt(r) * std::complex<double>(std::cos(0.5 * t), std::sin(0.5 * t));
     const std::complex<double> e = std::complex<double>(std::cos(t), -std::sin(t));
@@ -50,8 +51,6 @@ class WilliamsPowers {
       const std::complex<double> inv = 1.0 / w;
       for (int k = 0; k < -lo; ++k) p *= inv;
     }
-    if (!(hi >= lo && hi - lo < kMaxOrders))
-      throw Error(ErrorKind::kUsage, "Williams series: at most 40 orders, lowest <= highest");
     for (int k = 0; k <= hi - lo; ++k, p *= w) p_[k] = p;
   }
   void ModeI(int n, double kappa, double* fx, double* fy) const {

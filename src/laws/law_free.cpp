@@ -364,7 +364,7 @@ bool LawFreeResult::IsValid(std::string* why) const {
 }
 
 std::string LawFreeResult::Summary() const {
-  constexpr double z95 = 1.959964;
+  const double z95 = LawFreeOptions{}.band_z;  // the 95 % band's z, its one home
   std::string out = fmt::format(
       "bridging law without a family, {} route: {} samples, sigma on {} nodes to {:.4g} mm\n",
       route == LawFreeRoute::kFarFieldJ ? "J_ff(delta*)" : "R(delta_root)", points_used,

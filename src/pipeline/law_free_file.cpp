@@ -76,14 +76,6 @@ laws::LawFreeResult ReadRoute(const io::H5Reader& r, const std::string& file, co
   out.sigma_standard_error = detail::VectorOrEmpty(r, g + "/sigma_standard_error");
   out.sigma_lower = detail::VectorOrEmpty(r, g + "/sigma_lower");
   out.sigma_upper = detail::VectorOrEmpty(r, g + "/sigma_upper");
-  // Files before 2026-12-05 hold no flag: the one rule at its default.
-  const std::vector<double> resolved = detail::VectorOrEmpty(r, g + "/resolved");
-  if (resolved.size() == out.delta.size()) {
-    out.resolved.assign(resolved.begin(), resolved.end());
-    const double fraction = detail::NumberAttr(r, g, "resolved_fraction");
-    out.resolved_fraction =
-        std::isfinite(fraction) ? fraction : laws::LawFreeOptions{}.resolved_fraction;
-  }
   out.J_tip_c = Scalar(r, g + "/J_tip_c");
   out.J_tip_c_standard_error = Scalar(r, g + "/J_tip_c_standard_error");
   out.J_B.value = Scalar(r, g + "/J_B");
@@ -100,7 +92,12 @@ laws::LawFreeResult ReadRoute(const io::H5Reader& r, const std::string& file, co
   out.delta_c.identified = flag("delta_c_identified");
   out.J_tip_c_given = flag("J_tip_c_given");
   out.onset_detected = flag("onset_detected");
-  if (out.resolved.empty()) laws::MarkResolved(laws::LawFreeOptions{}.resolved_fraction, out);
+  // `resolved` follows from the band, the route and `identified` (the one
+  // rule, laws::MarkResolved), at the file's fraction (files before
+  // 2026-12-05 hold none: the default).
+  const double fraction = detail::NumberAttr(r, g, "resolved_fraction");
+  laws::MarkResolved(std::isfinite(fraction) ? fraction : laws::LawFreeOptions{}.resolved_fraction,
+                     out);
   auto integer = [&](const char* key) {
     const double v = detail::NumberAttr(r, g, key);
     return std::isfinite(v) ? static_cast<int>(v) : 0;
