@@ -96,12 +96,17 @@ experiment::RMethod FallbackMethod(SpecimenType type) {
   return type == SpecimenType::kDCB ? experiment::RMethod::kMbt : experiment::RMethod::kLefm;
 }
 
-std::string WayOut(SpecimenType type) {
-  return type == SpecimenType::kDCB
-             ? "--rcurve-method mbt (or cc), a smaller --rcurve-min-increment, or --fit-to "
-               "load-displacement"
-             : "--rcurve-method lefm (or equivalent), a smaller --rcurve-min-increment, or "
-               "--fit-to load-displacement";
+// The crack readings' scatter may set the energy method's increment above
+// --rcurve-min-increment (rcurve_energy.cpp): then only smoothing lowers it.
+std::string WayOut(SpecimenType type, bool scatter_sets_increment) {
+  const std::string method = type == SpecimenType::kDCB ? "--rcurve-method mbt (or cc)"
+                                                        : "--rcurve-method lefm (or equivalent)";
+  const std::string increment =
+      scatter_sets_increment
+          ? "--rcurve-smooth N (the crack readings' scatter sets the increment, which a "
+            "smaller --rcurve-min-increment cannot lower; local fits over 2 N + 1 rows do)"
+          : "a smaller --rcurve-min-increment";
+  return method + ", " + increment + ", or --fit-to load-displacement";
 }
 
 experiment::RCurveResult ReduceInProcess(const FitRequest& request, const FitInput& input,
@@ -117,6 +122,10 @@ experiment::RCurveResult ReduceInProcess(const FitRequest& request, const FitInp
     experiment::RCurveResult result = experiment::ComputeRCurve(*input.record, options);
     if (result.curve.size() >= kFitMinPoints) return result;
     why_not = fmt::format("gave {} R points", result.curve.size());
+    const auto increment = result.figures.find("energy_min_increment_m");
+    const bool scatter_sets_increment =
+        options.method == experiment::RMethod::kEnergy && options.smoothing_half_window == 0 &&
+        increment != result.figures.end() && increment->second > options.min_crack_increment;
     if (!may_fall_back)
       throw Error(ErrorKind::kInput,
                   fmt::format("{} gave {} R points; a fit needs at least {}", stage,
@@ -124,13 +133,13 @@ experiment::RCurveResult ReduceInProcess(const FitRequest& request, const FitInp
                   {.file = input.label, .field = "R",
                    .value = fmt::format("{} points, increment {:.3g} mm", result.curve.size(),
                                         1e3 * result.figures["energy_min_increment_m"]),
-                   .expected = ">= 4 R points; way out: " + WayOut(type)});
+                   .expected = ">= 4 R points; way out: " + WayOut(type, scatter_sets_increment)});
   } catch (const Error& e) {
     if (!may_fall_back || !why_not.empty()) {
       if (e.kind() != ErrorKind::kInput || std::string(e.what()).find(stage) != std::string::npos)
         throw;
       throw Error(e.kind(), stage + ": " + e.message(), e.context())
-          .WithContext({.expected = "way out: " + WayOut(type)});
+          .WithContext({.expected = "way out: " + WayOut(type, false)});
     }
     why_not = e.message();
   }

@@ -313,6 +313,64 @@ TEST(PipelineFit, InputsThatCannotServeTheRequestAreRefused) {
   EXPECT_EQ(e.context().value, "x, y");
 }
 
+// Too few energy-method R points: the way out the error names must be one
+// that works. On a record whose crack readings scatter (the MDF sample's,
+// 0.33 mm), the increment is set by that scatter (10 x sqrt(2) x its own
+// noise), not by --rcurve-min-increment: the error used to say "a smaller
+// --rcurve-min-increment", which changes nothing (found 2026-12-05 on a
+// synth record of 15 mm growth: 4.3 mm increments, 3 points, with or
+// without --rcurve-min-increment 1mm). Smoothing lowers it.
+TEST(PipelineFit, TooFewEnergyPointsNameTheWayOutThatWorks) {
+  FitRequest request;
+  request.scene_path = (kSample / "scene.toml").string();
+  request.scene = io::ReadSceneFile(request.scene_path);
+  ExperimentRecord record = ReadRecordFile((kSample / "record.csv").string(), "", "");
+  const double cut = request.scene.specimen.notch + 14e-3;  // about three increments
+  std::size_t rows = 0;
+  while (rows < record.size() && !(record.crack_length[rows] > cut)) ++rows;
+  ASSERT_LT(rows, record.size());
+  for (auto* column : {&record.time, &record.load, &record.displacement, &record.crack_length})
+    if (!column->empty()) column->resize(rows);
+  if (!record.images.empty()) record.images.resize(rows);
+  request.record = record;
+
+  Error e = Thrown([&] { ResolveFitInput(request); });
+  EXPECT_EQ(e.context().field, "R");
+  EXPECT_NE(e.context().expected.find("--rcurve-smooth N"), std::string::npos)
+      << e.context().expected;
+  EXPECT_NE(e.context().expected.find("cannot lower"), std::string::npos);
+  // It does: local fits over 11 rows give at least four points.
+  request.reduction.smoothing_half_window = 5;
+  request.reduction_given = true;
+  const FitInput smoothed = ResolveFitInput(request);
+  EXPECT_GE(smoothed.curve.R.size(), 4u);
+
+  // An increment asked above the scatter's floor is the one to lower.
+  request.reduction.smoothing_half_window = 0;
+  request.reduction.min_crack_increment = 6e-3;
+  e = Thrown([&] { ResolveFitInput(request); });
+  EXPECT_NE(e.context().expected.find("a smaller --rcurve-min-increment,"), std::string::npos)
+      << e.context().expected;
+  EXPECT_EQ(e.context().expected.find("--rcurve-smooth"), std::string::npos);
+
+  // `rcurve`'s own stage on less growth than one increment: the same rule.
+  experiment::RCurveOptions options;
+  options.specimen = request.scene.specimen;
+  options.material = request.scene.material;
+  while (rows > 0 && record.crack_length[rows - 1] > request.scene.specimen.notch + 3.5e-3) --rows;
+  for (auto* column : {&record.time, &record.load, &record.displacement, &record.crack_length})
+    if (!column->empty()) column->resize(rows);
+  if (!record.images.empty()) record.images.resize(rows);
+  e = Thrown([&] { experiment::ComputeRCurve(record, options); });
+  EXPECT_EQ(e.context().field, "crack_length");
+  EXPECT_NE(e.context().expected.find("way out: --smooth N"), std::string::npos)
+      << e.context().expected;
+  options.min_crack_increment = 5e-3;  // now the asked increment is the one to lower
+  e = Thrown([&] { experiment::ComputeRCurve(record, options); });
+  EXPECT_NE(e.context().expected.find("way out: --min-increment smaller"), std::string::npos)
+      << e.context().expected;
+}
+
 // Crack lengths read short (a DIC offset, a gauge's zero): R points below the
 // notch are fitted at the notch (the models start there), with a note within
 // twice the record's crack-length noise (or 0.1 mm) and a warning beyond;
