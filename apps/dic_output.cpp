@@ -113,6 +113,9 @@ void PrintDicResult(const dic::CrackSequenceResult& result, const dic::CrackSequ
           {"williams_unstable", f.tip.williams_unstable},
           {"williams_closing_shift_px",
            f.tip.williams.found ? NumberOrNull(f.tip.williams_closing_shift_px) : nlohmann::json()},
+          {"williams_closing_shift_small_px",
+           f.tip.williams.found ? NumberOrNull(f.tip.williams_closing_shift_small_px)
+                                : nlohmann::json()},
           {"williams_window_shift_px",
            f.tip.williams.found ? NumberOrNull(f.tip.williams_window_shift_px) : nlohmann::json()},
           {"williams_window_share_px",

@@ -407,14 +407,24 @@ void WilliamsTip(const DisplacementField& field, const std::vector<LocalPoint>& 
   // (a bridged crack's near-tip field) minus the traction-free tip; on a
   // bridged crack the traction-free tip lies behind the true one (measured
   // 3-6 px on synth's bridged frames, 0.3-0.6 mm), the closing fit within
-  // about 1 px. Added to the tip's uncertainty (with the grid's resolution,
-  // one station / sqrt(12), an independent share), so that a bridged
-  // frame's length is not stated tighter than the model allows.
+  // about 1 px. The closing terms expand the tractions about the tip: a
+  // zone shorter than the window (a law that peaks and ends near the tip:
+  // cubic, 3 MPa, delta_c 0.09 mm, 6-7 px behind) is followed only in a
+  // smaller window, so the fit runs again in the smallest window the tip
+  // fit accepts (min_fit_radius_fraction x the radius) and the larger shift
+  // counts. Added to the tip's uncertainty (with the grid's resolution, one
+  // station / sqrt(12), an independent share), so that a bridged frame's
+  // length is not stated tighter than the model allows.
   const TipScan closed = ScanTip(set, lo, hi, basis, 2);
   res.williams_closing_shift_px = closed.found ? closed.s - scan.s : 0.0;
+  const TipScan closed_small = ScanTip(
+      WindowPoints(pts, readable, xs, ys, o.min_fit_radius_fraction * o.fit_radius_px, o), lo, hi,
+      basis, 2);
+  res.williams_closing_shift_small_px = closed_small.found ? closed_small.s - scan.s : 0.0;
+  const double closing =
+      std::max(std::abs(res.williams_closing_shift_px), std::abs(res.williams_closing_shift_small_px));
   WindowShare(pts, readable, xs, ys, lo, hi, basis, scan, res);
-  t.uncertainty_px = std::sqrt(resolved * resolved +
-                               res.williams_closing_shift_px * res.williams_closing_shift_px +
+  t.uncertainty_px = std::sqrt(resolved * resolved + closing * closing +
                                res.williams_window_share_px * res.williams_window_share_px);
 }
 

@@ -107,8 +107,11 @@ struct CrackTipResult {
   bool williams_unstable = false;
   // The Williams tip refitted with closing tractions on the faces (uniform
   // and linear, a bridged crack's near-tip field) minus the traction-free
-  // tip; part of williams.uncertainty_px (added in quadrature).
+  // tip, in the fit's window and in the smallest it accepts
+  // (min_fit_radius_fraction x fit_radius_px: a zone shorter than the
+  // window); the larger is part of williams.uncertainty_px (in quadrature).
   double williams_closing_shift_px = 0;
+  double williams_closing_shift_small_px = 0;
   // The tip found in the window of kWindowModelRadius x the fit radius minus
   // the tip; what of it the smaller window's extra noise does not explain
   // (the misfit of a field the series does not hold: a second crack, a
