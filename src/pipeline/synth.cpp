@@ -314,15 +314,37 @@ SynthWindow SynthImageWindow(const SpecimenSpec& specimen, int image_width_px, d
   return w;
 }
 
+std::string SynthFieldNote(const SpecimenSpec& specimen, const SynthWindow& window,
+                           int image_height_px) {
+  const bool dcb = specimen.type == SpecimenType::kDCB;
+  const double tall = dcb ? 2.0 * specimen.height : specimen.height;  // the specimen's height
+  const double image = image_height_px * window.scale;
+  const bool past = tall > 0 && image > tall * (1 + 1e-9);
+  if (!dcb && !past) return {};
+  std::string text = fmt::format(
+      "synth: the frames show a crack in an infinite plate (the LEFM field of the model's J_ff, "
+      "or the bridged crack), not this {}'s own field{}",
+      dcb ? "DCB" : "CT", dcb ? " (its arms bend; their free faces are not modelled)" : "");
+  if (past)
+    text += fmt::format("; the image is {:.4g} mm tall against the specimen's {:.4g} mm ({}): its "
+                        "speckle beyond that is not on the specimen",
+                        image * 1e3, tall * 1e3, dcb ? "2 h" : "H");
+  return text + ". Crack lengths and J_ff are this field's (truth.csv).";
+}
+
 SynthTest MakeSyntheticTest(const SynthRequest& request) {
   request.Check();
   Stopwatch watch;
   SynthTest test;
   test.effective_modulus =
       specimen::EffectiveModulus(request.scene.material, request.scene.specimen.plane);
-  if (request.frames > 0)
+  if (request.frames > 0) {
     test.window = SynthImageWindow(request.scene.specimen, request.image_width, request.image_x0,
                                    request.scale);
+    const std::string field =
+        SynthFieldNote(request.scene.specimen, test.window, request.image_height);
+    if (!field.empty()) test.window.note += (test.window.note.empty() ? "" : "\n") + field;
+  }
   models::ReducedOptions options;
   if (std::isfinite(request.resolution)) options.mesh.resolution = request.resolution;
   options.mesh.coarse_factor = request.far_field;

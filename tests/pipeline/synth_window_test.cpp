@@ -42,6 +42,30 @@ TEST(SynthWindow, DefaultKeptWhereItFitsTheSpecimen) {
   }
 }
 
+// The frames are a plate's field: said for a DCB (the bundled sample's
+// 2 h = 5.4 mm under a 45 mm image) and for a CT shorter than the image,
+// not for the bundled CTs (120 mm and more under 45 mm).
+TEST(SynthWindow, APlateFieldOnASpecimenItDoesNotFitIsSaid) {
+  for (const char* sample : {"mdf_ct", "pb_ct"}) {
+    const Scene scene =
+        io::ReadSceneFile(std::string(BRIDGEFIT_SOURCE_DIR) + "/data_samples/" + sample + "/scene.toml");
+    const SynthWindow w = SynthImageWindow(scene.specimen, 400, NAN, NAN);
+    EXPECT_EQ(SynthFieldNote(scene.specimen, w, 300), "") << sample;
+  }
+  const Scene dcb = io::ReadSceneFile(std::string(BRIDGEFIT_SOURCE_DIR) +
+                                      "/data_samples/dcb_composite/scene.toml");
+  const SynthWindow w = SynthImageWindow(dcb.specimen, 400, NAN, NAN);
+  const std::string note = SynthFieldNote(dcb.specimen, w, 300);
+  for (const char* word : {"infinite plate", "DCB", "45 mm tall", "5.4 mm (2 h)", "truth.csv"})
+    EXPECT_TRUE(Contains(note, word)) << word << " in: " << note;
+  EXPECT_FALSE(Contains(SynthFieldNote(dcb.specimen, w, 30), "tall")) << "4.5 mm fits 5.4";
+  Scene ct = SmallCt();
+  ct.specimen.height = 30e-3;
+  const SynthWindow wc = SynthImageWindow(ct.specimen, 400, NAN, NAN);
+  const std::string ct_note = SynthFieldNote(ct.specimen, wc, 400);
+  EXPECT_TRUE(Contains(ct_note, "against the specimen's 30 mm (H)")) << ct_note;
+}
+
 TEST(SynthWindow, SmallCtGetsAWindowOnTheSpecimenWithTheTipInside) {
   const Scene scene = SmallCt();
   const SynthWindow w = SynthImageWindow(scene.specimen, 400, NAN, NAN);

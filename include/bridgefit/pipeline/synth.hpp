@@ -67,6 +67,14 @@ struct SynthWindow {
 SynthWindow SynthImageWindow(const SpecimenSpec& specimen, int image_width_px, double given_x0,
                              double given_scale);
 
+// What the frames' field is not: they show a crack in an infinite plate
+// (the LEFM field of the model's J_ff, or the bridged crack), not the
+// specimen's own field. For a DCB (whose arms bend) always a note, with the
+// image's height against the beam's 2 h where the speckle runs past it; for
+// a CT where the image is taller than the specimen. Empty otherwise.
+std::string SynthFieldNote(const SpecimenSpec& specimen, const SynthWindow& window,
+                           int image_height_px);
+
 struct SynthFrame {
   int index = 0;
   std::size_t record_row = 0;  // the record row the frame was taken at
