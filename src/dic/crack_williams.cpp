@@ -417,12 +417,12 @@ void WilliamsTip(const DisplacementField& field, const std::vector<LocalPoint>& 
   // length is not stated tighter than the model allows.
   const TipScan closed = ScanTip(set, lo, hi, basis, 2);
   res.williams_closing_shift_px = closed.found ? closed.s - scan.s : 0.0;
-  const TipScan closed_small = ScanTip(
-      WindowPoints(pts, readable, xs, ys, o.min_fit_radius_fraction * o.fit_radius_px, o), lo, hi,
-      basis, 2);
+  const TipScan closed_small =
+      ScanTip(WindowPoints(pts, readable, xs, ys, o.min_fit_radius_fraction * o.fit_radius_px, o),
+              lo, hi, basis, 2);
   res.williams_closing_shift_small_px = closed_small.found ? closed_small.s - scan.s : 0.0;
-  const double closing =
-      std::max(std::abs(res.williams_closing_shift_px), std::abs(res.williams_closing_shift_small_px));
+  const double closing = std::max(std::abs(res.williams_closing_shift_px),
+                                  std::abs(res.williams_closing_shift_small_px));
   WindowShare(pts, readable, xs, ys, lo, hi, basis, scan, res);
   t.uncertainty_px = std::sqrt(resolved * resolved + closing * closing +
                                res.williams_window_share_px * res.williams_window_share_px);

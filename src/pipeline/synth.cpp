@@ -326,9 +326,10 @@ std::string SynthFieldNote(const SpecimenSpec& specimen, const SynthWindow& wind
       "or the bridged crack), not this {}'s own field{}",
       dcb ? "DCB" : "CT", dcb ? " (its arms bend; their free faces are not modelled)" : "");
   if (past)
-    text += fmt::format("; the image is {:.4g} mm tall against the specimen's {:.4g} mm ({}): its "
-                        "speckle beyond that is not on the specimen",
-                        image * 1e3, tall * 1e3, dcb ? "2 h" : "H");
+    text += fmt::format(
+        "; the image is {:.4g} mm tall against the specimen's {:.4g} mm ({}): its "
+        "speckle beyond that is not on the specimen",
+        image * 1e3, tall * 1e3, dcb ? "2 h" : "H");
   return text + ". Crack lengths and J_ff are this field's (truth.csv).";
 }
 

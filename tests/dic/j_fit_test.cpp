@@ -131,7 +131,8 @@ BridgedCrackField Bridged(double zone_px, const std::function<double(double)>& l
 // sigma_c = 1 MPa, delta_c = 2 mm; the applied K gives J_ff = 310 J/m^2
 // (about the run's).
 BridgedCrackField Bridged(double zone_px, double sigma_c = 1e6) {
-  return Bridged(zone_px, [sigma_c](double d) { return d < 2e-3 ? sigma_c * (1 - d / 2e-3) : 0.0; });
+  return Bridged(zone_px,
+                 [sigma_c](double d) { return d < 2e-3 ? sigma_c * (1 - d / 2e-3) : 0.0; });
 }
 
 // The centre and circle dic::ComputeFrameJ uses: the zone's midpoint, half
@@ -487,14 +488,15 @@ TEST(BridgedTip, AShortStrongZoneIsWithinItsUncertainty) {
     ASSERT_TRUE(r.williams.found) << "zone " << zone;
     const double err = r.williams.s_px - b.tip_x;
     const double u = r.williams.uncertainty_px;
-    std::printf("short zone %.0f px: Williams %+.2f px, closing shift %+.2f (small window %+.2f), "
-                "window share %.2f, u %.2f px\n",
-                zone, err, r.williams_closing_shift_px, r.williams_closing_shift_small_px,
-                r.williams_window_share_px, u);
+    std::printf(
+        "short zone %.0f px: Williams %+.2f px, closing shift %+.2f (small window %+.2f), "
+        "window share %.2f, u %.2f px\n",
+        zone, err, r.williams_closing_shift_px, r.williams_closing_shift_small_px,
+        r.williams_window_share_px, u);
     EXPECT_LE(std::abs(err), 2 * u) << "zone " << zone;
     // The whole window's closing share would not have held it.
-    const double without = std::hypot(5 / std::sqrt(12.0), r.williams_closing_shift_px,
-                                      r.williams_window_share_px);
+    const double without =
+        std::hypot(5 / std::sqrt(12.0), r.williams_closing_shift_px, r.williams_window_share_px);
     EXPECT_GT(std::abs(err), 2 * without) << "zone " << zone;
   }
 }

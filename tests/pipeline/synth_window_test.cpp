@@ -47,8 +47,8 @@ TEST(SynthWindow, DefaultKeptWhereItFitsTheSpecimen) {
 // not for the bundled CTs (120 mm and more under 45 mm).
 TEST(SynthWindow, APlateFieldOnASpecimenItDoesNotFitIsSaid) {
   for (const char* sample : {"mdf_ct", "pb_ct"}) {
-    const Scene scene =
-        io::ReadSceneFile(std::string(BRIDGEFIT_SOURCE_DIR) + "/data_samples/" + sample + "/scene.toml");
+    const Scene scene = io::ReadSceneFile(std::string(BRIDGEFIT_SOURCE_DIR) + "/data_samples/" +
+                                          sample + "/scene.toml");
     const SynthWindow w = SynthImageWindow(scene.specimen, 400, NAN, NAN);
     EXPECT_EQ(SynthFieldNote(scene.specimen, w, 300), "") << sample;
   }
