@@ -96,17 +96,29 @@ experiment::RMethod FallbackMethod(SpecimenType type) {
   return type == SpecimenType::kDCB ? experiment::RMethod::kMbt : experiment::RMethod::kLefm;
 }
 
-// The crack readings' scatter may set the energy method's increment above
-// --rcurve-min-increment (rcurve_energy.cpp): then only smoothing lowers it.
-std::string WayOut(SpecimenType type, bool scatter_sets_increment) {
+// The energy method's increment is the larger of --rcurve-min-increment and
+// a floor from the crack readings' scatter (rcurve_energy.cpp): a smaller
+// --rcurve-min-increment helps only where it set the increment; where the
+// scatter did, smoothing lowers the floor. Empty: neither applies (another
+// method, or smoothed already).
+std::string IncrementWayOut(const experiment::RCurveOptions& options,
+                            const experiment::RCurveResult& result) {
+  if (options.method != experiment::RMethod::kEnergy) return {};
+  const auto used = result.figures.find("energy_min_increment_m");
+  if (options.min_crack_increment > 0 &&
+      (used == result.figures.end() || options.min_crack_increment >= used->second))
+    return "a smaller --rcurve-min-increment";
+  if (options.smoothing_half_window == 0)
+    return "--rcurve-smooth N (the crack readings' scatter sets the increment, which a smaller "
+           "--rcurve-min-increment cannot lower; local fits over 2 N + 1 rows do)";
+  return {};
+}
+
+std::string WayOut(SpecimenType type, const std::string& increment) {
   const std::string method = type == SpecimenType::kDCB ? "--rcurve-method mbt (or cc)"
                                                         : "--rcurve-method lefm (or equivalent)";
-  const std::string increment =
-      scatter_sets_increment
-          ? "--rcurve-smooth N (the crack readings' scatter sets the increment, which a "
-            "smaller --rcurve-min-increment cannot lower; local fits over 2 N + 1 rows do)"
-          : "a smaller --rcurve-min-increment";
-  return method + ", " + increment + ", or --fit-to load-displacement";
+  return method + ", " + (increment.empty() ? "" : increment + ", ") +
+         "or --fit-to load-displacement";
 }
 
 experiment::RCurveResult ReduceInProcess(const FitRequest& request, const FitInput& input,
@@ -122,24 +134,22 @@ experiment::RCurveResult ReduceInProcess(const FitRequest& request, const FitInp
     experiment::RCurveResult result = experiment::ComputeRCurve(*input.record, options);
     if (result.curve.size() >= kFitMinPoints) return result;
     why_not = fmt::format("gave {} R points", result.curve.size());
-    const auto increment = result.figures.find("energy_min_increment_m");
-    const bool scatter_sets_increment =
-        options.method == experiment::RMethod::kEnergy && options.smoothing_half_window == 0 &&
-        increment != result.figures.end() && increment->second > options.min_crack_increment;
     if (!may_fall_back)
       throw Error(ErrorKind::kInput,
                   fmt::format("{} gave {} R points; a fit needs at least {}", stage,
                               result.curve.size(), kFitMinPoints),
-                  {.file = input.label, .field = "R",
+                  {.file = input.label,
+                   .field = "R",
                    .value = fmt::format("{} points, increment {:.3g} mm", result.curve.size(),
                                         1e3 * result.figures["energy_min_increment_m"]),
-                   .expected = ">= 4 R points; way out: " + WayOut(type, scatter_sets_increment)});
+                   .expected = ">= 4 R points; way out: " +
+                               WayOut(type, IncrementWayOut(options, result))});
   } catch (const Error& e) {
     if (!may_fall_back || !why_not.empty()) {
       if (e.kind() != ErrorKind::kInput || std::string(e.what()).find(stage) != std::string::npos)
         throw;
       throw Error(e.kind(), stage + ": " + e.message(), e.context())
-          .WithContext({.expected = "way out: " + WayOut(type, false)});
+          .WithContext({.expected = "way out: " + WayOut(type, "")});
     }
     why_not = e.message();
   }
