@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <utility>
 #include <cmath>
 
 #include "bridgefit/core/error.hpp"
@@ -146,9 +147,11 @@ void RecordFit(const PenalisedFit& fit, int points, const LawFreeOptions& option
                     points, options.grid_points));
 }
 
-// J_B and delta_c from a plateau, else the PHYSICS.md section 7 bounds.
-void SteadyStateOrBounds(const Samples& g, const Plateau& plateau, double J_max_fitted,
-                         const char* curve, LawFreeResult* r) {
+// J_B and delta_c from a plateau, else the PHYSICS.md section 7 bounds:
+// `rise` the largest fitted value minus J_tip,c, `rise_se` its standard
+// error.
+void SteadyStateOrBounds(const Samples& g, const Plateau& plateau, double rise, double rise_se,
+                         const char* curve, const LawFreeOptions& options, LawFreeResult* r) {
   r->identified = plateau.found;
   if (plateau.found) {
     r->plateau_points = static_cast<int>(g.x.size()) - plateau.start;
@@ -163,13 +166,29 @@ void SteadyStateOrBounds(const Samples& g, const Plateau& plateau, double J_max_
         curve, 1e3 * r->delta_c.value, r->plateau_points));
     return;
   }
-  r->J_B = {.value = std::max(0.0, J_max_fitted - r->J_tip_c), .identified = false};
+  r->J_B = {.value = std::max(0.0, rise - options.bound_z * rise_se),
+            .standard_error = rise_se,
+            .identified = false};
   r->delta_c = {.value = g.x.back(), .identified = false};
   r->notes.push_back(fmt::format(
       "{} never levels off (no flat tail over the stated span): J_B >= {:.1f} J/m^2 (largest "
-      "fitted value - J_tip,c) and delta_c >= {:.4g} mm (largest opening) are lower bounds "
-      "(PHYSICS.md section 7), not values",
-      curve, r->J_B.value, 1e3 * r->delta_c.value));
+      "fitted value - J_tip,c = {:.1f}, lowered by {:.3g} of its standard errors, {:.1f}: "
+      "one-sided 95 %) and delta_c >= {:.4g} mm (largest opening) are lower bounds (PHYSICS.md "
+      "section 7), not values",
+      curve, r->J_B.value, rise, options.bound_z, rise_se, 1e3 * r->delta_c.value));
+}
+
+// The largest fitted value minus the constant column's (J_tip,c): rows of
+// the unweighted design, the fit's covariance; its standard error from
+// the row difference.
+std::pair<double, double> LargestRise(const Eigen::MatrixXd& rows, const PenalisedFit& fit,
+                                      bool has_constant) {
+  Eigen::Index best = 0;
+  (rows * fit.x).maxCoeff(&best);
+  Eigen::RowVectorXd a = rows.row(best);
+  if (has_constant) a(0) = 0.0;
+  const double variance = (a * fit.covariance * a.transpose())(0, 0);
+  return {a.dot(fit.x), std::sqrt(std::max(0.0, variance))};
 }
 
 double Seconds(std::chrono::steady_clock::time_point start) {
@@ -186,6 +205,7 @@ bool LawFreeOptions::IsValid(std::string* why) const {
   if (grid_points < 4) return fail(fmt::format("grid_points must be >= 4, got {}", grid_points));
   if (min_points < 4) return fail(fmt::format("min_points must be >= 4, got {}", min_points));
   if (!(band_z > 0.0)) return fail("band_z must be > 0");
+  if (!(bound_z >= 0.0)) return fail("bound_z must be >= 0");
   if (!(resolved_fraction > 0.0)) return fail("resolved_fraction must be > 0");
   if (!(gcv_gamma >= 1.0 && gcv_gamma < 3.0)) return fail("gcv_gamma must be in [1, 3)");
   if (!(plateau_span > 0.0 && plateau_span < 1.0)) return fail("plateau_span must be in (0, 1)");
@@ -251,9 +271,8 @@ LawFreeResult LawFromFarFieldJ(const FarFieldJSamples& data, const LawFreeOption
   r.J_tip_c_standard_error = std::sqrt(fit.covariance(0, 0));
   FillSigma(grid, fit, 1, m, options, &r);
   RecordFit(fit, n, options, &r);
-  double J_max = -INFINITY;
-  for (int i = 0; i < n; ++i) J_max = std::max(J_max, G.row(i).dot(fit.x));
-  SteadyStateOrBounds(g, FindPlateau(g, 0, options), J_max, "J_ff", &r);
+  const auto [rise, rise_se] = LargestRise(G, fit, true);
+  SteadyStateOrBounds(g, FindPlateau(g, 0, options), rise, rise_se, "J_ff", options, &r);
   MarkResolved(options.resolved_fraction, r);
   r.run_seconds = Seconds(start);
   return r;
@@ -302,10 +321,10 @@ LawFreeResult LawFromRCurve(const RCurveSamples& data, const LawFreeOptions& opt
   r.J_tip_c_standard_error = r.J_tip_c_given ? 0.0 : std::sqrt(fit.covariance(0, 0));
   FillSigma(grid, fit, offset, free_nodes, options, &r);
   RecordFit(fit, n, options, &r);
-  double R_max = -INFINITY;
-  const double J0_given = r.J_tip_c_given ? r.J_tip_c : 0.0;
-  for (int i = 0; i < n; ++i) R_max = std::max(R_max, A.row(i).dot(fit.x) * s.u[i] + J0_given);
-  SteadyStateOrBounds(s, FindPlateau(s, 0, options), R_max, "R", &r);
+  Eigen::MatrixXd rows = A;  // unweighted: R_i - (a given J_tip,c)
+  for (int i = 0; i < n; ++i) rows.row(i) *= s.u[i];
+  const auto [rise, rise_se] = LargestRise(rows, fit, !r.J_tip_c_given);
+  SteadyStateOrBounds(s, FindPlateau(s, 0, options), rise, rise_se, "R", options, &r);
   if (!r.identified) {
     // sigma_true = sigma + C delta; sigma_true >= 0 everywhere needs C >= -sigma_j / g_j,
     // and sigma_true(delta_max) = C delta_max >= 0 needs C >= 0.

@@ -35,7 +35,8 @@ void WriteRoute(io::H5Writer& h5, const std::string& g, const laws::LawFreeResul
   h5.WriteVector(g + "/J_tip_c", {r.J_tip_c}, "J/m^2", "crack-tip toughness");
   h5.WriteVector(g + "/J_tip_c_standard_error", {r.J_tip_c_standard_error}, "J/m^2");
   h5.WriteVector(g + "/J_B", {r.J_B.value}, "J/m^2",
-                 "bridging toughness: a value when J_B_identified, else a lower bound");
+                 "bridging toughness: a value when J_B_identified, else a one-sided 95 % lower "
+                 "bound");
   h5.WriteVector(g + "/J_B_standard_error", {r.J_B.standard_error}, "J/m^2");
   h5.WriteVector(g + "/delta_c", {r.delta_c.value}, "m",
                  "critical opening: a value when delta_c_identified, else a lower bound");

@@ -67,8 +67,9 @@
 // starts: where the curve levels off to within the noise, which for laws
 // that fade smoothly to zero lies below the true delta_c (measured 0.78-1.0
 // delta_c at 0.5 % noise). Otherwise (PHYSICS.md section 7) J_B >= J_max -
-// J_tip,c with J_max the largest fitted value, and delta_c >= the largest
-// opening, with identified = false.
+// J_tip,c with J_max the largest fitted value, lowered by bound_z standard
+// errors of that difference (from the fit's covariance; J_B.standard_error
+// holds it), and delta_c >= the largest opening, with identified = false.
 //
 // Onset of growth (J_ff route, when not given): the sample k where the
 // least-squares slope through the onset_window samples up to k exceeds the
@@ -94,6 +95,10 @@ struct LawFreeOptions {
   PenaltyRule penalty_rule = PenaltyRule::kGeneralisedCrossValidation;
   double gcv_gamma = 1.4;      // GCV's dof inflation (1: plain GCV)
   double band_z = 1.959964;    // half-width of the band in standard errors (95 %)
+  // Without steady state J_B >= (largest fitted value - J_tip,c), lowered by
+  // bound_z of its standard errors (one-sided 95 %): a bound from noisy data
+  // read at its estimate lies above the truth half the time near steady state.
+  double bound_z = 1.644854;
   double plateau_span = 0.15;  // flat tail must cover this fraction of the opening range
   int plateau_min_points = 6;
   double plateau_z = 2.0;  // flatness test threshold (standard errors)
