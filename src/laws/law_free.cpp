@@ -181,14 +181,26 @@ void SteadyStateOrBounds(const Samples& g, const Plateau& plateau, double rise, 
 // The largest fitted value minus the constant column's (J_tip,c): rows of
 // the unweighted design, the fit's covariance; its standard error from
 // the row difference.
+// With `less_smoothed` (the fit at a smaller penalty; empty: none) the
+// change of the rise there joins its standard error (the penalty's share).
 std::pair<double, double> LargestRise(const Eigen::MatrixXd& rows, const PenalisedFit& fit,
-                                      bool has_constant) {
+                                      bool has_constant, const Eigen::VectorXd& less_smoothed) {
   Eigen::Index best = 0;
   (rows * fit.x).maxCoeff(&best);
   Eigen::RowVectorXd a = rows.row(best);
   if (has_constant) a(0) = 0.0;
   const double variance = (a * fit.covariance * a.transpose())(0, 0);
-  return {a.dot(fit.x), std::sqrt(std::max(0.0, variance))};
+  const double rise = a.dot(fit.x);
+  const double share = less_smoothed.size() > 0 ? a.dot(less_smoothed) - rise : 0.0;
+  return {rise, std::hypot(std::sqrt(std::max(0.0, variance)), share)};
+}
+
+// The fit at penalty_share_factor x its penalty, or empty when off.
+Eigen::VectorXd LessSmoothed(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
+                             const Eigen::MatrixXd& P, const PenalisedFit& fit,
+                             const LawFreeOptions& options) {
+  if (!(options.penalty_share_factor > 0.0)) return {};
+  return SolveAtPenalty(A, b, P, options.penalty_share_factor * fit.lambda);
 }
 
 double Seconds(std::chrono::steady_clock::time_point start) {
@@ -206,6 +218,8 @@ bool LawFreeOptions::IsValid(std::string* why) const {
   if (min_points < 4) return fail(fmt::format("min_points must be >= 4, got {}", min_points));
   if (!(band_z > 0.0)) return fail("band_z must be > 0");
   if (!(bound_z >= 0.0)) return fail("bound_z must be >= 0");
+  if (!(penalty_share_factor >= 0.0 && penalty_share_factor < 1.0))
+    return fail("penalty_share_factor must be in [0, 1)");
   if (!(resolved_fraction > 0.0)) return fail("resolved_fraction must be > 0");
   if (!(gcv_gamma >= 1.0 && gcv_gamma < 3.0)) return fail("gcv_gamma must be in [1, 3)");
   if (!(plateau_span > 0.0 && plateau_span < 1.0)) return fail("plateau_span must be in (0, 1)");
@@ -267,11 +281,13 @@ LawFreeResult LawFromFarFieldJ(const FarFieldJSamples& data, const LawFreeOption
     fit = SolvePenalised(A, b, P, options.penalty_rule, options.gcv_gamma);
   }
 
+  const Eigen::VectorXd less = LessSmoothed(A, b, P, fit, options);
   r.J_tip_c = fit.x[0];
-  r.J_tip_c_standard_error = std::sqrt(fit.covariance(0, 0));
+  r.J_tip_c_standard_error =
+      std::hypot(std::sqrt(fit.covariance(0, 0)), less.size() > 0 ? less[0] - fit.x[0] : 0.0);
   FillSigma(grid, fit, 1, m, options, &r);
   RecordFit(fit, n, options, &r);
-  const auto [rise, rise_se] = LargestRise(G, fit, true);
+  const auto [rise, rise_se] = LargestRise(G, fit, true, less);
   SteadyStateOrBounds(g, FindPlateau(g, 0, options), rise, rise_se, "J_ff", options, &r);
   MarkResolved(options.resolved_fraction, r);
   r.run_seconds = Seconds(start);
@@ -317,13 +333,17 @@ LawFreeResult LawFromRCurve(const RCurveSamples& data, const LawFreeOptions& opt
   P.bottomRightCorner(free_nodes, free_nodes) = D.transpose() * D;
   const PenalisedFit fit = SolvePenalised(A, b, P, options.penalty_rule, options.gcv_gamma);
 
+  const Eigen::VectorXd less = LessSmoothed(A, b, P, fit, options);
   r.J_tip_c = r.J_tip_c_given ? *data.J_tip_c : fit.x[0];
-  r.J_tip_c_standard_error = r.J_tip_c_given ? 0.0 : std::sqrt(fit.covariance(0, 0));
+  r.J_tip_c_standard_error =
+      r.J_tip_c_given ? 0.0
+                      : std::hypot(std::sqrt(fit.covariance(0, 0)),
+                                   less.size() > 0 ? less[0] - fit.x[0] : 0.0);
   FillSigma(grid, fit, offset, free_nodes, options, &r);
   RecordFit(fit, n, options, &r);
   Eigen::MatrixXd rows = A;  // unweighted: R_i - (a given J_tip,c)
   for (int i = 0; i < n; ++i) rows.row(i) *= s.u[i];
-  const auto [rise, rise_se] = LargestRise(rows, fit, !r.J_tip_c_given);
+  const auto [rise, rise_se] = LargestRise(rows, fit, !r.J_tip_c_given, less);
   SteadyStateOrBounds(s, FindPlateau(s, 0, options), rise, rise_se, "R", options, &r);
   if (!r.identified) {
     // sigma_true = sigma + C delta; sigma_true >= 0 everywhere needs C >= -sigma_j / g_j,

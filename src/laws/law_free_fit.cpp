@@ -283,6 +283,11 @@ PenalisedFit SolvePenalised(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
   return best;
 }
 
+Eigen::VectorXd SolveAtPenalty(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
+                               const Eigen::MatrixXd& P, double lambda) {
+  return (A.transpose() * A + lambda * P).ldlt().solve(A.transpose() * b);
+}
+
 Plateau FindPlateau(const Samples& s, int first, const LawFreeOptions& options) {
   const int n = static_cast<int>(s.x.size());
   const double range = s.x[n - 1] - s.x[first];

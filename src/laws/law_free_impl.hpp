@@ -51,6 +51,9 @@ struct PenalisedFit {
 };
 PenalisedFit SolvePenalised(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
                             const Eigen::MatrixXd& P, PenaltyRule rule, double gcv_gamma);
+// The solution at lambda x factor (the same rows; no penalty choice).
+Eigen::VectorXd SolveAtPenalty(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
+                               const Eigen::MatrixXd& P, double lambda);
 
 // A tail of samples [start, end) flat within its noise (see law_free.hpp).
 struct Plateau {

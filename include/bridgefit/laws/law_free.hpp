@@ -99,6 +99,13 @@ struct LawFreeOptions {
   // bound_z of its standard errors (one-sided 95 %): a bound from noisy data
   // read at its estimate lies above the truth half the time near steady state.
   double bound_z = 1.644854;
+  // The penalty's share of J_tip,c's (and the rise's) standard error: the
+  // fit again with the penalty times this factor (less smoothing, less
+  // bias); the change joins the standard error in quadrature. Where the law
+  // curves steeply at the onset (cubic: sigma(0) = 0; exponential) the
+  // chosen penalty bends sigma there and J_tip,c reads 1-2 standard errors
+  // off (closed-form data, 0.5 % noise); 0: off.
+  double penalty_share_factor = 0.01;
   double plateau_span = 0.15;  // flat tail must cover this fraction of the opening range
   int plateau_min_points = 6;
   double plateau_z = 2.0;  // flatness test threshold (standard errors)
