@@ -7,8 +7,8 @@
 
 #include <algorithm>
 #include <chrono>
-#include <utility>
 #include <cmath>
+#include <utility>
 
 #include "bridgefit/core/error.hpp"
 #include "law_free_impl.hpp"
@@ -336,9 +336,9 @@ LawFreeResult LawFromRCurve(const RCurveSamples& data, const LawFreeOptions& opt
   const Eigen::VectorXd less = LessSmoothed(A, b, P, fit, options);
   r.J_tip_c = r.J_tip_c_given ? *data.J_tip_c : fit.x[0];
   r.J_tip_c_standard_error =
-      r.J_tip_c_given ? 0.0
-                      : std::hypot(std::sqrt(fit.covariance(0, 0)),
-                                   less.size() > 0 ? less[0] - fit.x[0] : 0.0);
+      r.J_tip_c_given
+          ? 0.0
+          : std::hypot(std::sqrt(fit.covariance(0, 0)), less.size() > 0 ? less[0] - fit.x[0] : 0.0);
   FillSigma(grid, fit, offset, free_nodes, options, &r);
   RecordFit(fit, n, options, &r);
   Eigen::MatrixXd rows = A;  // unweighted: R_i - (a given J_tip,c)

@@ -291,9 +291,10 @@ TEST(LawFree, TheLowerBoundOfJBHoldsOneSided) {
           raw_above += r->J_B.value + LawFreeOptions{}.bound_z * r->J_B.standard_error > rise;
         }
       }
-  std::printf("  lower bounds of J_B above the true rise: linear, exponential %d of %d "
-              "(unlowered: %d); cubic %d of %d\n",
-              above, runs, raw_above, cubic_above, cubic_runs);
+  std::printf(
+      "  lower bounds of J_B above the true rise: linear, exponential %d of %d "
+      "(unlowered: %d); cubic %d of %d\n",
+      above, runs, raw_above, cubic_above, cubic_runs);
   ASSERT_GT(runs, 200);
   EXPECT_LE(above, 0.075 * runs);
   EXPECT_GE(raw_above, runs / 4);
