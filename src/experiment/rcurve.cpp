@@ -395,6 +395,13 @@ void CrackNoiseStage(Prepared& p, RCurveResult& result) {
 
 }  // namespace
 
+EnergyIncrementLimit EnergyIncrementLimitOf(const RCurveOptions& options, double floor) {
+  if (options.min_crack_increment > 0 && options.min_crack_increment >= floor)
+    return EnergyIncrementLimit::kAsked;
+  return options.smoothing_half_window > 0 ? EnergyIncrementLimit::kSmoothed
+                                           : EnergyIncrementLimit::kScatter;
+}
+
 const char* RMethodName(RMethod method) {
   switch (method) {
     case RMethod::kEnergy: return "energy";

@@ -212,15 +212,13 @@ void EnergyMethod(const Prepared& p, RCurveResult& result) {
   AddDropped(result, "tail without crack growth after the last increment",
              result.curve.size() > 0 ? m - 1 - last_end : m - start);
   if (result.curve.size() == 0) {
-    // --min-increment helps only where it set the increment; where the
-    // readings' scatter did, smoothing lowers it (a smoothed run: the other
-    // ways out).
-    const bool asked = options.min_crack_increment > 0 && options.min_crack_increment >= da_min;
+    const EnergyIncrementLimit limit = EnergyIncrementLimitOf(options, da_min);
     const std::string increment =
-        asked ? "--min-increment smaller, "
-        : v.h <= 0 ? "--smooth N (local fits over 2 N + 1 rows; the crack readings' scatter "
-                     "sets this increment), "
-                   : "";
+        limit == EnergyIncrementLimit::kAsked ? "--min-increment smaller, "
+        : limit == EnergyIncrementLimit::kScatter
+            ? "--smooth N (local fits over 2 N + 1 rows; the crack readings' scatter sets this "
+              "increment), "
+            : "";
     throw Error(ErrorKind::kInput, "no crack increment is resolvable against the crack-length noise",
                 {.file = p.src, .field = "crack_length", .value = Mm(w.a.back() - a0),
                  .expected = fmt::format(

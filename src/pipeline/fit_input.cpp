@@ -96,21 +96,23 @@ experiment::RMethod FallbackMethod(SpecimenType type) {
   return type == SpecimenType::kDCB ? experiment::RMethod::kMbt : experiment::RMethod::kLefm;
 }
 
-// The energy method's increment is the larger of --rcurve-min-increment and
-// a floor from the crack readings' scatter (rcurve_energy.cpp): a smaller
-// --rcurve-min-increment helps only where it set the increment; where the
-// scatter did, smoothing lowers the floor. Empty: neither applies (another
-// method, or smoothed already).
+// The way out for too few energy increments, by what set the increment
+// (experiment::EnergyIncrementLimitOf, the one rule); empty for another
+// method or a smoothed run.
 std::string IncrementWayOut(const experiment::RCurveOptions& options,
                             const experiment::RCurveResult& result) {
   if (options.method != experiment::RMethod::kEnergy) return {};
   const auto used = result.figures.find("energy_min_increment_m");
-  if (options.min_crack_increment > 0 &&
-      (used == result.figures.end() || options.min_crack_increment >= used->second))
-    return "a smaller --rcurve-min-increment";
-  if (options.smoothing_half_window == 0)
-    return "--rcurve-smooth N (the crack readings' scatter sets the increment, which a smaller "
-           "--rcurve-min-increment cannot lower; local fits over 2 N + 1 rows do)";
+  switch (experiment::EnergyIncrementLimitOf(options,
+                                             used == result.figures.end() ? 0.0 : used->second)) {
+    case experiment::EnergyIncrementLimit::kAsked:
+      return "a smaller --rcurve-min-increment";
+    case experiment::EnergyIncrementLimit::kScatter:
+      return "--rcurve-smooth N (the crack readings' scatter sets the increment, which a smaller "
+             "--rcurve-min-increment cannot lower; local fits over 2 N + 1 rows do)";
+    case experiment::EnergyIncrementLimit::kSmoothed:
+      break;
+  }
   return {};
 }
 

@@ -109,6 +109,15 @@ struct RCurveOptions {
   bool IsValid(std::string* why) const;
 };
 
+// What set the energy method's smallest crack increment `floor` [m] (the
+// larger of min_crack_increment and the crack readings' scatter floor): the
+// option, where it is at least the floor (a smaller one lowers it); else
+// the scatter, which smoothing lowers; a smoothed run: neither (its
+// increments meet their own noise). The one rule behind the way out that
+// rcurve and fit name when too few increments are resolvable.
+enum class EnergyIncrementLimit { kAsked, kScatter, kSmoothed };
+EnergyIncrementLimit EnergyIncrementLimitOf(const RCurveOptions& options, double floor);
+
 struct DroppedRows {
   std::string reason;
   int count = 0;
