@@ -178,21 +178,30 @@ void SteadyStateOrBounds(const Samples& g, const Plateau& plateau, double rise, 
       curve, r->J_B.value, rise, options.bound_z, rise_se, 1e3 * r->delta_c.value));
 }
 
-// The largest fitted value minus the constant column's (J_tip,c): rows of
-// the unweighted design, the fit's covariance; its standard error from
-// the row difference.
-// With `less_smoothed` (the fit at a smaller penalty; empty: none) the
-// change of the rise there joins its standard error (the penalty's share).
+// The standard error of the fitted combination a . x: the fit's covariance
+// and, with `less_smoothed` (the fit at a smaller penalty; empty: none),
+// the combination's change there in quadrature (the penalty's share).
+double StandardError(const Eigen::RowVectorXd& a, const PenalisedFit& fit,
+                     const Eigen::VectorXd& less_smoothed) {
+  const double variance = (a * fit.covariance * a.transpose())(0, 0);
+  const double share = less_smoothed.size() > 0 ? a.dot(less_smoothed - fit.x) : 0.0;
+  return std::hypot(std::sqrt(std::max(0.0, variance)), share);
+}
+
+// J_tip,c's standard error: the constant column's (index 0).
+double JTipStandardError(const PenalisedFit& fit, const Eigen::VectorXd& less_smoothed) {
+  return StandardError(Eigen::RowVectorXd::Unit(fit.x.size(), 0), fit, less_smoothed);
+}
+
+// The largest fitted value minus the constant column's (J_tip,c), from the
+// rows of the unweighted design, and its standard error.
 std::pair<double, double> LargestRise(const Eigen::MatrixXd& rows, const PenalisedFit& fit,
                                       bool has_constant, const Eigen::VectorXd& less_smoothed) {
   Eigen::Index best = 0;
   (rows * fit.x).maxCoeff(&best);
   Eigen::RowVectorXd a = rows.row(best);
   if (has_constant) a(0) = 0.0;
-  const double variance = (a * fit.covariance * a.transpose())(0, 0);
-  const double rise = a.dot(fit.x);
-  const double share = less_smoothed.size() > 0 ? a.dot(less_smoothed) - rise : 0.0;
-  return {rise, std::hypot(std::sqrt(std::max(0.0, variance)), share)};
+  return {a.dot(fit.x), StandardError(a, fit, less_smoothed)};
 }
 
 // The fit at penalty_share_factor x its penalty, or empty when off.
@@ -283,8 +292,7 @@ LawFreeResult LawFromFarFieldJ(const FarFieldJSamples& data, const LawFreeOption
 
   const Eigen::VectorXd less = LessSmoothed(A, b, P, fit, options);
   r.J_tip_c = fit.x[0];
-  r.J_tip_c_standard_error =
-      std::hypot(std::sqrt(fit.covariance(0, 0)), less.size() > 0 ? less[0] - fit.x[0] : 0.0);
+  r.J_tip_c_standard_error = JTipStandardError(fit, less);
   FillSigma(grid, fit, 1, m, options, &r);
   RecordFit(fit, n, options, &r);
   const auto [rise, rise_se] = LargestRise(G, fit, true, less);
@@ -335,10 +343,7 @@ LawFreeResult LawFromRCurve(const RCurveSamples& data, const LawFreeOptions& opt
 
   const Eigen::VectorXd less = LessSmoothed(A, b, P, fit, options);
   r.J_tip_c = r.J_tip_c_given ? *data.J_tip_c : fit.x[0];
-  r.J_tip_c_standard_error =
-      r.J_tip_c_given
-          ? 0.0
-          : std::hypot(std::sqrt(fit.covariance(0, 0)), less.size() > 0 ? less[0] - fit.x[0] : 0.0);
+  r.J_tip_c_standard_error = r.J_tip_c_given ? 0.0 : JTipStandardError(fit, less);
   FillSigma(grid, fit, offset, free_nodes, options, &r);
   RecordFit(fit, n, options, &r);
   Eigen::MatrixXd rows = A;  // unweighted: R_i - (a given J_tip,c)

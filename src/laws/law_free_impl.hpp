@@ -51,7 +51,7 @@ struct PenalisedFit {
 };
 PenalisedFit SolvePenalised(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
                             const Eigen::MatrixXd& P, PenaltyRule rule, double gcv_gamma);
-// The solution at lambda x factor (the same rows; no penalty choice).
+// The solution at a given penalty lambda (the same rows; no penalty choice).
 Eigen::VectorXd SolveAtPenalty(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
                                const Eigen::MatrixXd& P, double lambda);
 
