@@ -187,7 +187,7 @@ struct LawFreeResult {
   // sigma (MarkResolved). None on the R route without steady state (sigma
   // is known there only up to + C delta).
   std::vector<char> resolved;
-  double resolved_fraction = 0.10;
+  double resolved_fraction = LawFreeOptions{}.resolved_fraction;
   std::vector<std::string> notes;  // warnings and what was assumed
 
   bool IsValid(std::string* why) const;
