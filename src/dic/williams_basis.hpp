@@ -36,22 +36,18 @@ inline void WilliamsModeII(int n, double r, double t, double kappa, double* fx, 
 class WilliamsPowers {
  public:
   static constexpr int kMaxOrders = 40;
-  WilliamsPowers(double r, double t, int lo, int hi) : lo_(lo) {
-    if (!(hi >= lo && hi - lo < kMaxOrders))
-      throw Error(ErrorKind::kUsage, "Williams series: at most 40 orders, lowest <= highest");
-    const std::complex<double> w =
-        std::sqrt(r) * std::complex<double>(std::cos(0.5 * t), std::sin(0.5 * t));
-    const std::complex<double> e = std::complex<double>(std::cos(t), -std::sin(t));
-    rot_ = e * e;
-    // P_lo by repeated products (or quotients), then up.
-    std::complex<double> p(1.0, 0.0);
-    if (lo >= 0) {
-      for (int k = 0; k < lo; ++k) p *= w;
-    } else {
-      const std::complex<double> inv = 1.0 / w;
-      for (int k = 0; k < -lo; ++k) p *= inv;
-    }
-    for (int k = 0; k <= hi - lo; ++k, p *= w) p_[k] = p;
+  WilliamsPowers(double r, double t, int lo, int hi)
+      : WilliamsPowers(std::sqrt(r) * std::complex<double>(std::cos(0.5 * t), std::sin(0.5 * t)),
+                       std::complex<double>(std::cos(t), -std::sin(t)), lo, hi) {}
+  // The same at the point (x, y) of the crack frame, without trigonometry:
+  // w = sqrt(x + i y) on the principal branch (t in [-pi, pi], as atan2
+  // gives it; the faces behind the tip, y = +-0, at t = +-pi), e^(-i t) =
+  // (x - i y) / r. The tip itself (r = 0): every positive power zero.
+  static WilliamsPowers AtPoint(double x, double y, int lo, int hi) {
+    const double r = std::hypot(x, y);
+    const std::complex<double> e =
+        r > 0 ? std::complex<double>(x / r, -y / r) : std::complex<double>(1.0, 0.0);
+    return WilliamsPowers(std::sqrt(std::complex<double>(x, y)), e, lo, hi);
   }
   void ModeI(int n, double kappa, double* fx, double* fy) const {
     const std::complex<double> P = p_[n - lo_], Q = P * rot_;
@@ -67,6 +63,22 @@ class WilliamsPowers {
   }
 
  private:
+  // From w = sqrt(r) e^(i t/2) and e = e^(-i t).
+  WilliamsPowers(std::complex<double> w, std::complex<double> e, int lo, int hi) : lo_(lo) {
+    if (!(hi >= lo && hi - lo < kMaxOrders))
+      throw Error(ErrorKind::kUsage, "Williams series: at most 40 orders, lowest <= highest");
+    rot_ = e * e;
+    // P_lo by repeated products (or quotients), then up.
+    std::complex<double> p(1.0, 0.0);
+    if (lo >= 0) {
+      for (int k = 0; k < lo; ++k) p *= w;
+    } else {
+      const std::complex<double> inv = 1.0 / w;
+      for (int k = 0; k < -lo; ++k) p *= inv;
+    }
+    for (int k = 0; k <= hi - lo; ++k, p *= w) p_[k] = p;
+  }
+
   int lo_;
   std::complex<double> rot_;
   std::array<std::complex<double>, kMaxOrders> p_{};

@@ -25,13 +25,20 @@ namespace {
 // The Williams terms from powers of sqrt(r) e^(i t/2) (what both fits
 // evaluate) against their closed form (one pow and four sincos a term), for
 // orders -13..8, r from 0.05 to 3, t over [-pi, pi] with both face values:
-// equal to rounding (relative 1e-12 of the term's scale r^(n/2)).
+// equal to rounding (relative 1e-12 of the term's scale r^(n/2)); the same
+// from the point's Cartesian coordinates (AtPoint, the tip fit's route),
+// the faces at y = +0 and -0 (t = pi and -pi).
 TEST(WilliamsBasis, PowersEqualTheClosedForm) {
   const double kappa = (3 - 0.3) / (1 + 0.3);
   double worst = 0;
   for (double r : {0.05, 0.3, 1.0, 1.7, 3.0})
-    for (double t : {-M_PI, -2.5, -1.0, -1e-9, 0.0, 0.4, 1.6, 3.0, M_PI}) {
-      const detail::WilliamsPowers powers(r, t, -13, 8);
+    for (double t : {-M_PI, -2.5, -1.0, -1e-9, 0.0, 0.4, 1.6, 3.0, M_PI})
+      for (bool cartesian : {false, true}) {
+      double x = r * std::cos(t), y = r * std::sin(t);
+      if (std::abs(t) == M_PI) y = std::copysign(0.0, t);
+      const detail::WilliamsPowers powers = cartesian
+                                                ? detail::WilliamsPowers::AtPoint(x, y, -13, 8)
+                                                : detail::WilliamsPowers(r, t, -13, 8);
       for (int n = -13; n <= 8; ++n) {
         const double scale = std::pow(r, 0.5 * n) * (kappa + std::abs(n) + 2);
         double fx, fy, gx, gy;
