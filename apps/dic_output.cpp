@@ -3,6 +3,7 @@
 #include "dic_output.hpp"
 
 #include <cmath>
+#include <numbers>
 #include <iostream>
 
 #include <fmt/format.h>
@@ -116,6 +117,9 @@ void PrintDicResult(const dic::CrackSequenceResult& result, const dic::CrackSequ
           {"williams_closing_shift_small_px",
            f.tip.williams.found ? NumberOrNull(f.tip.williams_closing_shift_small_px)
                                 : nlohmann::json()},
+          {"williams_rotation_deg", f.tip.williams.found
+                                        ? NumberOrNull(f.tip.williams_rotation_rad * 180.0 / std::numbers::pi)
+                                        : nlohmann::json()},
           {"williams_window_shift_px",
            f.tip.williams.found ? NumberOrNull(f.tip.williams_window_shift_px) : nlohmann::json()},
           {"williams_window_share_px",

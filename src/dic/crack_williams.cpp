@@ -20,6 +20,7 @@ namespace {
 struct WilliamsFit {
   double ssr = std::numeric_limits<double>::infinity();
   double k = 0;  // K_I per (fit radius)^0.5, in the series' own scale (its sign: opening)
+  double rotation = 0;  // the rigid rotation column's coefficient: radians x the fit radius
   int rows = 0, cols = 0;
 };
 
@@ -128,6 +129,7 @@ WilliamsFit FitWilliams(const std::vector<const LocalPoint*>& pts, double s_tip,
   const Eigen::VectorXd c = LeastSquares(A, b);
   fit.ssr = (A * c - b).squaredNorm();
   for (int j = 0; j < series; ++j) fit.k += basis.k_factor[j] * c(3 + j);
+  fit.rotation = c(2);
   fit.rows = rows;
   fit.cols = cols;
   return fit;
@@ -361,6 +363,42 @@ void WindowShare(const std::vector<LocalPoint>& pts, const std::vector<char>& re
   res.williams_window_share_px = std::sqrt(std::max(0.0, shift * shift - noise2));
 }
 
+// A rigid rotation of the window enters the fit's rigid columns to first
+// order only; its second-order part, the equibiaxial contraction
+// -(1 - cos theta) r, is no traction-free field and pulls the tip (an LEFM
+// field turned by 1 / 2 / 3 degrees, 15 mm window: +0.28 / +1.2 mm / no
+// Williams tip). Where that part at the fit radius exceeds
+// kRotationResidualShare x the fit's RMS residual, the fit's rotation is
+// taken out of the deformed positions exactly (about the window's centre;
+// the translation this leaves is the fit's) and the scan repeated, twice at
+// most (the second pass removes what the first estimate missed).
+constexpr double kRotationResidualShare = 0.1;
+
+bool RotationMatters(const TipScan& scan, double radius) {
+  if (!scan.found || scan.fit.rows == 0) return false;
+  const double theta = scan.fit.rotation / radius;
+  const double rms = std::sqrt(scan.fit.ssr / scan.fit.rows);
+  return radius * (1.0 - std::cos(theta)) > kRotationResidualShare * rms;
+}
+
+// The points with the rotation theta (radians, counter-clockwise in image
+// axes) taken out of their deformed positions about (xc, yc).
+std::vector<LocalPoint> Unrotated(const std::vector<LocalPoint>& pts, double theta, double xc,
+                                  double yc, const CrackLine& line) {
+  const double c = std::cos(theta), sn = std::sin(theta);
+  const double L = line.Length();
+  const double tx = (line.x1 - line.x0) / L, ty = (line.y1 - line.y0) / L;
+  std::vector<LocalPoint> out = pts;
+  for (LocalPoint& p : out) {
+    const double dx = p.x + p.u - xc, dy = p.y + p.v - yc;
+    p.u = xc + c * dx + sn * dy - p.x;
+    p.v = yc - sn * dx + c * dy - p.y;
+    p.us = p.u * tx + p.v * ty;
+    p.un = -p.u * ty + p.v * tx;
+  }
+  return out;
+}
+
 }  // namespace
 
 // Stages: window centre -> continuum not hidden by a failed cluster ->
@@ -402,7 +440,19 @@ void WilliamsTip(const DisplacementField& field, const std::vector<LocalPoint>& 
   const double lo = std::max(0.0, s_start - 0.5 * o.fit_radius_px);
   const double hi = std::min(o.line.Length(), s_start + 0.5 * o.fit_radius_px);
   const TipBasis basis(o);
-  const TipScan scan = ScanTip(set, lo, hi, basis);
+  std::vector<const LocalPoint*> fit_set = set;
+  TipScan scan = ScanTip(fit_set, lo, hi, basis);
+  std::vector<LocalPoint> unrotated;
+  const std::vector<LocalPoint>* use = &pts;
+  for (int pass = 0; pass < 2 && RotationMatters(scan, o.fit_radius_px); ++pass) {
+    res.williams_rotation_rad +=
+        std::asin(std::clamp(scan.fit.rotation / o.fit_radius_px, -1.0, 1.0));
+    unrotated = Unrotated(pts, res.williams_rotation_rad, xs, ys, o.line);
+    use = &unrotated;
+    fit_set = WindowPoints(unrotated, readable, xs, ys, o.fit_radius_px, o);
+    scan = ScanTip(fit_set, lo, hi, basis);
+  }
+  const std::vector<LocalPoint>& fit_pts = *use;
   if (!scan.found) return;
   TipEstimate& t = res.williams;
   t.s_px = scan.s;
@@ -417,7 +467,7 @@ void WilliamsTip(const DisplacementField& field, const std::vector<LocalPoint>& 
   SetPosition(o.line, &t);
   if (!t.found) return;
   const TipScan inner =
-      ScanTip(WindowPoints(pts, readable, xs, ys, o.fit_radius_px - ds, o), lo, hi, basis);
+      ScanTip(WindowPoints(fit_pts, readable, xs, ys, o.fit_radius_px - ds, o), lo, hi, basis);
   // The fit's sigma, at least the grid's resolution (one station / sqrt(12)).
   const double resolved = std::max(scan.sigma, ds / std::sqrt(12.0));
   const double tol = 2.0 * resolved;
@@ -435,15 +485,15 @@ void WilliamsTip(const DisplacementField& field, const std::vector<LocalPoint>& 
   // counts. Added to the tip's uncertainty (with the grid's resolution, one
   // station / sqrt(12), an independent share), so that a bridged frame's
   // length is not stated tighter than the model allows.
-  const TipScan closed = ScanTip(set, lo, hi, basis, 2);
+  const TipScan closed = ScanTip(fit_set, lo, hi, basis, 2);
   res.williams_closing_shift_px = closed.found ? closed.s - scan.s : 0.0;
   const TipScan closed_small =
-      ScanTip(WindowPoints(pts, readable, xs, ys, o.min_fit_radius_fraction * o.fit_radius_px, o),
+      ScanTip(WindowPoints(fit_pts, readable, xs, ys, o.min_fit_radius_fraction * o.fit_radius_px, o),
               lo, hi, basis, 2);
   res.williams_closing_shift_small_px = closed_small.found ? closed_small.s - scan.s : 0.0;
   const double closing = std::max(std::abs(res.williams_closing_shift_px),
                                   std::abs(res.williams_closing_shift_small_px));
-  WindowShare(pts, readable, xs, ys, lo, hi, basis, scan, res);
+  WindowShare(fit_pts, readable, xs, ys, lo, hi, basis, scan, res);
   t.uncertainty_px = std::sqrt(resolved * resolved + closing * closing +
                                res.williams_window_share_px * res.williams_window_share_px);
 }

@@ -84,6 +84,50 @@ TEST(CrackTip, WilliamsFitRecoversExactLefmTipAndK) {
 // nearest point, and the ok points beside a failed pair (a cluster too small
 // to cut the window), given a wrong motion, are left out: the exact field's
 // tip is still found exactly.
+// A rigid rotation of the whole field (a specimen turning in its grips)
+// is no part of the crack: the series' rigid columns hold it to first order
+// only, and its second-order part, an equibiaxial contraction of
+// (1 - cos theta) r, pulled the tip (an LEFM field in mm turned by 1 / 2 / 3
+// degrees: +0.28 / +1.2 mm / no Williams tip). Oracle: the exact field,
+// noise 0.01 px, turned exactly (deformed positions) by 0-8 degrees about a
+// point far from the tip: the tip within 0.3 px of the truth, the
+// unturned run's tip within 0.1 px, the rotation recovered.
+TEST(CrackTip, WilliamsTipIsBlindToARigidRotation) {
+  ModeICrackField motion;
+  motion.tip_x = 143.3;
+  motion.tip_y = 100;
+  motion.k_over_2mu = 0.05;
+  CrackTipOptions o;
+  o.line = {20, 100, 290, 100};
+  o.station_spacing_px = 4;
+  o.band_half_width_px = 12;
+  o.side_depth_px = 10;
+  double unturned = 0;
+  for (double degrees : {0.0, 1.0, 3.0, 8.0}) {
+    SCOPED_TRACE(degrees);
+    const double theta = degrees * std::numbers::pi / 180;
+    DisplacementField f = SampleField(motion, 300, 200, 4, 12);
+    std::mt19937 rng(7);
+    std::normal_distribution<double> noise(0.0, 0.01);
+    for (size_t i = 0; i < f.size(); ++i) {
+      // Turn the deformed position about (-50, 300) px, then add noise.
+      const double X = f.x[i] + f.u[i] + 50, Y = f.y[i] + f.v[i] - 300;
+      f.u[i] = std::cos(theta) * X - std::sin(theta) * Y - 50 - f.x[i] + noise(rng);
+      f.v[i] = std::sin(theta) * X + std::cos(theta) * Y + 300 - f.y[i] + noise(rng);
+    }
+    const CrackTipResult r = LocateCrackTip(f, o, TipMethod::kWilliams);
+    ASSERT_TRUE(r.williams.found);
+    EXPECT_EQ(r.method, TipMethod::kWilliams);
+    EXPECT_NEAR(r.williams.s_px, 123.3, 0.3);
+    if (degrees == 0) unturned = r.williams.s_px;
+    EXPECT_NEAR(r.williams.s_px, unturned, 0.1);
+    if (degrees > 0) EXPECT_NEAR(r.williams_rotation_rad, theta, 1e-3);
+    EXPECT_FALSE(r.methods_disagree);
+    std::printf("turned %.0f deg: Williams tip %.3f px (truth 123.3) +- %.3f, rotation %.4f rad\n",
+                degrees, r.williams.s_px, r.williams.uncertainty_px, r.williams_rotation_rad);
+  }
+}
+
 TEST(CrackTip, WilliamsWindowReadsTheContinuumOnly) {
   ModeICrackField motion;
   motion.tip_x = 143.3;

@@ -118,6 +118,11 @@ struct CrackTipResult {
   // grip) is part of williams.uncertainty_px (added in quadrature).
   double williams_window_shift_px = 0;
   double williams_window_share_px = 0;
+  // The window's rigid rotation taken out before the fit (radians,
+  // counter-clockwise in image axes; 0 where its second-order part is below
+  // a tenth of the fit's residual): the series' rigid columns hold a
+  // rotation to first order only.
+  double williams_rotation_rad = 0;
   TipMethod method = TipMethod::kWilliams;  // the method that gave `tip`
   TipEstimate tip;
   // The found tips differ by more than their stated uncertainties allow
