@@ -199,6 +199,7 @@ void Finish(FieldFile* out, const std::string& name) {
   size_t ok = 0;
   for (PointStatus s : f.status) ok += s == PointStatus::kOk ? 1 : 0;
   out->failed = n - ok;
+  ArrangeAsGrid(&f);
   if (ok == 0)
     throw Error(ErrorKind::kInput, "every point is marked failed", {.file = name});
 }

@@ -41,7 +41,7 @@ FieldFormat ParseFieldFormat(const std::string& text);
 inline constexpr std::size_t kMaxFieldFileBytes = std::size_t{1} << 30;  // 1 GiB
 
 // One frame. Positions and displacements are in `unit`; the field is a
-// scattered point list (nx = size, ny = 1) unless the file is a grid.
+// scattered point list (nx = size, ny = 1) unless its points lie on a square lattice (ArrangeAsGrid).
 struct FieldFile {
   DisplacementField field;
   std::string unit;         // "px" or a length unit as written ("mm", "m", "um", ...)
@@ -142,6 +142,14 @@ class FieldFrames {
 // Field files from arguments: a folder (its .txt/.csv/.dat/.mat files), a
 // glob or files; folders and globs in natural order ("f2" before "f10").
 std::vector<std::filesystem::path> ExpandFieldArguments(const std::vector<std::string>& args);
+
+// Points on a square lattice (x0 + i h, y0 + j h: DIC grids, FE node
+// grids) arranged as a row-major grid (nx x ny), nodes the file does not
+// hold added as masked (status kMasked, not read); true when arranged. A
+// scattered list (a rotated lattice, unequal steps, a repeated node, fewer
+// than a quarter of the nodes present) is left as it is. The readers call it:
+// the J integral and the tip fit's continuum test need grid neighbours.
+bool ArrangeAsGrid(DisplacementField* field);
 
 // Median distance between neighbouring points (the node or grid spacing),
 // in the field's unit; 0 for fewer than two valid points.
