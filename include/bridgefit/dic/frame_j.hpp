@@ -92,6 +92,9 @@ struct FrameJ {
   double J_ff_spread_percent = 0; // (max - min) / mean over them [%]
   int domains_ok = 0, domains = 0;
   double root_distance_m = 0;     // tip to notch root along the line [m]
+  // The field's rigid rotation taken out before the integral (radians,
+  // counter-clockwise in the field's axes; 0 where below 1 - cos = 1e-7).
+  double rigid_rotation_rad = 0;
   bool delta_star_ok = false;
   std::string delta_star_why;     // when !delta_star_ok
   double delta_star = 0;          // opening at the notch root [m] (0 unless ok)
