@@ -173,9 +173,15 @@ FrameJ ComputeFrameJ(const DisplacementField& field, double tip_x_px, double tip
   if (!options.IsValid(&why)) throw Error(ErrorKind::kUsage, "invalid J options: " + why);
   FrameJ out;
   const double length = std::hypot(line_dx, line_dy);
-  if (!(length > 0) || field.nx < 3 || field.ny < 3) {
+  if (!(length > 0)) {
     out.status = FrameJStatus::kNoTip;
-    out.why = "no crack line or no field";
+    out.why = "no crack line";
+    return out;
+  }
+  if (field.nx < 3 || field.ny < 3) {
+    out.status = FrameJStatus::kNoTip;
+    out.why = "the field is not a grid: the J integral needs points on a square lattice "
+              "(an export's x, y on equal steps in both directions, as DIC grids are)";
     return out;
   }
   const double c = line_dx / length, s = line_dy / length;

@@ -150,6 +150,74 @@ INSTANTIATE_TEST_SUITE_P(Formats, FieldRoundTrip,
                                            FieldFormat::kDavis),
                          [](const auto& info) { return std::string(FieldFormatName(info.param)); });
 
+// J from an exported field (issue 21: "bridgefit's own DIC or an imported
+// one"): the known-tip LEFM field written in each text format, read back as
+// a grid (before, a scattered list: J status "no crack line or no field"),
+// with the notch at the first tip: J_ff within 2 % of K^2 / E for every
+// frame, domains and field-wide fit.
+TEST(Fields, JFromAnExportedFieldIsKSquaredOverE) {
+  const double E = 3e9, nu = 0.3, mu = E / (2 * (1 + nu));
+  const double K = 2 * mu * 0.004 * std::sqrt(1e-3);  // KnownTipField's K_I / (2 mu), mm^0.5
+  const double j_exact = K * K / E;
+  for (FieldFormat format : {FieldFormat::kCsv, FieldFormat::kAramis, FieldFormat::kDice,
+                             FieldFormat::kDavis}) {
+    SCOPED_TRACE(FieldFormatName(format));
+    const fs::path dir = fs::temp_directory_path() /
+                         ("bf_fields_j_" + std::to_string(::getpid()) + FieldFormatName(format));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const bool px = format == FieldFormat::kDice;
+    const std::vector<double> tips = {21.3, 34.8};
+    for (size_t k = 0; k < tips.size(); ++k)
+      WriteFieldFile(dir / ("f" + std::to_string(k + 1) + ".txt"),
+                     KnownTipField(tips[k], px ? "px" : "mm", px ? 0 : 1e-3), format);
+    CrackSequenceOptions o;
+    o.scale_m_per_px = px ? 1e-3 : 0;
+    o.show_progress = false;
+    o.tip.threshold_floor_px = 0.001;
+    o.path.min_jump_px = 0.001;
+    o.has_line = true;
+    o.tip.line = {-10, 0.5, 80, 0.5};
+    o.j_integral.enabled = true;
+    o.j_integral.elastic = ElasticConstants::Isotropic(E, nu);
+    o.j_integral.notch_length_m = (tips[0] + 10) * 1e-3;  // lengths from x = -10 mm
+    const CrackSequenceResult r = AnalyzeCrackFields(ExpandFieldArguments({dir.string()}), o);
+    ASSERT_EQ(r.frames.size(), tips.size());
+    for (const FrameResult& f : r.frames) {
+      ASSERT_EQ(f.j.status, FrameJStatus::kOk) << f.image << ": " << f.j.why;
+      ASSERT_EQ(f.j.fit.status, FieldFitJStatus::kOk) << f.image << ": " << f.j.fit.why;
+      std::printf("%s %s: J_ff %.4f (fit %.4f) J/m^2, exact %.4f\n", FieldFormatName(format),
+                  f.image.c_str(), f.j.J_ff, f.j.fit.J, j_exact);
+      EXPECT_NEAR(f.j.J_ff / j_exact, 1.0, 0.02) << f.image;
+      EXPECT_NEAR(f.j.fit.J / j_exact, 1.0, 0.02) << f.image;
+    }
+    fs::remove_all(dir);
+  }
+  // Off the lattice (one node moved by 0.3 mm): located as a scattered
+  // list, and J says why it has no number.
+  FieldFile off = KnownTipField(21.3, "mm", 1e-3);
+  off.field.x[100] += 0.3;
+  const fs::path file =
+      fs::temp_directory_path() / ("bf_fields_j_off_" + std::to_string(::getpid()) + ".csv");
+  WriteFieldFile(file, off, FieldFormat::kCsv);
+  EXPECT_EQ(ReadFieldFile(file).field.ny, 1);
+  CrackSequenceOptions o;
+  o.show_progress = false;
+  o.tip.threshold_floor_px = 0.001;
+  o.path.min_jump_px = 0.001;
+  o.has_line = true;
+  o.tip.line = {-10, 0.5, 80, 0.5};
+  o.j_integral.enabled = true;
+  o.j_integral.elastic = ElasticConstants::Isotropic(E, nu);
+  o.j_integral.notch_length_m = 31.3e-3;
+  const CrackSequenceResult r = AnalyzeCrackFields({file}, o);
+  ASSERT_EQ(r.frames.size(), 1u);
+  EXPECT_TRUE(r.frames[0].has_length);
+  EXPECT_EQ(r.frames[0].j.status, FrameJStatus::kNoTip);
+  EXPECT_NE(r.frames[0].j.why.find("square lattice"), std::string::npos) << r.frames[0].j.why;
+  fs::remove(file);
+}
+
 // The message names the file and, where there is one, the column.
 void ExpectError(const std::string& text, const std::string& name, const std::string& column) {
   try {
