@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <numbers>
 #include <gtest/gtest.h>
 
 #include "bridgefit/dic/image.hpp"
@@ -128,6 +129,76 @@ TEST(CrackContinuum, WilliamsWindowStopsAtAGripAndBandEqualsFullField) {
     }
   }
   EXPECT_GE(rescued, 1);  // frame 1: 150.04 px against 134.90 px uncut (truth 150)
+  fs::remove_all(dir);
+}
+
+// A specimen turning in its grips while the crack grows: the same LEFM
+// frames rendered with a rigid rotation of 0, 1, 2 and 3 degrees about the
+// image centre (deformed positions turned exactly). Every length within
+// 2 u of the truth or flagged, and within 1 px of the same frames unturned.
+TEST(CrackContinuum, ASequenceTurningInItsGripsKeepsItsLengths) {
+  const fs::path dir = fs::temp_directory_path() / "bridgefit_crack_turning";
+  fs::remove_all(dir);
+  fs::create_directories(dir / "turned");
+  fs::create_directories(dir / "plain");
+  SpeckleOptions so;
+  so.width = 480;
+  so.height = 320;
+  so.seed = 29;
+  const SpeckleRenderer renderer(so);
+  std::vector<fs::path> turned, plain;
+  std::vector<double> truth = {0.0};
+  for (int k = 0; k < 5; ++k) {
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%02d.png", k);
+    turned.push_back(dir / "turned" / name);
+    plain.push_back(dir / "plain" / name);
+    if (k == 0) {
+      WriteImage(turned.back(), renderer.RenderReference(700), 8);
+      WriteImage(plain.back(), renderer.RenderReference(700), 8);
+      continue;
+    }
+    ModeICrackField m;
+    m.tip_x = 160 + 30.0 * (k - 1);
+    m.tip_y = 160.5;
+    m.k_over_2mu = 0.06;
+    const double theta = (k - 1) * std::numbers::pi / 180;
+    auto turning = [&](double X, double Y, double* u, double* v) {
+      m(X, Y, u, v);
+      const double dx = X + *u - 240, dy = Y + *v - 160;
+      *u = 240 + std::cos(theta) * dx - std::sin(theta) * dy - X;
+      *v = 160 + std::sin(theta) * dx + std::cos(theta) * dy - Y;
+    };
+    WriteImage(turned.back(), renderer.Render(turning, 700 + k), 8);
+    WriteImage(plain.back(), renderer.Render(m, 700 + k), 8);
+    truth.push_back(m.tip_x - 10);
+  }
+  CrackSequenceOptions o;
+  SetGridDefaults(21, 5, &o);
+  o.scale_m_per_px = 1e-5;
+  o.show_progress = false;
+  o.tip.line = {10, 160.5, 470, 160.5};
+  o.tip.fit_radius_px = o.tip.sqrt_window_px = 100;
+  o.path.search_half_width_px = 20;
+  const CrackSequenceResult a = AnalyzeCrackSequence(turned, o);
+  const CrackSequenceResult b = AnalyzeCrackSequence(plain, o);
+  const double px = 1 / o.scale_m_per_px;
+  for (size_t k = 1; k < turned.size(); ++k) {
+    const FrameResult& t = a.frames[k];
+    const FrameResult& p = b.frames[k];
+    ASSERT_TRUE(t.has_length && p.has_length) << t.image;
+    const double err = t.crack_length_raw_m * px - truth[k];
+    std::printf("  frame %zu (turned %zu deg): truth %.1f, turned %.2f +- %.2f (%s, %s, rotation %.3f "
+                "deg), unturned %.2f +- %.2f (%s)\n",
+                k, k - 1, truth[k], t.crack_length_raw_m * px, t.uncertainty_m * px,
+                TipMethodName(t.tip.method), t.Flags().c_str(),
+                t.tip.williams_rotation_rad * 180 / std::numbers::pi, p.crack_length_raw_m * px,
+                p.uncertainty_m * px, p.Flags().c_str());
+    EXPECT_TRUE(std::abs(err) <= 2 * t.uncertainty_m * px || t.flagged)
+        << t.image << ": error " << err << " px, flags " << t.Flags();
+    EXPECT_NEAR(t.crack_length_raw_m * px, p.crack_length_raw_m * px, 1.0) << t.image;
+    EXPECT_EQ(t.tip.method, TipMethod::kWilliams) << t.image;
+  }
   fs::remove_all(dir);
 }
 
