@@ -64,7 +64,10 @@ nlohmann::json FrameJJson(const dic::FrameJ& j) {
       {"J_ff_uncertainty_J_per_m2", fit_ok ? NumberOrNull(j.fit.J_uncertainty) : nlohmann::json()},
       {"residual_rms_m", NumberOrNull(j.fit.residual_rms_m)},
       {"points", j.fit.points},
-      {"terms", j.fit.terms}};
+      {"terms", j.fit.terms},
+      {"dilatation", NumberOrNull(j.fit.dilatation)},
+      {"dilatation_standard_error", NumberOrNull(j.fit.dilatation_se)},
+      {"dilatation_removed", j.fit.dilatation_removed}};
   if (!j.fit.why.empty()) out["field_fit"]["why"] = j.fit.why;
   if (!j.delta_star_ok && !j.delta_star_why.empty()) out["delta_star_why"] = j.delta_star_why;
   return out;

@@ -229,9 +229,22 @@ FrameJ ComputeFrameJ(const DisplacementField& field, double tip_x_px, double tip
   const DisplacementField banded = WithCrackBand(
       WithoutRigidRotation(field, &out.rigid_rotation_rad), tip_x_px, tip_y_px, c, s,
       band_half_width_px);
+  // The field-wide fit first: a uniform dilatation it shows (stress-free,
+  // FieldFitJResult::dilatation) is taken out of the field the domains read.
+  DisplacementField domains_field = banded;
+  if (options.field_fit) {
+    out.fit = FitFarFieldJ(banded, cx, cy, c, s, (r_in0 + options.fit_margin_points) * step,
+                           options.elastic, scale_m_per_px, options.fit);
+    if (out.fit.dilatation_removed) {
+      for (std::size_t i = 0; i < domains_field.size(); ++i) {
+        domains_field.u[i] -= out.fit.dilatation * (domains_field.x[i] - cx);
+        domains_field.v[i] -= out.fit.dilatation * (domains_field.y[i] - cy);
+      }
+    }
+  }
   JIntegralResult r;
   try {
-    r = ComputeJIntegral(banded, crack, options.elastic, jo);
+    r = ComputeJIntegral(domains_field, crack, options.elastic, jo);
   } catch (const Error& e) {
     if (e.kind() == ErrorKind::kUsage) throw;
     out.status = FrameJStatus::kNoFarFieldDomain;
@@ -250,9 +263,6 @@ FrameJ ComputeFrameJ(const DisplacementField& field, double tip_x_px, double tip
       out.why += fmt::format("{}r {:.0f}-{:.0f} pt: {}", out.why.empty() ? "" : "; ", d.spec.r_in,
                              d.spec.r_out, DomainStatusName(d.status));
   }
-  if (options.field_fit)
-    out.fit = FitFarFieldJ(banded, cx, cy, c, s, (r_in0 + options.fit_margin_points) * step,
-                           options.elastic, scale_m_per_px, options.fit);
   // Stage 4: delta*, from the profile where its stretch fits between the
   // notch and the tip, else at or near the tip (NearTipDeltaStar).
   if (root_px <= jo.opening_ahead_length * step) {

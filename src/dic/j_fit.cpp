@@ -29,6 +29,7 @@ bool FieldFitJOptions::IsValid(std::string* why) const {
   if (!(max_residual_fraction > 0 && max_residual_fraction < 1))
     return fail("max_residual_fraction must be in (0, 1)");
   if (correlation_lag < 0 || correlation_lag > 40) return fail("correlation_lag must be in [0, 40]");
+  if (!(dilatation_z > 0)) return fail("dilatation_z must be > 0");
   if (tile_points != 0 && (tile_points < 2 || tile_points > 200))
     return fail("tile_points must be 0 or in [2, 200]");
   return true;
@@ -47,15 +48,23 @@ const char* FieldFitJStatusName(FieldFitJStatus status) {
 namespace {
 
 // The basis in the crack frame about the centre, lengths in units of the
-// exclusion radius: columns translation 1, 2, rotation, then the series:
+// exclusion radius: columns translation 1, 2, rotation, a uniform
+// dilatation (kDilatation: no traction-free field, see FitFarFieldJ), then
+// the series:
 // isotropic, mode I n (n != 0) and mode II n (n != 0, 2; n = 2 is the
 // rotation); orthotropic, the two terms of each order of
 // orthotropic_series.hpp (one for n = 2, the T-stress).
+constexpr int kDilatation = 3;  // the dilatation's column, where fitted
+
 struct Basis {
   int lo = -3, hi = 5;
   double kappa = 0;
+  bool dilatation = true;
   std::optional<detail::OrthotropicSeries> ortho;
-  int Size() const { return ortho ? 3 + ortho->Columns() : 3 + 2 * (hi - lo) - 1; }
+  int FirstSeries() const { return dilatation ? 4 : 3; }
+  int Size() const {
+    return ortho ? FirstSeries() + ortho->Columns() : FirstSeries() + 2 * (hi - lo) - 1;
+  }
   double Reach(double x1, double x2) const {
     return ortho ? ortho->Reach(x1, x2) : std::hypot(x1, x2);
   }
@@ -65,12 +74,16 @@ struct Basis {
     u1(0) = 1; u2(0) = 0;
     u1(1) = 0; u2(1) = 1;
     u1(2) = -y; u2(2) = x;
+    if (dilatation) {
+      u1(kDilatation) = x;
+      u2(kDilatation) = y;
+    }
     if (ortho) {
-      ortho->Eval(r, t, u1.data() + 3, u2.data() + 3);
+      ortho->Eval(r, t, u1.data() + FirstSeries(), u2.data() + FirstSeries());
       return;
     }
     const detail::WilliamsPowers powers(r, t, lo, hi);
-    int c = 3;
+    int c = FirstSeries();
     for (int n = lo; n <= hi; ++n) {
       if (n == 0) continue;
       powers.ModeI(n, kappa, &u1(c), &u2(c));
@@ -195,7 +208,9 @@ FitOutcome FitSeries(const DisplacementField& f, double cx, double cy, double c,
     out.res_v[k] = r(2 * k + 1);
   }
   out.ssr = r.squaredNorm();
-  out.signal_rms = std::sqrt((A.rightCols(p - 3) * out.coef.tail(p - 3)).squaredNorm() / (2.0 * n));
+  out.signal_rms = std::sqrt(
+      (A.rightCols(p - basis.FirstSeries()) * out.coef.tail(p - basis.FirstSeries())).squaredNorm() /
+      (2.0 * n));
   out.A = std::move(A);
   out.ok = true;
   return out;
@@ -284,72 +299,86 @@ double CorrelatedVariance(const DisplacementField& f, const FitOutcome& fit,
   return std::max(0.0, var);
 }
 
-}  // namespace
+// The fit with one basis (the dilatation column or not): J, its
+// uncertainty, K_I and, with the column, the dilatation.
+struct FitGeometry {
+  double cx, cy, c, s, radius, step, metres_per_unit;
+};
 
-FieldFitJResult FitFarFieldJ(const DisplacementField& field, double centre_x, double centre_y,
-                             double direction_x, double direction_y, double exclusion_radius,
-                             const ElasticConstants& elastic, double metres_per_unit,
+FieldFitJResult FitWithBasis(const DisplacementField& field, const FitGeometry& g,
+                             const Basis& basis, const ElasticConstants& elastic,
                              const FieldFitJOptions& options) {
-  std::string why;
-  if (!options.IsValid(&why)) throw Error(ErrorKind::kUsage, "invalid J fit options: " + why);
   FieldFitJResult out;
-  const double length = std::hypot(direction_x, direction_y);
-  if (!(length > 0) || !(exclusion_radius > 0) || field.nx < 3 || field.ny < 3) {
-    out.status = FieldFitJStatus::kTooFewPoints;
-    out.why = "no crack direction, exclusion radius or grid";
-    return out;
-  }
-  const double c = direction_x / length, s = direction_y / length;
-  const double step = field.x[1] - field.x[0];
-  Basis basis;
-  basis.lo = options.lowest_order;
-  basis.hi = options.highest_order;
   std::vector<double> k_factor;  // K_I per unit coefficient at r = 1, per series column
-  if (elastic.kind == ElasticConstants::Kind::kIsotropic) {
-    basis.kappa = (3 - elastic.nu) / (1 + elastic.nu);
-    // u = a1 r^1/2 f_1 with K_I / (2 mu) = a1 sqrt(2 pi): the mode I n = 1 column.
-    k_factor.assign(basis.Size() - 3, 0.0);
-    k_factor[-basis.lo] = elastic.E / (1 + elastic.nu) * std::sqrt(2 * std::numbers::pi);
-  } else {
-    basis.ortho.emplace(1 / elastic.E1, 1 / elastic.E2, -elastic.nu12 / elastic.E1,
-                        1 / elastic.G12, basis.lo, basis.hi);
+  if (basis.ortho) {
     k_factor = basis.ortho->ModeIFactor();
+  } else {
+    // u = a1 r^1/2 f_1 with K_I / (2 mu) = a1 sqrt(2 pi): the mode I n = 1 column.
+    k_factor.assign(basis.Size() - basis.FirstSeries(), 0.0);
+    k_factor[-basis.lo] = elastic.E / (1 + elastic.nu) * std::sqrt(2 * std::numbers::pi);
   }
   out.terms = basis.Size();
   const Eigen::MatrixXd Q = ContourForm(basis, detail::PlaneStressStiffness(elastic), 1.0);
-  auto j_of = [&](const FitOutcome& fit, double radius) {
-    return fit.coef.dot(Q * fit.coef) * metres_per_unit / radius;
+  // J of the series and the rigid motion: the dilatation is stress-free
+  // (FieldFitJResult::dilatation), its coefficient left out.
+  auto elastic_part = [&](const Eigen::VectorXd& coef) {
+    Eigen::VectorXd e = coef;
+    if (basis.dilatation) e(kDilatation) = 0;
+    return e;
   };
-  const FitOutcome fit = FitSeries(field, centre_x, centre_y, c, s, exclusion_radius, basis,
-                                   options.min_points);
+  auto j_of = [&](const FitOutcome& fit, double radius) {
+    const Eigen::VectorXd e = elastic_part(fit.coef);
+    return e.dot(Q * e) * g.metres_per_unit / radius;
+  };
+  const FitOutcome fit = FitSeries(field, g.cx, g.cy, g.c, g.s, g.radius, basis, options.min_points);
   out.points = static_cast<int>(fit.index.size());
   if (!fit.ok) {
     out.status = FieldFitJStatus::kTooFewPoints;
     out.why = fmt::format("{} valid points outside the circle of {:.1f} grid points (need {})",
-                          out.points, exclusion_radius / step, options.min_points);
+                          out.points, g.radius / g.step, options.min_points);
     return out;
   }
-  out.J = j_of(fit, exclusion_radius);
-  const double to_j = metres_per_unit / exclusion_radius;
-  const Eigen::VectorXd grad = 2 * Q * fit.coef * to_j;
+  out.J = j_of(fit, g.radius);
+  const double to_j = g.metres_per_unit / g.radius;
+  const Eigen::VectorXd grad = elastic_part(2 * Q * elastic_part(fit.coef) * to_j);
   const double white = fit.ssr / std::max(1, 2 * out.points - out.terms) *
                        grad.dot(fit.covariance_unit * grad);
   const double correlated = CorrelatedVariance(field, fit, grad, options.correlation_lag,
                                                  options.tile_points);
   out.J_statistical = std::sqrt(correlated);
   out.correlation_factor = white > 0 ? correlated / white : 1;
-  out.residual_rms_m = std::sqrt(fit.ssr / (2.0 * out.points)) * metres_per_unit;
-  out.signal_rms_m = fit.signal_rms * metres_per_unit;
+  out.residual_rms_m = std::sqrt(fit.ssr / (2.0 * out.points)) * g.metres_per_unit;
+  out.signal_rms_m = fit.signal_rms * g.metres_per_unit;
   // K_I from the n = 1 columns: K = factor x coefficient / sqrt(R) (SI).
   double k_sum = 0;
-  for (std::size_t j = 0; j < k_factor.size(); ++j) k_sum += k_factor[j] * fit.coef(3 + j);
-  out.K_I = k_sum / std::sqrt(exclusion_radius) * std::sqrt(metres_per_unit);
-  const double check_radius = exclusion_radius + options.check_points * step;
+  for (std::size_t j = 0; j < k_factor.size(); ++j)
+    k_sum += k_factor[j] * fit.coef(basis.FirstSeries() + j);
+  out.K_I = k_sum / std::sqrt(g.radius) * std::sqrt(g.metres_per_unit);
+  if (basis.dilatation) {
+    // Per unit length (the coefficient is per exclusion radius), its
+    // standard error correlation-scaled (spatial HAC), at least the
+    // white-noise one times J's correlation factor (the spatial sum can
+    // cancel to zero: a seed-1 synth frame's did, and its 1e-5 read as
+    // shown).
+    const Eigen::VectorXd unit = Eigen::VectorXd::Unit(basis.Size(), kDilatation);
+    const double white_var = fit.ssr / std::max(1, 2 * out.points - out.terms) *
+                             fit.covariance_unit(kDilatation, kDilatation);
+    const double var = CorrelatedVariance(field, fit, unit, options.correlation_lag,
+                                          options.tile_points);
+    out.dilatation = fit.coef(kDilatation) / g.radius;
+    out.dilatation_se =
+        std::sqrt(std::max(var, white_var * std::max(1.0, out.correlation_factor))) / g.radius;
+  }
+  const double check_radius = g.radius + options.check_points * g.step;
   const FitOutcome check =
-      FitSeries(field, centre_x, centre_y, c, s, check_radius, basis, options.min_points);
+      FitSeries(field, g.cx, g.cy, g.c, g.s, check_radius, basis, options.min_points);
   out.J_check = check.ok ? j_of(check, check_radius) : NAN;
   const double shift = std::isfinite(out.J_check) ? out.J_check - out.J : 0;
   out.J_uncertainty = std::hypot(out.J_statistical, shift);
+  // The dilatation's move with the circle joins its standard error, as J's.
+  if (basis.dilatation && check.ok)
+    out.dilatation_se =
+        std::hypot(out.dilatation_se, check.coef(kDilatation) / check_radius - out.dilatation);
   out.status = FieldFitJStatus::kOk;
   if (out.residual_rms_m > options.max_residual_fraction * out.signal_rms_m) {
     out.status = FieldFitJStatus::kPoorFit;
@@ -359,6 +388,50 @@ FieldFitJResult FitFarFieldJ(const DisplacementField& field, double centre_x, do
         out.signal_rms_m * 1e6, 100 * options.max_residual_fraction);
   }
   return out;
+}
+
+}  // namespace
+
+FieldFitJResult FitFarFieldJ(const DisplacementField& field, double centre_x, double centre_y,
+                             double direction_x, double direction_y, double exclusion_radius,
+                             const ElasticConstants& elastic, double metres_per_unit,
+                             const FieldFitJOptions& options) {
+  std::string why;
+  if (!options.IsValid(&why)) throw Error(ErrorKind::kUsage, "invalid J fit options: " + why);
+  const double length = std::hypot(direction_x, direction_y);
+  if (!(length > 0) || !(exclusion_radius > 0) || field.nx < 3 || field.ny < 3) {
+    FieldFitJResult out;
+    out.status = FieldFitJStatus::kTooFewPoints;
+    out.why = "no crack direction, exclusion radius or grid";
+    return out;
+  }
+  const FitGeometry g{centre_x, centre_y, direction_x / length, direction_y / length,
+                      exclusion_radius, field.x[1] - field.x[0], metres_per_unit};
+  Basis basis;
+  basis.lo = options.lowest_order;
+  basis.hi = options.highest_order;
+  if (elastic.kind == ElasticConstants::Kind::kIsotropic) {
+    basis.kappa = (3 - elastic.nu) / (1 + elastic.nu);
+  } else {
+    basis.ortho.emplace(1 / elastic.E1, 1 / elastic.E2, -elastic.nu12 / elastic.E1,
+                        1 / elastic.G12, basis.lo, basis.hi);
+  }
+  // The dilatation is fitted beside the series and taken out only where
+  // the field shows it (|e| > dilatation_z standard errors): fitted
+  // always, it costs J 2-3x its precision (it trades off against the
+  // series' low orders), and no forward model's field has one.
+  basis.dilatation = false;
+  const FieldFitJResult plain = FitWithBasis(field, g, basis, elastic, options);
+  basis.dilatation = true;
+  const FieldFitJResult dilated = FitWithBasis(field, g, basis, elastic, options);
+  const bool shown = dilated.status != FieldFitJStatus::kTooFewPoints &&
+                     dilated.dilatation_se > 0 &&
+                     std::abs(dilated.dilatation) > options.dilatation_z * dilated.dilatation_se;
+  FieldFitJResult out_fit = shown ? dilated : plain;
+  out_fit.dilatation = dilated.dilatation;
+  out_fit.dilatation_se = dilated.dilatation_se;
+  out_fit.dilatation_removed = shown;
+  return out_fit;
 }
 
 }  // namespace bridgefit::dic

@@ -3,7 +3,6 @@
 // an applied K (J_ff = K^2 / E, J_tip = K_tip^2 / E, PHYSICS eq. 1), and the
 // orthotropic near-tip field of Sih, Paris & Irwin (1965).
 #include "bridgefit/dic/j_integral.hpp"
-#include "bridgefit/dic/frame_j.hpp"
 
 #include <gtest/gtest.h>
 
@@ -17,62 +16,13 @@
 
 #include "bridgefit/core/error.hpp"
 #include "bridgefit/dic/speckle.hpp"
+#include "lefm_grid_field.hpp"
 #include "orthotropic_tip_field.hpp"
 
 namespace bridgefit::dic {
 namespace {
 
-constexpr double kPx = 1e-5;  // metres per px (10 um)
-constexpr double kE = 3e9, kNu = 0.3;
-constexpr double kMu = kE / (2 * (1 + kNu));
-constexpr double kKappa = (3 - kNu) / (1 + kNu);  // plane stress
-
-// J = K^2 / E (plane stress) with K = 2 mu A, A = k_over_2mu in px^0.5.
-double JFromKOver2mu(double k_over_2mu_px) {
-  const double k = 2 * kMu * k_over_2mu_px * std::sqrt(kPx);
-  return k * k / kE;
-}
-
-using Displacement = std::function<void(double, double, double*, double*)>;
-
-// A regular grid in px (rows at odd y so a crack along y = 0 runs between
-// rows); points with |n| < band_px behind the tip are kCrackBand.
-DisplacementField SampleGrid(const Displacement& disp, const CrackGeometry& crack, double half_x,
-                             double half_y, double spacing, double band_px = 2.0) {
-  DisplacementField f;
-  f.nx = static_cast<int>(std::floor(2 * half_x / spacing)) + 1;
-  f.ny = static_cast<int>(std::floor(2 * half_y / spacing)) + 1;
-  const double len = std::hypot(crack.direction_x, crack.direction_y);
-  const double c = crack.direction_x / len, s = crack.direction_y / len;
-  for (int iy = 0; iy < f.ny; ++iy) {
-    for (int ix = 0; ix < f.nx; ++ix) {
-      const double x = -half_x + ix * spacing, y = -half_y + 0.5 * spacing + iy * spacing;
-      double u = 0, v = 0;
-      disp(x, y, &u, &v);
-      const double along = c * (x - crack.tip_x) + s * (y - crack.tip_y);
-      const double normal = -s * (x - crack.tip_x) + c * (y - crack.tip_y);
-      f.x.push_back(x);
-      f.y.push_back(y);
-      f.u.push_back(u);
-      f.v.push_back(v);
-      f.status.push_back(along < 0 && std::abs(normal) < band_px ? PointStatus::kCrackBand
-                                                                 : PointStatus::kOk);
-    }
-  }
-  return f;
-}
-
-// Gaussian noise of `fraction` of the largest displacement magnitude, on u and v.
-void AddNoise(DisplacementField* f, double fraction, std::uint64_t seed) {
-  double umax = 0;
-  for (std::size_t i = 0; i < f->size(); ++i) umax = std::max(umax, std::hypot(f->u[i], f->v[i]));
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> noise(0.0, fraction * umax);
-  for (std::size_t i = 0; i < f->size(); ++i) {
-    f->u[i] += noise(rng);
-    f->v[i] += noise(rng);
-  }
-}
+using namespace test_fields;
 
 JIntegralOptions TipCentredDomains() {
   JIntegralOptions o;
@@ -94,19 +44,6 @@ void ExpectAllWithin(const JIntegralResult& r, double j_exact, double tol, const
     EXPECT_LT(std::abs(err), tol) << what;
   }
   std::printf("[%s] spread %.3f %%, %.3f s\n", what, r.j_ff_spread_percent, r.wall_s);
-}
-
-ModeICrackField LefmField() {
-  ModeICrackField m;
-  m.tip_x = 0.5;
-  m.tip_y = 0.0;
-  m.k_over_2mu = 0.05;
-  m.kappa = kKappa;
-  return m;
-}
-
-CrackGeometry CrackOf(double tip_x, double tip_y, double dx, double dy, double root = 0) {
-  return CrackGeometry{tip_x, tip_y, dx, dy, root};
 }
 
 TEST(JIntegral, LefmFieldGivesKSquaredOverE) {
@@ -164,47 +101,6 @@ TEST(JIntegral, RigidMotionAndInclinedCrackLeaveJUnchanged) {
     EXPECT_LT(std::abs(change), 1e-3);
   }
   EXPECT_LT(moved.j_ff_spread_percent, 2.0);
-}
-
-// A rigid rotation of the whole field (a specimen turning in its grips)
-// enters the small-strain gradient as the equibiaxial strain
-// -(1 - cos theta): an LEFM field turned by 1 degree read J_ff 31.5 J/m^2
-// for 200 (status ok), by 3 degrees -1364. ComputeFrameJ takes it out:
-// the field turned exactly (deformed positions, about a point off the
-// field's centre) by 0-10 degrees gives J_ff within 2 % of K^2 / E and
-// within 0.1 % of the unturned field's, domains and field-wide fit alike.
-TEST(FrameJ, ARigidRotationOfTheFieldLeavesJUnchanged) {
-  const ModeICrackField m = LefmField();
-  const CrackGeometry crack = CrackOf(m.tip_x, m.tip_y, 1, 0);
-  FrameJOptions o;
-  o.enabled = true;
-  o.elastic = ElasticConstants::Isotropic(kE, kNu);
-  o.notch_length_m = 150.5 * kPx;  // the root at the tip (the line starts at x = -150)
-  const double exact = JFromKOver2mu(m.k_over_2mu);
-  double plain = 0, plain_fit = 0;
-  for (double degrees : {0.0, 1.0, 3.0, 10.0}) {
-    SCOPED_TRACE(degrees);
-    const double theta = degrees * std::numbers::pi / 180;
-    DisplacementField f = SampleGrid(m, crack, 150, 150, 2);
-    for (std::size_t i = 0; i < f.size(); ++i) {
-      const double X = f.x[i] + f.u[i] - 40, Y = f.y[i] + f.v[i] + 70;
-      f.u[i] = std::cos(theta) * X - std::sin(theta) * Y + 40 - f.x[i];
-      f.v[i] = std::sin(theta) * X + std::cos(theta) * Y - 70 - f.y[i];
-    }
-    const FrameJ j = ComputeFrameJ(f, m.tip_x, m.tip_y, 150.5, 1, 0, 2.0, kPx, 0, o);
-    ASSERT_EQ(j.status, FrameJStatus::kOk) << j.why;
-    ASSERT_EQ(j.fit.status, FieldFitJStatus::kOk);
-    if (degrees == 0) {
-      plain = j.J_ff;
-      plain_fit = j.fit.J;
-    }
-    std::printf("turned %.0f deg: J_ff %.3f (fit %.3f, exact %.3f) J/m^2, rotation taken out %.5f rad\n",
-                degrees, j.J_ff, j.fit.J, exact, j.rigid_rotation_rad);
-    EXPECT_NEAR(j.J_ff / exact, 1.0, 0.02);
-    EXPECT_NEAR(j.J_ff / plain, 1.0, 1e-3);
-    EXPECT_NEAR(j.fit.J / plain_fit, 1.0, 1e-3);
-    if (degrees > 0) EXPECT_NEAR(j.rigid_rotation_rad, theta, 1e-3);
-  }
 }
 
 // 0.5 % noise; a wider window (half-width 4, quadratic: 81 points) smooths

@@ -5,7 +5,9 @@
 // traction-free crack faces outside the circle, a Laurent-Williams series
 // about the circle's centre c on the crack line (crack frame x1 along the
 // growth, faces at t = +-pi):
-//   u(r, t) = rigid motion + sum_{n = lo..hi, n != 0} r^(n/2) [a_n f_n^I(t) + b_n f_n^II(t)]
+//   u(r, t) = rigid motion + e (x1, x2)
+//             + sum_{n = lo..hi, n != 0} r^(n/2) [a_n f_n^I(t) + b_n f_n^II(t)]
+// (e a uniform dilatation, stress-free: FieldFitJResult::dilatation)
 // (f_n the Williams eigenfunctions, dic/crack.hpp's kWilliams basis; the
 // negative n are the terms singular at c: the zone's closing tractions and
 // the tip's offset from c; the positive n the applied K and the body's
@@ -54,6 +56,9 @@ struct FieldFitJOptions {
   // (docs/LAW_FREE.md "What the residuals miss"); 12 left 3 of 45 frames
   // beyond 2 u.
   int tile_points = 24;
+  // A dilatation beyond this many standard errors is taken out of the field
+  // (FieldFitJResult::dilatation).
+  double dilatation_z = 3;
   bool IsValid(std::string* why) const;
 };
 
@@ -76,6 +81,18 @@ struct FieldFitJResult {
   double residual_rms_m = 0;  // RMS displacement residual per component [m]
   double signal_rms_m = 0;    // RMS of the fitted displacement less the rigid motion [m]
   double correlation_factor = 1;  // J's variance over the white-noise estimate's
+  // The field's uniform dilatation (strain) and its standard error: fitted
+  // beside the series; where it exceeds dilatation_z standard errors the
+  // fit with it gives J, the dilatation left out (dilatation_removed), and
+  // the domain integral reads the field less it. A uniform isotropic strain is no
+  // elastic field of a plate with traction-free crack faces (it needs
+  // sigma_22 on them): it is stress-free, a 2D DIC's magnification change
+  // from out-of-plane motion (dz / working distance), or a thermal or
+  // moisture strain. Read as stress it was an equibiaxial load on the faces:
+  // 1e-4 (30 um towards a camera 300 mm away) gave J_ff +26 % (fit) and
+  // +29 % (domains) on an LEFM field.
+  double dilatation = 0, dilatation_se = 0;
+  bool dilatation_removed = false;
   int points = 0;             // valid points fitted
   int terms = 0;              // coefficients fitted
 };
