@@ -165,7 +165,8 @@ void WriteDicJ(io::H5Writer& h5, const dic::CrackSequenceResult& r,
                const dic::CrackSequenceOptions& opt) {
   const size_t n = r.frames.size();
   std::vector<double> j(n, NAN), spread(n, NAN), ok(n, 0), delta(n, NAN), u(n, NAN), root(n, NAN);
-  std::vector<double> jfit(n, NAN), jfit_u(n, NAN);
+  std::vector<double> jfit(n, NAN), jfit_u(n, NAN), dil(n, NAN), dil_u(n, NAN), dil_out(n, 0);
+  std::vector<double> rotation(n, NAN);
   std::vector<std::string> status, delta_status, fit_status, delta_method;
   for (size_t k = 0; k < n; ++k) {
     const dic::FrameJ& f = r.frames[k].j;
@@ -174,6 +175,14 @@ void WriteDicJ(io::H5Writer& h5, const dic::CrackSequenceResult& r,
       jfit_u[k] = f.fit.J_uncertainty;
     }
     fit_status.push_back(FitStatus(f));
+    if (f.fit.status != dic::FieldFitJStatus::kNotRequested &&
+        f.fit.status != dic::FieldFitJStatus::kTooFewPoints) {
+      dil[k] = f.fit.dilatation;
+      dil_u[k] = f.fit.dilatation_se;
+      dil_out[k] = f.fit.dilatation_removed ? 1 : 0;
+    }
+    if (f.status != dic::FrameJStatus::kNotRequested && f.status != dic::FrameJStatus::kNoTip)
+      rotation[k] = f.rigid_rotation_rad;
     if (f.status == dic::FrameJStatus::kOk) {
       j[k] = f.J_ff;
       spread[k] = f.J_ff_spread_percent;
@@ -199,6 +208,13 @@ void WriteDicJ(io::H5Writer& h5, const dic::CrackSequenceResult& r,
                  "far-field J of the field-wide Williams fit (NaN: see J_fit_status)");
   h5.WriteVector("/dic/J_ff_fit_uncertainty", jfit_u, "J/m^2", "one standard deviation");
   h5.WriteStrings("/dic/J_fit_status", fit_status);
+  h5.WriteVector("/dic/J_fit_dilatation", dil, "1",
+                 "uniform dilatation of the field (stress-free: out-of-plane motion, thermal)");
+  h5.WriteVector("/dic/J_fit_dilatation_uncertainty", dil_u, "1", "one standard deviation");
+  h5.WriteVector("/dic/J_fit_dilatation_removed", dil_out, "1",
+                 "1: beyond 3 standard deviations, taken out of J_ff and J_ff_fit");
+  h5.WriteVector("/dic/J_rigid_rotation", rotation, "rad",
+                 "the field's rigid rotation taken out before J (counter-clockwise)");
   h5.WriteVector("/dic/delta_star", delta, "m",
                  "opening at the initial notch root (NaN: see delta_star_status)");
   h5.WriteVector("/dic/delta_star_uncertainty", u, "m", "one standard deviation");
@@ -443,6 +459,11 @@ DicJSeries ReadDicJSeries(const std::filesystem::path& path) {
   s.J_ff_fit_uncertainty = vec("J_ff_fit_uncertainty");
   if (r.Exists("/dic/J_fit_status")) s.J_fit_status = r.ReadStrings("/dic/J_fit_status");
   s.J_fit_status.resize(n, "missing");
+  // The dilatation taken out of J (files before 2026-12-05: NaN and 0).
+  s.J_fit_dilatation = vec("J_fit_dilatation");
+  s.J_fit_dilatation_uncertainty = vec("J_fit_dilatation_uncertainty");
+  s.J_fit_dilatation_removed = VectorOrEmpty(r, "/dic/J_fit_dilatation_removed");
+  s.J_fit_dilatation_removed.resize(n, 0);
   s.delta_star_status.resize(n, "missing");
   // How delta* was read (files before 2026-12-04 have none: "missing").
   if (r.Exists("/dic/delta_star_method")) s.delta_star_method = r.ReadStrings("/dic/delta_star_method");

@@ -300,6 +300,24 @@ laws::FarFieldJSamples FarFieldJSamplesOf(const DicJSeries& s, const LawFreeRequ
       out.uncertainty.back() = std::hypot(out.uncertainty.back(), range.spread);
     }
   }
+  // Frames whose field showed a uniform dilatation (taken out of J_ff):
+  // the test moved out of plane or changed temperature.
+  std::string dilated;
+  int dilated_count = 0;
+  for (size_t k = 0; k < s.J_fit_dilatation_removed.size(); ++k)
+    if (s.J_fit_dilatation_removed[k] > 0) {
+      ++dilated_count;
+      if (dilated_count <= 5)
+        dilated += fmt::format("{}frame {} {:.2g} +- {:.1g}", dilated.empty() ? "" : ", ", k,
+                               s.J_fit_dilatation[k], s.J_fit_dilatation_uncertainty[k]);
+    }
+  if (dilated_count > 0)
+    notes.push_back(fmt::format(
+        "warning: {} frame(s) show a uniform dilatation of the field ({}{}), taken out of their "
+        "J_ff as stress-free: a 2D DIC reads a specimen moving towards the camera (dz / working "
+        "distance) or a temperature change so; on the other frames one below 3 standard "
+        "uncertainties stays in J_ff (docs/LAW_FREE.md)",
+        dilated_count, dilated, dilated_count > 5 ? ", ..." : ""));
   notes.push_back(want_fit ? fmt::format("J_ff per frame: the field-wide fit's ({} of {} frames "
                                          "from the domains)",
                                          from_domains, out.J_ff.size())

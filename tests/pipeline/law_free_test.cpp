@@ -118,6 +118,46 @@ TEST(LawFree, JRouteRecoversTheLawAndSkipsAFailedFrameWithANote) {
   fs::remove_all(dir);
 }
 
+// Frames whose field showed a uniform dilatation (dic took it out of J as
+// stress-free: out-of-plane motion or a temperature change) are named in a
+// warning, with the values dic.h5 carries; a run without any: no warning.
+TEST(LawFree, JRouteWarnsOfFramesWithADilatationTakenOut) {
+  const fs::path dir = TempDir("dilatation");
+  for (bool dilated : {false, true}) {
+    dic::CrackSequenceResult run = ExactRun(26, -1);
+    if (dilated)
+      for (int k : {9, 14}) {
+        run.frames[k].j.fit.status = dic::FieldFitJStatus::kOk;
+        run.frames[k].j.fit.J = run.frames[k].j.J_ff;
+        run.frames[k].j.fit.J_uncertainty = 1;
+        run.frames[k].j.fit.dilatation = 4.2e-5;
+        run.frames[k].j.fit.dilatation_se = 6e-6;
+        run.frames[k].j.fit.dilatation_removed = true;
+      }
+    WriteDicH5((dir / "dic.h5").string(), run, JOptions());
+    const DicJSeries series = ReadDicJSeries(dir / "dic.h5");
+    ASSERT_EQ(series.J_fit_dilatation_removed.size(), 26u);
+    EXPECT_EQ(series.J_fit_dilatation_removed[9], dilated ? 1.0 : 0.0);
+    if (dilated) EXPECT_DOUBLE_EQ(series.J_fit_dilatation[14], 4.2e-5);
+    LawFreeRequest request;
+    request.dic_file = dir / "dic.h5";
+    request.onset_opening = 0.0;
+    const LawFreeRun out = RunLawFree(request);
+    std::string warning;
+    for (const std::string& n : out.notes)
+      if (n.find("uniform dilatation") != std::string::npos) warning = n;
+    if (!dilated) {
+      EXPECT_TRUE(warning.empty()) << warning;
+      continue;
+    }
+    std::printf("%s\n", warning.c_str());
+    EXPECT_NE(warning.find("2 frame(s)"), std::string::npos) << warning;
+    EXPECT_NE(warning.find("frame 9 4.2e-05"), std::string::npos) << warning;
+    EXPECT_NE(warning.find("frame 14"), std::string::npos) << warning;
+  }
+  fs::remove_all(dir);
+}
+
 // Frames the DIC flagged (here a path that disagrees with the line, their
 // delta* 10 % high as a tilted line reads it; 48-frame synth runs: 3-9 um
 // off) are left out with one note while enough others remain: the law

@@ -62,6 +62,9 @@ struct DicJSeries {
   // "missing" where the file has none.
   std::vector<double> J_ff_fit, J_ff_fit_uncertainty;
   std::vector<std::string> J_fit_status;
+  // The field's uniform dilatation, its standard uncertainty and 1 where it
+  // was taken out of J (dic::FieldFitJResult; NaN / 0 in older files).
+  std::vector<double> J_fit_dilatation, J_fit_dilatation_uncertainty, J_fit_dilatation_removed;
   double notch_length = NAN;
 };
 DicJSeries ReadDicJSeries(const std::filesystem::path& path);
