@@ -211,8 +211,10 @@ FieldFile ReadTable(const std::vector<std::string_view>& lines, size_t header_li
                     const std::string& default_unit, FieldFormat format) {
   std::vector<Column> cols;
   for (const std::string& cell : Split(header, sep)) cols.push_back(ParseColumn(cell));
-  const int ix = FindColumn(cols, {"x", "x_undef", "coordinate_x", "x_ref", "x0", "pos_x"});
-  const int iy = FindColumn(cols, {"y", "y_undef", "coordinate_y", "y_ref", "y0", "pos_y"});
+  // The reference position: a column named as such wins over a bare "x"
+  // (which some exports give the deformed position beside x_undef).
+  const int ix = FindColumn(cols, {"x_undef", "x_ref", "coordinate_x", "x0", "pos_x", "x"});
+  const int iy = FindColumn(cols, {"y_undef", "y_ref", "coordinate_y", "y0", "pos_y", "y"});
   const int iu = FindColumn(cols, {"u", "displacement_x", "ux", "u_x", "disp_x", "dx"});
   const int iv = FindColumn(cols, {"v", "displacement_y", "uy", "u_y", "disp_y", "dy"});
   const int isigma = FindColumn(cols, {"sigma"});

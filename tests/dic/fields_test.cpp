@@ -232,6 +232,23 @@ void ExpectError(const std::string& text, const std::string& name, const std::st
   }
 }
 
+// A table with the deformed position beside the reference one: the
+// reference (x_undef, x_ref) is read, whatever the columns' order.
+TEST(Fields, TheReferencePositionWinsOverADeformedOne) {
+  for (const char* header : {"x [mm], y [mm], x_undef [mm], y_undef [mm], u [mm], v [mm]",
+                             "x_ref [mm], y_ref [mm], x [mm], y [mm], u [mm], v [mm]"}) {
+    SCOPED_TRACE(header);
+    const bool undef_first = std::string(header).rfind("x [mm]", 0) == 0;
+    // Reference (10, 20) moved by (0.5, -0.25) to (10.5, 19.75).
+    const std::string row = undef_first ? "10.5, 19.75, 10, 20, 0.5, -0.25"
+                                        : "10, 20, 10.5, 19.75, 0.5, -0.25";
+    const FieldFile f = ReadFieldText(std::string(header) + "\n" + row + "\n", "deformed.csv");
+    ASSERT_EQ(f.field.size(), 1u);
+    EXPECT_DOUBLE_EQ(f.field.x[0], 10);
+    EXPECT_DOUBLE_EQ(f.field.y[0], 20);
+  }
+}
+
 TEST(Fields, BadFilesGiveClearErrors) {
   ExpectError("a [mm], b [mm], c [mm]\n1, 2, 3\n", "wrong_header.csv", "x");
   ExpectError("x [mm], y [mm], v [mm]\n1, 2, 3\n", "no_u.csv", "u");
