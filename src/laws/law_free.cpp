@@ -89,15 +89,37 @@ int ResolveOnset(const FarFieldJSamples& data, const Samples& s, const LawFreeOp
   return onset;
 }
 
+// The fit at penalty_share_factor x its penalty (empty when off) and the
+// diagonal of its posterior covariance at the chosen fit's noise scale.
+struct LessSmoothedFit {
+  Eigen::VectorXd x, variance;
+};
+
 // sigma, its standard error and band on the grid from the fit; nodes past
-// `free_nodes` are fixed at zero. Adds the clipping / monotonicity notes.
+// `free_nodes` are fixed at zero. The standard error holds the penalty's
+// share (sigma's change at the smaller penalty, `less_smoothed`): where
+// the penalty bends the curve (a kink, a plateau's end, the range's end on
+// few degrees of freedom) the covariance alone left the band on the
+// penalty's curve. Adds the clipping / monotonicity notes.
 void FillSigma(const Grid& grid, const PenalisedFit& fit, int offset, int free_nodes,
-               const LawFreeOptions& options, LawFreeResult* r) {
+               const LessSmoothedFit& less, const LawFreeOptions& options, LawFreeResult* r) {
   int clipped = 0, significantly_negative = 0;
   for (size_t j = 0; j < grid.nodes.size(); ++j) {
     const bool free = static_cast<int>(j) < free_nodes;
-    const double value = free ? fit.x[offset + j] : 0.0;
-    const double se = free ? std::sqrt(std::max(0.0, fit.covariance(offset + j, offset + j))) : 0.0;
+    const Eigen::Index k = offset + static_cast<Eigen::Index>(j);
+    const double value = free ? fit.x[k] : 0.0;
+    double se = 0.0;
+    if (free) {
+      const double variance = std::max(0.0, fit.covariance(k, k));
+      double share2 = 0.0;
+      if (less.x.size() > 0) {
+        // The change at the smaller penalty less what its own extra noise
+        // explains (nested fits: Var(change) = Var(less) - Var(fit)).
+        const double change = less.x[k] - fit.x[k];
+        share2 = std::max(0.0, change * change - std::max(0.0, less.variance[k] - variance));
+      }
+      se = std::sqrt(variance + share2);
+    }
     r->delta.push_back(grid.nodes[j]);
     r->sigma.push_back(std::max(0.0, value));
     r->sigma_standard_error.push_back(se);
@@ -204,12 +226,17 @@ std::pair<double, double> LargestRise(const Eigen::MatrixXd& rows, const Penalis
   return {a.dot(fit.x), StandardError(a, fit, less_smoothed)};
 }
 
-// The fit at penalty_share_factor x its penalty, or empty when off.
-Eigen::VectorXd LessSmoothed(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
+LessSmoothedFit LessSmoothed(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
                              const Eigen::MatrixXd& P, const PenalisedFit& fit,
                              const LawFreeOptions& options) {
   if (!(options.penalty_share_factor > 0.0)) return {};
-  return SolveAtPenalty(A, b, P, options.penalty_share_factor * fit.lambda);
+  const Eigen::MatrixXd H = A.transpose() * A + options.penalty_share_factor * fit.lambda * P;
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(H);
+  LessSmoothedFit out;
+  out.x = ldlt.solve(A.transpose() * b);
+  out.variance = fit.noise_scale * fit.noise_scale *
+                 ldlt.solve(Eigen::MatrixXd::Identity(H.rows(), H.cols())).diagonal();
+  return out;
 }
 
 double Seconds(std::chrono::steady_clock::time_point start) {
@@ -290,12 +317,12 @@ LawFreeResult LawFromFarFieldJ(const FarFieldJSamples& data, const LawFreeOption
     fit = SolvePenalised(A, b, P, options.penalty_rule, options.gcv_gamma);
   }
 
-  const Eigen::VectorXd less = LessSmoothed(A, b, P, fit, options);
+  const LessSmoothedFit less = LessSmoothed(A, b, P, fit, options);
   r.J_tip_c = fit.x[0];
-  r.J_tip_c_standard_error = JTipStandardError(fit, less);
-  FillSigma(grid, fit, 1, m, options, &r);
+  r.J_tip_c_standard_error = JTipStandardError(fit, less.x);
+  FillSigma(grid, fit, 1, m, less, options, &r);
   RecordFit(fit, n, options, &r);
-  const auto [rise, rise_se] = LargestRise(G, fit, true, less);
+  const auto [rise, rise_se] = LargestRise(G, fit, true, less.x);
   SteadyStateOrBounds(g, FindPlateau(g, 0, options), rise, rise_se, "J_ff", options, &r);
   MarkResolved(options.resolved_fraction, r);
   r.run_seconds = Seconds(start);
@@ -341,14 +368,14 @@ LawFreeResult LawFromRCurve(const RCurveSamples& data, const LawFreeOptions& opt
   P.bottomRightCorner(free_nodes, free_nodes) = D.transpose() * D;
   const PenalisedFit fit = SolvePenalised(A, b, P, options.penalty_rule, options.gcv_gamma);
 
-  const Eigen::VectorXd less = LessSmoothed(A, b, P, fit, options);
+  const LessSmoothedFit less = LessSmoothed(A, b, P, fit, options);
   r.J_tip_c = r.J_tip_c_given ? *data.J_tip_c : fit.x[0];
-  r.J_tip_c_standard_error = r.J_tip_c_given ? 0.0 : JTipStandardError(fit, less);
-  FillSigma(grid, fit, offset, free_nodes, options, &r);
+  r.J_tip_c_standard_error = r.J_tip_c_given ? 0.0 : JTipStandardError(fit, less.x);
+  FillSigma(grid, fit, offset, free_nodes, less, options, &r);
   RecordFit(fit, n, options, &r);
   Eigen::MatrixXd rows = A;  // unweighted: R_i - (a given J_tip,c)
   for (int i = 0; i < n; ++i) rows.row(i) *= s.u[i];
-  const auto [rise, rise_se] = LargestRise(rows, fit, !r.J_tip_c_given, less);
+  const auto [rise, rise_se] = LargestRise(rows, fit, !r.J_tip_c_given, less.x);
   SteadyStateOrBounds(s, FindPlateau(s, 0, options), rise, rise_se, "R", options, &r);
   if (!r.identified) {
     // sigma_true = sigma + C delta; sigma_true >= 0 everywhere needs C >= -sigma_j / g_j,

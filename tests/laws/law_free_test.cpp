@@ -196,10 +196,12 @@ TEST(LawFree, BandCoversTheTruth) {
       }
       const double coverage = double(covered) / nodes;
       route_covered[route] += covered, route_nodes[route] += nodes;
-      // Measured 83-97 % per law; the sampling covariance of the same fit
-      // (no smoothing bias) covers 71-94 %, three laws below 80 %.
+      // Measured 87-98 % per law (83-97 % before sigma's band took the
+      // penalty's share, 2026-12-05); the sampling covariance of the same
+      // fit (no smoothing bias) covers 71-94 %, three laws below 80 %.
       EXPECT_GE(coverage, 0.80) << truth.name << (route == 0 ? ", J_ff" : ", R");
-      // Not covering by being vacuous: measured 1.4-4.3 % of sigma_c.
+      // Not covering by being vacuous: measured 1.8-5.4 % of sigma_c (1.4-4.3 %
+      // before the penalty's share).
       EXPECT_LT(half_width / nodes, 0.06) << truth.name;
       std::printf(
           "  %s %-11s: 95 %% band covers %.1f %% of %d (seed, node) pairs, mean "
@@ -207,10 +209,11 @@ TEST(LawFree, BandCoversTheTruth) {
           route == 0 ? "J_ff" : "R   ", truth.name.c_str(), 100 * coverage, nodes,
           100 * half_width / nodes);
     }
-  // Pooled over the laws: measured 89.8 % (J_ff) and 91.0 % (R); the
-  // sampling covariance gives 79.6 % and 85.6 %.
-  EXPECT_GE(double(route_covered[0]) / route_nodes[0], 0.85);
-  EXPECT_GE(double(route_covered[1]) / route_nodes[1], 0.85);
+  // Pooled over the laws: measured 92.0 % (J_ff) and 94.5 % (R) with the
+  // penalty's share in sigma's standard error, 89.8 % and 91.0 % without
+  // (below these bounds); the sampling covariance gives 79.6 % and 85.6 %.
+  EXPECT_GE(double(route_covered[0]) / route_nodes[0], 0.90);
+  EXPECT_GE(double(route_covered[1]) / route_nodes[1], 0.92);
 }
 
 // A curved law seen over a short stretch of openings (exponential, 0.3
