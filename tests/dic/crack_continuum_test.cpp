@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <numbers>
 #include <gtest/gtest.h>
 
@@ -33,12 +34,17 @@ struct Block {
   }
 };
 
-std::vector<fs::path> RenderSequence(const fs::path& dir, const Block& block,
-                                     std::vector<double>* truth) {
+// Five frames of 480 x 320 px: the reference, then an LEFM crack (tips
+// 160-250 px, K_I / 2 mu 0.06 px^0.5, translation `shift` x frame along x)
+// with `extra` applied to each frame's motion (frame k, X, Y, u, v);
+// truth: the tips from the line's start at x = 10.
+using Extra = std::function<void(int, double, double, double*, double*)>;
+std::vector<fs::path> RenderLefmSequence(const fs::path& dir, unsigned seed, double shift,
+                                         const Extra& extra, std::vector<double>* truth) {
   SpeckleOptions so;
   so.width = 480;
   so.height = 320;
-  so.seed = 23;
+  so.seed = seed;
   const SpeckleRenderer renderer(so);
   std::vector<fs::path> images;
   truth->assign(1, 0.0);
@@ -54,18 +60,40 @@ std::vector<fs::path> RenderSequence(const fs::path& dir, const Block& block,
     m.tip_x = 160 + 30.0 * (k - 1);
     m.tip_y = 160.5;
     m.k_over_2mu = 0.06;
-    m.translation_x = 0.1 * k;
+    m.translation_x = shift * k;
     auto field = [&](double X, double Y, double* u, double* v) {
       m(X, Y, u, v);
-      if (block.Inside(X, Y)) {
-        *u += block.ux;
-        *v += block.uy;
-      }
+      if (extra) extra(k, X, Y, u, v);
     };
     WriteImage(images.back(), renderer.Render(field, 700 + k), 8);
     truth->push_back(m.tip_x - 10);  // from the line's start at x = 10
   }
   return images;
+}
+
+// The DIC of those frames: 21 px subsets, 5 px step, the line on the crack.
+CrackSequenceOptions SequenceOptions() {
+  CrackSequenceOptions o;
+  SetGridDefaults(21, 5, &o);
+  o.scale_m_per_px = 1e-5;
+  o.show_progress = false;
+  o.tip.line = {10, 160.5, 470, 160.5};
+  o.tip.fit_radius_px = o.tip.sqrt_window_px = 100;
+  o.path.search_half_width_px = 20;
+  return o;
+}
+
+std::vector<fs::path> RenderSequence(const fs::path& dir, const Block& block,
+                                     std::vector<double>* truth) {
+  return RenderLefmSequence(
+      dir, 23, 0.1,
+      [&block](int, double X, double Y, double* u, double* v) {
+        if (block.Inside(X, Y)) {
+          *u += block.ux;
+          *v += block.uy;
+        }
+      },
+      truth);
 }
 
 TEST(CrackContinuum, WilliamsWindowStopsAtAGripAndBandEqualsFullField) {
@@ -75,13 +103,7 @@ TEST(CrackContinuum, WilliamsWindowStopsAtAGripAndBandEqualsFullField) {
   const Block block;
   std::vector<double> truth;
   const std::vector<fs::path> images = RenderSequence(dir, block, &truth);
-  CrackSequenceOptions o;
-  SetGridDefaults(21, 5, &o);
-  o.scale_m_per_px = 1e-5;
-  o.show_progress = false;
-  o.tip.line = {10, 160.5, 470, 160.5};
-  o.tip.fit_radius_px = o.tip.sqrt_window_px = 100;
-  o.path.search_half_width_px = 20;
+  const CrackSequenceOptions o = SequenceOptions();
   CrackSequenceOptions f = o;
   f.full_field = true;
   CrackSequenceOptions uncut = f;  // the old window: every valid point within the fit radius
@@ -141,45 +163,19 @@ TEST(CrackContinuum, ASequenceTurningInItsGripsKeepsItsLengths) {
   fs::remove_all(dir);
   fs::create_directories(dir / "turned");
   fs::create_directories(dir / "plain");
-  SpeckleOptions so;
-  so.width = 480;
-  so.height = 320;
-  so.seed = 29;
-  const SpeckleRenderer renderer(so);
-  std::vector<fs::path> turned, plain;
-  std::vector<double> truth = {0.0};
-  for (int k = 0; k < 5; ++k) {
-    char name[32];
-    std::snprintf(name, sizeof name, "frame_%02d.png", k);
-    turned.push_back(dir / "turned" / name);
-    plain.push_back(dir / "plain" / name);
-    if (k == 0) {
-      WriteImage(turned.back(), renderer.RenderReference(700), 8);
-      WriteImage(plain.back(), renderer.RenderReference(700), 8);
-      continue;
-    }
-    ModeICrackField m;
-    m.tip_x = 160 + 30.0 * (k - 1);
-    m.tip_y = 160.5;
-    m.k_over_2mu = 0.06;
-    const double theta = (k - 1) * std::numbers::pi / 180;
-    auto turning = [&](double X, double Y, double* u, double* v) {
-      m(X, Y, u, v);
-      const double dx = X + *u - 240, dy = Y + *v - 160;
-      *u = 240 + std::cos(theta) * dx - std::sin(theta) * dy - X;
-      *v = 160 + std::sin(theta) * dx + std::cos(theta) * dy - Y;
-    };
-    WriteImage(turned.back(), renderer.Render(turning, 700 + k), 8);
-    WriteImage(plain.back(), renderer.Render(m, 700 + k), 8);
-    truth.push_back(m.tip_x - 10);
-  }
-  CrackSequenceOptions o;
-  SetGridDefaults(21, 5, &o);
-  o.scale_m_per_px = 1e-5;
-  o.show_progress = false;
-  o.tip.line = {10, 160.5, 470, 160.5};
-  o.tip.fit_radius_px = o.tip.sqrt_window_px = 100;
-  o.path.search_half_width_px = 20;
+  std::vector<double> truth;
+  // Frame k turned by k - 1 degrees about the image centre, exactly.
+  const std::vector<fs::path> turned = RenderLefmSequence(
+      dir / "turned", 29, 0.0,
+      [](int k, double X, double Y, double* u, double* v) {
+        const double theta = (k - 1) * std::numbers::pi / 180;
+        const double dx = X + *u - 240, dy = Y + *v - 160;
+        *u = 240 + std::cos(theta) * dx - std::sin(theta) * dy - X;
+        *v = 160 + std::sin(theta) * dx + std::cos(theta) * dy - Y;
+      },
+      &truth);
+  const std::vector<fs::path> plain = RenderLefmSequence(dir / "plain", 29, 0.0, {}, &truth);
+  const CrackSequenceOptions o = SequenceOptions();
   const CrackSequenceResult a = AnalyzeCrackSequence(turned, o);
   const CrackSequenceResult b = AnalyzeCrackSequence(plain, o);
   const double px = 1 / o.scale_m_per_px;

@@ -150,6 +150,21 @@ INSTANTIATE_TEST_SUITE_P(Formats, FieldRoundTrip,
                                            FieldFormat::kDavis),
                          [](const auto& info) { return std::string(FieldFormatName(info.param)); });
 
+// KnownTipField's crack (line from x = -10 mm along y = 0.5 mm) with J per
+// frame, the notch at `notch_m` (lengths from x = -10 mm).
+CrackSequenceOptions KnownTipJOptions(double E, double nu, double notch_m) {
+  CrackSequenceOptions o;
+  o.show_progress = false;
+  o.tip.threshold_floor_px = 0.001;  // mm (1 um), in the fields' unit
+  o.path.min_jump_px = 0.001;
+  o.has_line = true;
+  o.tip.line = {-10, 0.5, 80, 0.5};
+  o.j_integral.enabled = true;
+  o.j_integral.elastic = ElasticConstants::Isotropic(E, nu);
+  o.j_integral.notch_length_m = notch_m;
+  return o;
+}
+
 // J from an exported field (issue 21: "bridgefit's own DIC or an imported
 // one"): the known-tip LEFM field written in each text format, read back as
 // a grid (before, a scattered list: J status "no crack line or no field"),
@@ -171,16 +186,8 @@ TEST(Fields, JFromAnExportedFieldIsKSquaredOverE) {
     for (size_t k = 0; k < tips.size(); ++k)
       WriteFieldFile(dir / ("f" + std::to_string(k + 1) + ".txt"),
                      KnownTipField(tips[k], px ? "px" : "mm", px ? 0 : 1e-3), format);
-    CrackSequenceOptions o;
+    CrackSequenceOptions o = KnownTipJOptions(E, nu, (tips[0] + 10) * 1e-3);
     o.scale_m_per_px = px ? 1e-3 : 0;
-    o.show_progress = false;
-    o.tip.threshold_floor_px = 0.001;
-    o.path.min_jump_px = 0.001;
-    o.has_line = true;
-    o.tip.line = {-10, 0.5, 80, 0.5};
-    o.j_integral.enabled = true;
-    o.j_integral.elastic = ElasticConstants::Isotropic(E, nu);
-    o.j_integral.notch_length_m = (tips[0] + 10) * 1e-3;  // lengths from x = -10 mm
     const CrackSequenceResult r = AnalyzeCrackFields(ExpandFieldArguments({dir.string()}), o);
     ASSERT_EQ(r.frames.size(), tips.size());
     for (const FrameResult& f : r.frames) {
@@ -201,16 +208,7 @@ TEST(Fields, JFromAnExportedFieldIsKSquaredOverE) {
       fs::temp_directory_path() / ("bf_fields_j_off_" + std::to_string(::getpid()) + ".csv");
   WriteFieldFile(file, off, FieldFormat::kCsv);
   EXPECT_EQ(ReadFieldFile(file).field.ny, 1);
-  CrackSequenceOptions o;
-  o.show_progress = false;
-  o.tip.threshold_floor_px = 0.001;
-  o.path.min_jump_px = 0.001;
-  o.has_line = true;
-  o.tip.line = {-10, 0.5, 80, 0.5};
-  o.j_integral.enabled = true;
-  o.j_integral.elastic = ElasticConstants::Isotropic(E, nu);
-  o.j_integral.notch_length_m = 31.3e-3;
-  const CrackSequenceResult r = AnalyzeCrackFields({file}, o);
+  const CrackSequenceResult r = AnalyzeCrackFields({file}, KnownTipJOptions(E, nu, 31.3e-3));
   ASSERT_EQ(r.frames.size(), 1u);
   EXPECT_TRUE(r.frames[0].has_length);
   EXPECT_EQ(r.frames[0].j.status, FrameJStatus::kNoTip);

@@ -17,6 +17,16 @@ namespace {
 
 using namespace test_fields;
 
+// J per frame of LefmField's crack with the notch root at its tip (the
+// line starts at x = -150 px).
+FrameJOptions RootAtTheTip() {
+  FrameJOptions o;
+  o.enabled = true;
+  o.elastic = ElasticConstants::Isotropic(kE, kNu);
+  o.notch_length_m = 150.5 * kPx;
+  return o;
+}
+
 // A rigid rotation of the whole field (a specimen turning in its grips)
 // enters the small-strain gradient as the equibiaxial strain
 // -(1 - cos theta): an LEFM field turned by 1 degree read J_ff 31.5 J/m^2
@@ -27,10 +37,7 @@ using namespace test_fields;
 TEST(FrameJ, ARigidRotationOfTheFieldLeavesJUnchanged) {
   const ModeICrackField m = LefmField();
   const CrackGeometry crack = CrackOf(m.tip_x, m.tip_y, 1, 0);
-  FrameJOptions o;
-  o.enabled = true;
-  o.elastic = ElasticConstants::Isotropic(kE, kNu);
-  o.notch_length_m = 150.5 * kPx;  // the root at the tip (the line starts at x = -150)
+  const FrameJOptions o = RootAtTheTip();
   const double exact = JFromKOver2mu(m.k_over_2mu);
   double plain = 0, plain_fit = 0;
   for (double degrees : {0.0, 1.0, 3.0, 10.0}) {
@@ -67,10 +74,7 @@ TEST(FrameJ, ARigidRotationOfTheFieldLeavesJUnchanged) {
 TEST(FrameJ, AnApparentDilatationIsTakenOut) {
   const ModeICrackField m = LefmField();
   const CrackGeometry crack = CrackOf(m.tip_x, m.tip_y, 1, 0);
-  FrameJOptions o;
-  o.enabled = true;
-  o.elastic = ElasticConstants::Isotropic(kE, kNu);
-  o.notch_length_m = 150.5 * kPx;  // the root at the tip (the line starts at x = -150)
+  const FrameJOptions o = RootAtTheTip();
   const double exact = JFromKOver2mu(m.k_over_2mu);
   for (double e : {0.0, 1e-4, 1e-3}) {
     SCOPED_TRACE(e);
