@@ -55,7 +55,8 @@ nlohmann::json FrameJJson(const dic::FrameJ& j) {
        j.delta_star_ok ? NumberOrNull(j.delta_star_uncertainty) : nlohmann::json()},
       {"delta_star_method", dic::DeltaStarMethodName(j.delta_star_method)},
       {"root_distance_m", j.root_distance_m},
-      {"rigid_rotation_deg", j.rigid_rotation_rad * 180.0 / std::numbers::pi}};
+      {"rigid_rotation_deg", j.rigid_rotation_rad * 180.0 / std::numbers::pi},
+      {"resampled", j.resampled}};
   if (!j.why.empty()) out["why"] = j.why;
   const bool fit_ok = j.fit.status == dic::FieldFitJStatus::kOk;
   out["field_fit"] = {

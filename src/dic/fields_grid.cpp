@@ -6,6 +6,8 @@
 #include <limits>
 #include <vector>
 
+#include <Eigen/Dense>
+
 #include "bridgefit/dic/fields.hpp"
 
 namespace bridgefit::dic {
@@ -75,6 +77,101 @@ bool ArrangeAsGrid(DisplacementField* f) {
   }
   *f = std::move(g);
   return true;
+}
+
+double FieldSpacing(const DisplacementField& f) {
+  const double nearest = PointSpacing(f);
+  if (f.ny > 1 || !(nearest > 0)) return nearest;
+  // The area the valid points cover: occupied cells of two nearest spacings.
+  const double cell = 2 * nearest;
+  double x0 = INFINITY, y0 = INFINITY;
+  std::size_t valid = 0;
+  for (std::size_t i = 0; i < f.size(); ++i)
+    if (f.ok(i)) {
+      x0 = std::min(x0, f.x[i]);
+      y0 = std::min(y0, f.y[i]);
+      ++valid;
+    }
+  std::vector<std::pair<long long, long long>> cells;
+  cells.reserve(valid);
+  for (std::size_t i = 0; i < f.size(); ++i)
+    if (f.ok(i))
+      cells.push_back({static_cast<long long>(std::floor((f.x[i] - x0) / cell)),
+                       static_cast<long long>(std::floor((f.y[i] - y0) / cell))});
+  std::sort(cells.begin(), cells.end());
+  const double occupied =
+      static_cast<double>(std::unique(cells.begin(), cells.end()) - cells.begin());
+  return std::max(nearest, std::sqrt(occupied * cell * cell / static_cast<double>(valid)));
+}
+
+DisplacementField ResampleOntoGrid(const DisplacementField& f, double spacing) {
+  DisplacementField g;
+  double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+  std::size_t valid = 0;
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    if (!f.ok(i)) continue;
+    x0 = std::min(x0, f.x[i]);
+    x1 = std::max(x1, f.x[i]);
+    y0 = std::min(y0, f.y[i]);
+    y1 = std::max(y1, f.y[i]);
+    ++valid;
+  }
+  if (valid < 9 || !(spacing > 0) || !std::isfinite(x1 - x0) || !std::isfinite(y1 - y0)) return g;
+  const double cols = std::floor((x1 - x0) / spacing) + 1, rows = std::floor((y1 - y0) / spacing) + 1;
+  if (cols < 3 || rows < 3 || cols * rows > 4.0 * static_cast<double>(valid)) return g;
+  const int nx = static_cast<int>(cols), ny = static_cast<int>(rows);
+  // Buckets of one spacing; a node reads the valid points within 1.5
+  // spacings (5 x 5 buckets about its own).
+  std::vector<std::vector<std::size_t>> bucket(static_cast<std::size_t>(nx) * ny);
+  auto cell = [&](double v, double lo, int n) {
+    return std::clamp(static_cast<int>(std::floor((v - lo) / spacing + 0.5)), 0, n - 1);
+  };
+  for (std::size_t i = 0; i < f.size(); ++i)
+    if (f.ok(i))
+      bucket[static_cast<std::size_t>(cell(f.y[i], y0, ny)) * nx + cell(f.x[i], x0, nx)].push_back(i);
+  const double reach = 1.5 * spacing;
+  g.nx = nx;
+  g.ny = ny;
+  const std::size_t n = bucket.size();
+  for (auto* a : {&g.x, &g.y, &g.u, &g.v, &g.dudx, &g.dudy, &g.dvdx, &g.dvdy, &g.zncc})
+    a->assign(n, 0.0);
+  g.iterations.assign(n, 0);
+  g.status.assign(n, PointStatus::kMasked);
+  for (int iy = 0; iy < ny; ++iy)
+    for (int ix = 0; ix < nx; ++ix) {
+      const std::size_t c = static_cast<std::size_t>(iy) * nx + ix;
+      const double X = x0 + ix * spacing, Y = y0 + iy * spacing;
+      g.x[c] = X;
+      g.y[c] = Y;
+      // Weighted local plane u = a + b dx + c dy (and v) through the points
+      // within reach, weights 1 - (d / reach)^2; the node must lie among
+      // them (points on at least three sides), else it is not read.
+      Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
+      Eigen::Vector3d bu = Eigen::Vector3d::Zero(), bv = Eigen::Vector3d::Zero();
+      int sides = 0, count = 0;
+      for (int by = std::max(0, iy - 2); by <= std::min(ny - 1, iy + 2); ++by)
+        for (int bx = std::max(0, ix - 2); bx <= std::min(nx - 1, ix + 2); ++bx)
+          for (std::size_t i : bucket[static_cast<std::size_t>(by) * nx + bx]) {
+            const double dx = f.x[i] - X, dy = f.y[i] - Y, d = std::hypot(dx, dy);
+            if (d > reach) continue;
+            const double w = 1 - (d / reach) * (d / reach);
+            const Eigen::Vector3d row(1, dx / spacing, dy / spacing);
+            M += w * row * row.transpose();
+            bu += w * f.u[i] * row;
+            bv += w * f.v[i] * row;
+            sides |= (dx > 0.1 * spacing ? 1 : 0) | (dx < -0.1 * spacing ? 2 : 0) |
+                     (dy > 0.1 * spacing ? 4 : 0) | (dy < -0.1 * spacing ? 8 : 0);
+            ++count;
+          }
+      if (count < 4 || __builtin_popcount(sides) < 3) continue;
+      const Eigen::LDLT<Eigen::Matrix3d> ldlt(M);
+      if (ldlt.info() != Eigen::Success || !(ldlt.rcond() > 1e-6)) continue;
+      g.u[c] = ldlt.solve(bu)(0);
+      g.v[c] = ldlt.solve(bv)(0);
+      g.zncc[c] = 1;
+      g.status[c] = PointStatus::kOk;
+    }
+  return g;
 }
 
 }  // namespace bridgefit::dic

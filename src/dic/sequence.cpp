@@ -118,7 +118,7 @@ namespace {
 void ApplyFieldSettings(const FieldFile& file, const std::string& name,
                         const FieldSettings& settings, CrackSequenceOptions* options) {
   if (settings.from_spacing) {
-    const double spacing = PointSpacing(file.field);
+    const double spacing = FieldSpacing(file.field);
     BF_CHECK_INPUT(spacing > 0, "cannot tell the point spacing (fewer than two valid points)",
                    {.file = name});
     SetFieldDefaults(spacing, settings.band > 0 ? settings.band : 1.5 * spacing, options);
@@ -240,10 +240,16 @@ void MeasureFrameJ(const DisplacementField& field, const CrackSequenceOptions& o
     return;
   }
   const CrackLine& L = r->line_used;
-  r->j = ComputeFrameJ(field, r->tip.tip.x_px, r->tip.tip.y_px, r->tip.tip.s_px, L.x1 - L.x0,
-                       L.y1 - L.y0, options.tip.band_half_width_px, options.scale_m_per_px,
-                       options.offset_m, options.j_integral,
+  // A scattered field (an export off a lattice: an Aramis 3D nodemap) is
+  // resampled onto one at its point spacing first.
+  const bool scattered = field.ny <= 1;
+  const DisplacementField resampled =
+      scattered ? ResampleOntoGrid(field, FieldSpacing(field)) : DisplacementField{};
+  r->j = ComputeFrameJ(scattered ? resampled : field, r->tip.tip.x_px, r->tip.tip.y_px,
+                       r->tip.tip.s_px, L.x1 - L.x0, L.y1 - L.y0, options.tip.band_half_width_px,
+                       options.scale_m_per_px, options.offset_m, options.j_integral,
                        r->uncertainty_m / options.scale_m_per_px);
+  r->j.resampled = scattered && resampled.nx >= 3;
 }
 
 void MakeMonotone(std::vector<FrameResult>* frames) {

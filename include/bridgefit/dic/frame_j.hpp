@@ -95,6 +95,9 @@ struct FrameJ {
   // The field's rigid rotation taken out before the integral (radians,
   // counter-clockwise in the field's axes; 0 where below 1 - cos = 1e-7).
   double rigid_rotation_rad = 0;
+  // The field was a scattered list, resampled onto a lattice for J
+  // (dic::ResampleOntoGrid).
+  bool resampled = false;
   bool delta_star_ok = false;
   std::string delta_star_why;     // when !delta_star_ok
   double delta_star = 0;          // opening at the notch root [m] (0 unless ok)
