@@ -122,6 +122,10 @@ void ApplyFieldSettings(const FieldFile& file, const std::string& name,
     BF_CHECK_INPUT(spacing > 0, "cannot tell the point spacing (fewer than two valid points)",
                    {.file = name});
     SetFieldDefaults(spacing, settings.band > 0 ? settings.band : 1.5 * spacing, options);
+    // Scattered points: a station's window holds fewer of them than a
+    // lattice's 3 x 3 (jittered by 0.2 step, 2-5 a side where 4 are
+    // needed): one more spacing of depth.
+    if (file.field.ny <= 1) options->tip.side_depth_px += spacing;
   }
   if (settings.fit_radius > 0)
     options->tip.fit_radius_px = options->tip.sqrt_window_px = settings.fit_radius;
