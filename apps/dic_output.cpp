@@ -122,6 +122,7 @@ void PrintDicResult(const dic::CrackSequenceResult& result, const dic::CrackSequ
           {"williams_closing_shift_small_px",
            f.tip.williams.found ? NumberOrNull(f.tip.williams_closing_shift_small_px)
                                 : nlohmann::json()},
+          {"rigid_rotation_deg", f.rigid_rotation_rad * 180.0 / std::numbers::pi},
           {"williams_rotation_deg", f.tip.williams.found
                                         ? NumberOrNull(f.tip.williams_rotation_rad * 180.0 / std::numbers::pi)
                                         : nlohmann::json()},

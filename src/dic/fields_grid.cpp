@@ -174,4 +174,39 @@ DisplacementField ResampleOntoGrid(const DisplacementField& f, double spacing) {
   return g;
 }
 
+DisplacementField WithoutRigidRotation(const DisplacementField& field, double* theta) {
+  *theta = 0;
+  double n = 0, x0 = 0, y0 = 0, X0 = 0, Y0 = 0;
+  for (std::size_t i = 0; i < field.size(); ++i) {
+    if (!field.ok(i)) continue;
+    n += 1;
+    x0 += field.x[i];
+    y0 += field.y[i];
+    X0 += field.x[i] + field.u[i];
+    Y0 += field.y[i] + field.v[i];
+  }
+  if (n < 3) return field;
+  x0 /= n, y0 /= n, X0 /= n, Y0 /= n;
+  double dot = 0, cross = 0;
+  for (std::size_t i = 0; i < field.size(); ++i) {
+    if (!field.ok(i)) continue;
+    const double px = field.x[i] - x0, py = field.y[i] - y0;
+    const double qx = field.x[i] + field.u[i] - X0, qy = field.y[i] + field.v[i] - Y0;
+    dot += px * qx + py * qy;
+    cross += px * qy - py * qx;
+  }
+  const double t = std::atan2(cross, dot);
+  if (!std::isfinite(t) || 1.0 - std::cos(t) < 1e-7) return field;
+  *theta = t;
+  const double c = std::cos(t), s = std::sin(t);
+  DisplacementField f = field;
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    if (!f.ok(i)) continue;
+    const double qx = f.x[i] + f.u[i] - X0, qy = f.y[i] + f.v[i] - Y0;
+    f.u[i] = X0 + c * qx + s * qy - f.x[i];
+    f.v[i] = Y0 - s * qx + c * qy - f.y[i];
+  }
+  return f;
+}
+
 }  // namespace bridgefit::dic

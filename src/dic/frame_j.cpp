@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "bridgefit/core/error.hpp"
+#include "bridgefit/dic/fields.hpp"
 
 namespace bridgefit::dic {
 
@@ -101,52 +102,6 @@ void NearTipDeltaStar(double root_m, double u_root_m, const FrameJOptions& optio
       std::sqrt(spread * spread + std::pow(0.5 * d * u_J / J, 2) +
                 std::pow(kNearTipModelRelative * d, 2));
   out->delta_star_method = root_m > 0 ? DeltaStarMethod::kNearTip : DeltaStarMethod::kAtRoot;
-}
-
-// The field with its rigid rotation taken out exactly: the small-strain
-// gradient of a rotation theta reads as the equibiaxial strain
-// -(1 - cos theta), which is no part of the crack (an LEFM field turned by
-// 1 degree: J_ff 31.5 J/m^2 for 200, status ok; 3 degrees: -1364). The
-// rotation is the similarity fit's (the deformed positions of the valid
-// points against their reference positions, least squares): a mode I
-// field's own rotation, opposite on the two faces, adds at most its mean
-// over an unbalanced field, whose second-order part is negligible.
-// Unchanged where 1 - cos theta < kRotationStrainFloor.
-constexpr double kRotationStrainFloor = 1e-7;
-
-DisplacementField WithoutRigidRotation(const DisplacementField& field, double* theta) {
-  *theta = 0;
-  double n = 0, x0 = 0, y0 = 0, X0 = 0, Y0 = 0;
-  for (std::size_t i = 0; i < field.size(); ++i) {
-    if (!field.ok(i)) continue;
-    n += 1;
-    x0 += field.x[i];
-    y0 += field.y[i];
-    X0 += field.x[i] + field.u[i];
-    Y0 += field.y[i] + field.v[i];
-  }
-  if (n < 3) return field;
-  x0 /= n, y0 /= n, X0 /= n, Y0 /= n;
-  double dot = 0, cross = 0;
-  for (std::size_t i = 0; i < field.size(); ++i) {
-    if (!field.ok(i)) continue;
-    const double px = field.x[i] - x0, py = field.y[i] - y0;
-    const double qx = field.x[i] + field.u[i] - X0, qy = field.y[i] + field.v[i] - Y0;
-    dot += px * qx + py * qy;
-    cross += px * qy - py * qx;
-  }
-  const double t = std::atan2(cross, dot);
-  if (!std::isfinite(t) || 1.0 - std::cos(t) < kRotationStrainFloor) return field;
-  *theta = t;
-  const double c = std::cos(t), s = std::sin(t);
-  DisplacementField f = field;
-  for (std::size_t i = 0; i < f.size(); ++i) {
-    if (!f.ok(i)) continue;
-    const double qx = f.x[i] + f.u[i] - X0, qy = f.y[i] + f.v[i] - Y0;
-    f.u[i] = X0 + c * qx + s * qy - f.x[i];
-    f.v[i] = Y0 - s * qx + c * qy - f.y[i];
-  }
-  return f;
 }
 
 // The field with the crack band behind the tip (and one band width ahead)

@@ -207,8 +207,11 @@ CrackPathOptions PathOptionsFor(const CrackSequenceOptions& options, int width, 
   return p;
 }
 
-void LocateCrackInField(const DisplacementField& field, const CrackSequenceOptions& options,
+void LocateCrackInField(const DisplacementField& given, const CrackSequenceOptions& options,
                         const CrackPathOptions& path_opt, FrameResult* r) {
+  // The path, the openings and the tip fit read the field less its rigid
+  // rotation (fields.hpp, WithoutRigidRotation).
+  const DisplacementField field = WithoutRigidRotation(given, &r->rigid_rotation_rad);
   CrackTipOptions tip_opt = options.tip;
   bool have_line = options.has_line;
   if (options.find_path) {

@@ -75,6 +75,9 @@ struct FrameResult {
   CorrelationSummary correlation;
   double valid_fraction = 0;
   FrameJ j;  // status kNotRequested unless options.j_integral.enabled
+  // The field's rigid rotation, taken out before locating (radians,
+  // counter-clockwise; 0 below 1 - cos = 1e-7: WithoutRigidRotation).
+  double rigid_rotation_rad = 0;
   DisplacementField field;  // only with keep_fields
 };
 
