@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <random>
 #include <gtest/gtest.h>
 
@@ -221,45 +222,61 @@ TEST(Fields, AnIrregularMeshGivesTheTipAndJ) {
   FieldFile f;
   f.unit = "mm";
   f.m_per_unit = 1e-3;
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<double> jitter(-0.3, 0.3);
-  for (int iy = -20; iy <= 20; ++iy)
-    for (int ix = -10; ix <= 80; ++ix) {
-      const double x = ix + jitter(rng), y = iy + jitter(rng);
-      double u, v;
-      m(x, y, &u, &v);
-      f.field.x.push_back(x);
-      f.field.y.push_back(y);
-      f.field.u.push_back(u);
-      f.field.v.push_back(v);
-      f.field.zncc.push_back(1);
-      f.field.iterations.push_back(0);
-      f.field.status.push_back(PointStatus::kOk);
-    }
-  f.field.nx = static_cast<int>(f.field.size());
-  f.field.ny = 1;
-  const fs::path file =
-      fs::temp_directory_path() / ("bf_fields_mesh_" + std::to_string(::getpid()) + ".csv");
-  WriteFieldFile(file, f, FieldFormat::kCsv);
-  const FieldFile back = ReadFieldFile(file);
-  EXPECT_EQ(back.field.ny, 1);  // no lattice
-  EXPECT_LT(PointSpacing(back.field), 0.9);
-  EXPECT_NEAR(FieldSpacing(back.field), 1.0, 0.05);
-  const CrackSequenceResult r = AnalyzeCrackFields({file}, KnownTipJOptions(E, nu, (tip + 10) * 1e-3));
-  ASSERT_EQ(r.frames.size(), 1u);
-  const FrameResult& fr = r.frames[0];
-  ASSERT_TRUE(fr.has_length);
-  EXPECT_EQ(fr.tip.method, TipMethod::kWilliams);
-  EXPECT_NEAR(fr.crack_length_raw_m * 1e3, tip + 10, 0.5);
-  EXPECT_TRUE(fr.j.resampled);
-  ASSERT_EQ(fr.j.status, FrameJStatus::kOk) << fr.j.why;
-  ASSERT_EQ(fr.j.fit.status, FieldFitJStatus::kOk) << fr.j.fit.why;
-  std::printf("irregular mesh: a %.3f mm (truth %.1f) +- %.3f, J_ff %.3f (fit %.3f) for %.3f J/m^2\n",
-              fr.crack_length_raw_m * 1e3, tip + 10, fr.uncertainty_m * 1e3, fr.j.J_ff, fr.j.fit.J,
-              j_exact);
-  EXPECT_NEAR(fr.j.J_ff / j_exact, 1.0, 0.02);
-  EXPECT_NEAR(fr.j.fit.J / j_exact, 1.0, 0.02);
-  fs::remove(file);
+  for (double degrees : {0.0, 3.0}) {
+    SCOPED_TRACE(degrees);
+    // Turned as a whole by `degrees` (deformed positions, about the origin):
+    // before the field's rotation was taken out for locating, 3 degrees
+    // scattered each path column's normal displacement by theta x its width
+    // and the path ran through the whole field: no tip.
+    const double c = std::cos(degrees * std::numbers::pi / 180);
+    const double sn = std::sin(degrees * std::numbers::pi / 180);
+    f.field = DisplacementField{};
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> jitter(-0.3, 0.3);
+    for (int iy = -20; iy <= 20; ++iy)
+      for (int ix = -10; ix <= 80; ++ix) {
+        const double x = ix + jitter(rng), y = iy + jitter(rng);
+        double u, v;
+        m(x, y, &u, &v);
+        const double X = x + u, Y = y + v;
+        u = c * X - sn * Y - x;
+        v = sn * X + c * Y - y;
+        f.field.x.push_back(x);
+        f.field.y.push_back(y);
+        f.field.u.push_back(u);
+        f.field.v.push_back(v);
+        f.field.zncc.push_back(1);
+        f.field.iterations.push_back(0);
+        f.field.status.push_back(PointStatus::kOk);
+      }
+    f.field.nx = static_cast<int>(f.field.size());
+    f.field.ny = 1;
+    const fs::path file =
+        fs::temp_directory_path() / ("bf_fields_mesh_" + std::to_string(::getpid()) + ".csv");
+    WriteFieldFile(file, f, FieldFormat::kCsv);
+    const FieldFile back = ReadFieldFile(file);
+    EXPECT_EQ(back.field.ny, 1);  // no lattice
+    EXPECT_LT(PointSpacing(back.field), 0.9);
+    EXPECT_NEAR(FieldSpacing(back.field), 1.0, 0.05);
+    const CrackSequenceResult r =
+        AnalyzeCrackFields({file}, KnownTipJOptions(E, nu, (tip + 10) * 1e-3));
+    ASSERT_EQ(r.frames.size(), 1u);
+    const FrameResult& fr = r.frames[0];
+    ASSERT_TRUE(fr.has_length);
+    EXPECT_EQ(fr.tip.method, TipMethod::kWilliams);
+    EXPECT_NEAR(fr.crack_length_raw_m * 1e3, tip + 10, 0.5);
+    EXPECT_TRUE(fr.j.resampled);
+    ASSERT_EQ(fr.j.status, FrameJStatus::kOk) << fr.j.why;
+    ASSERT_EQ(fr.j.fit.status, FieldFitJStatus::kOk) << fr.j.fit.why;
+    std::printf("irregular mesh turned %.0f deg: a %.3f mm (truth %.1f) +- %.3f, J_ff %.3f "
+                "(fit %.3f) for %.3f J/m^2\n",
+                degrees, fr.crack_length_raw_m * 1e3, tip + 10, fr.uncertainty_m * 1e3, fr.j.J_ff,
+                fr.j.fit.J, j_exact);
+    EXPECT_NEAR(fr.j.J_ff / j_exact, 1.0, 0.02);
+    EXPECT_NEAR(fr.j.fit.J / j_exact, 1.0, 0.02);
+    EXPECT_NEAR(fr.rigid_rotation_rad * 180 / std::numbers::pi, degrees, 0.01);
+    fs::remove(file);
+  }
 }
 
 // The message names the file and, where there is one, the column.
