@@ -94,10 +94,12 @@ double FieldSpacing(const DisplacementField& f) {
     }
   std::vector<std::pair<long long, long long>> cells;
   cells.reserve(valid);
-  for (std::size_t i = 0; i < f.size(); ++i)
-    if (f.ok(i))
-      cells.push_back({static_cast<long long>(std::floor((f.x[i] - x0) / cell)),
-                       static_cast<long long>(std::floor((f.y[i] - y0) / cell))});
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    if (!f.ok(i)) continue;
+    const double cx = std::floor((f.x[i] - x0) / cell), cy = std::floor((f.y[i] - y0) / cell);
+    if (!(cx < 1e15 && cy < 1e15)) return nearest;  // a span no cell count holds
+    cells.push_back({static_cast<long long>(cx), static_cast<long long>(cy)});
+  }
   std::sort(cells.begin(), cells.end());
   const double occupied =
       static_cast<double>(std::unique(cells.begin(), cells.end()) - cells.begin());
@@ -123,8 +125,8 @@ DisplacementField ResampleOntoGrid(const DisplacementField& f, double spacing) {
   // Buckets of one spacing; a node reads the valid points within 1.5
   // spacings (5 x 5 buckets about its own).
   std::vector<std::vector<std::size_t>> bucket(static_cast<std::size_t>(nx) * ny);
-  auto cell = [&](double v, double lo, int n) {
-    return std::clamp(static_cast<int>(std::floor((v - lo) / spacing + 0.5)), 0, n - 1);
+  auto cell = [&](double v, double lo, int n) {  // clamped before the cast
+    return static_cast<int>(std::clamp(std::floor((v - lo) / spacing + 0.5), 0.0, n - 1.0));
   };
   for (std::size_t i = 0; i < f.size(); ++i)
     if (f.ok(i))
