@@ -89,20 +89,15 @@ int ResolveOnset(const FarFieldJSamples& data, const Samples& s, const LawFreeOp
   return onset;
 }
 
-// The fit at penalty_share_factor x its penalty (empty when off) and the
-// diagonal of its posterior covariance at the chosen fit's noise scale.
-struct LessSmoothedFit {
-  Eigen::VectorXd x, variance;
-};
-
 // sigma, its standard error and band on the grid from the fit; nodes past
 // `free_nodes` are fixed at zero. The standard error holds the penalty's
-// share (sigma's change at the smaller penalty, `less_smoothed`): where
-// the penalty bends the curve (a kink, a plateau's end, the range's end on
-// few degrees of freedom) the covariance alone left the band on the
-// penalty's curve. Adds the clipping / monotonicity notes.
+// share (sigma's change at the smaller penalty, `less`, less what that
+// fit's own extra noise explains): where the penalty bends the curve (a
+// kink, a plateau's end, the range's end on few degrees of freedom) the
+// covariance alone left the band on the penalty's curve. Adds the clipping
+// / monotonicity notes.
 void FillSigma(const Grid& grid, const PenalisedFit& fit, int offset, int free_nodes,
-               const LessSmoothedFit& less, const LawFreeOptions& options, LawFreeResult* r) {
+               const PenaltySolution& less, const LawFreeOptions& options, LawFreeResult* r) {
   int clipped = 0, significantly_negative = 0;
   for (size_t j = 0; j < grid.nodes.size(); ++j) {
     const bool free = static_cast<int>(j) < free_nodes;
@@ -226,17 +221,13 @@ std::pair<double, double> LargestRise(const Eigen::MatrixXd& rows, const Penalis
   return {a.dot(fit.x), StandardError(a, fit, less_smoothed)};
 }
 
-LessSmoothedFit LessSmoothed(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
+// The fit at penalty_share_factor x its penalty, with its posterior
+// variances at the chosen fit's noise scale (empty when off).
+PenaltySolution LessSmoothed(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
                              const Eigen::MatrixXd& P, const PenalisedFit& fit,
                              const LawFreeOptions& options) {
   if (!(options.penalty_share_factor > 0.0)) return {};
-  const Eigen::MatrixXd H = A.transpose() * A + options.penalty_share_factor * fit.lambda * P;
-  const Eigen::LDLT<Eigen::MatrixXd> ldlt(H);
-  LessSmoothedFit out;
-  out.x = ldlt.solve(A.transpose() * b);
-  out.variance = fit.noise_scale * fit.noise_scale *
-                 ldlt.solve(Eigen::MatrixXd::Identity(H.rows(), H.cols())).diagonal();
-  return out;
+  return SolveAtPenalty(A, b, P, options.penalty_share_factor * fit.lambda, fit.noise_scale);
 }
 
 double Seconds(std::chrono::steady_clock::time_point start) {
@@ -317,7 +308,7 @@ LawFreeResult LawFromFarFieldJ(const FarFieldJSamples& data, const LawFreeOption
     fit = SolvePenalised(A, b, P, options.penalty_rule, options.gcv_gamma);
   }
 
-  const LessSmoothedFit less = LessSmoothed(A, b, P, fit, options);
+  const PenaltySolution less = LessSmoothed(A, b, P, fit, options);
   r.J_tip_c = fit.x[0];
   r.J_tip_c_standard_error = JTipStandardError(fit, less.x);
   FillSigma(grid, fit, 1, m, less, options, &r);
@@ -368,7 +359,7 @@ LawFreeResult LawFromRCurve(const RCurveSamples& data, const LawFreeOptions& opt
   P.bottomRightCorner(free_nodes, free_nodes) = D.transpose() * D;
   const PenalisedFit fit = SolvePenalised(A, b, P, options.penalty_rule, options.gcv_gamma);
 
-  const LessSmoothedFit less = LessSmoothed(A, b, P, fit, options);
+  const PenaltySolution less = LessSmoothed(A, b, P, fit, options);
   r.J_tip_c = r.J_tip_c_given ? *data.J_tip_c : fit.x[0];
   r.J_tip_c_standard_error = r.J_tip_c_given ? 0.0 : JTipStandardError(fit, less.x);
   FillSigma(grid, fit, offset, free_nodes, less, options, &r);

@@ -283,9 +283,15 @@ PenalisedFit SolvePenalised(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
   return best;
 }
 
-Eigen::VectorXd SolveAtPenalty(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
-                               const Eigen::MatrixXd& P, double lambda) {
-  return (A.transpose() * A + lambda * P).ldlt().solve(A.transpose() * b);
+PenaltySolution SolveAtPenalty(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
+                               const Eigen::MatrixXd& P, double lambda, double noise_scale) {
+  const Eigen::MatrixXd H = A.transpose() * A + lambda * P;
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(H);
+  PenaltySolution out;
+  out.x = ldlt.solve(A.transpose() * b);
+  out.variance = noise_scale * noise_scale *
+                 ldlt.solve(Eigen::MatrixXd::Identity(H.rows(), H.cols())).diagonal();
+  return out;
 }
 
 Plateau FindPlateau(const Samples& s, int first, const LawFreeOptions& options) {

@@ -51,9 +51,14 @@ struct PenalisedFit {
 };
 PenalisedFit SolvePenalised(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
                             const Eigen::MatrixXd& P, PenaltyRule rule, double gcv_gamma);
-// The solution at a given penalty lambda (the same rows; no penalty choice).
-Eigen::VectorXd SolveAtPenalty(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
-                               const Eigen::MatrixXd& P, double lambda);
+// The solution at a given penalty lambda (the same rows; no penalty choice)
+// and the diagonal of its posterior covariance s^2 (A^T A + lambda P)^-1 at
+// the noise scale s given (a chosen fit's).
+struct PenaltySolution {
+  Eigen::VectorXd x, variance;
+};
+PenaltySolution SolveAtPenalty(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
+                               const Eigen::MatrixXd& P, double lambda, double noise_scale);
 
 // A tail of samples [start, end) flat within its noise (see law_free.hpp).
 struct Plateau {
