@@ -79,45 +79,42 @@ bool ArrangeAsGrid(DisplacementField* f) {
   return true;
 }
 
+FieldExtent ValidExtent(const DisplacementField& f) {
+  FieldExtent e;
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    if (!f.ok(i)) continue;
+    e.x0 = std::min(e.x0, f.x[i]);
+    e.x1 = std::max(e.x1, f.x[i]);
+    e.y0 = std::min(e.y0, f.y[i]);
+    e.y1 = std::max(e.y1, f.y[i]);
+    ++e.valid;
+  }
+  return e;
+}
+
 double FieldSpacing(const DisplacementField& f) {
   const double nearest = PointSpacing(f);
   if (f.ny > 1 || !(nearest > 0)) return nearest;
   // The area the valid points cover: occupied cells of two nearest spacings.
   const double cell = 2 * nearest;
-  double x0 = INFINITY, y0 = INFINITY;
-  std::size_t valid = 0;
-  for (std::size_t i = 0; i < f.size(); ++i)
-    if (f.ok(i)) {
-      x0 = std::min(x0, f.x[i]);
-      y0 = std::min(y0, f.y[i]);
-      ++valid;
-    }
+  const FieldExtent e = ValidExtent(f);
   std::vector<std::pair<long long, long long>> cells;
-  cells.reserve(valid);
+  cells.reserve(e.valid);
   for (std::size_t i = 0; i < f.size(); ++i) {
     if (!f.ok(i)) continue;
-    const double cx = std::floor((f.x[i] - x0) / cell), cy = std::floor((f.y[i] - y0) / cell);
+    const double cx = std::floor((f.x[i] - e.x0) / cell), cy = std::floor((f.y[i] - e.y0) / cell);
     if (!(cx < 1e15 && cy < 1e15)) return nearest;  // a span no cell count holds
     cells.push_back({static_cast<long long>(cx), static_cast<long long>(cy)});
   }
   std::sort(cells.begin(), cells.end());
   const double occupied =
       static_cast<double>(std::unique(cells.begin(), cells.end()) - cells.begin());
-  return std::max(nearest, std::sqrt(occupied * cell * cell / static_cast<double>(valid)));
+  return std::max(nearest, std::sqrt(occupied * cell * cell / static_cast<double>(e.valid)));
 }
 
 DisplacementField ResampleOntoGrid(const DisplacementField& f, double spacing) {
   DisplacementField g;
-  double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
-  std::size_t valid = 0;
-  for (std::size_t i = 0; i < f.size(); ++i) {
-    if (!f.ok(i)) continue;
-    x0 = std::min(x0, f.x[i]);
-    x1 = std::max(x1, f.x[i]);
-    y0 = std::min(y0, f.y[i]);
-    y1 = std::max(y1, f.y[i]);
-    ++valid;
-  }
+  const auto [x0, x1, y0, y1, valid] = ValidExtent(f);
   if (valid < 9 || !(spacing > 0) || !std::isfinite(x1 - x0) || !std::isfinite(y1 - y0)) return g;
   const double cols = std::floor((x1 - x0) / spacing) + 1, rows = std::floor((y1 - y0) / spacing) + 1;
   if (cols < 3 || rows < 3 || cols * rows > 4.0 * static_cast<double>(valid)) return g;

@@ -422,13 +422,9 @@ double PointSpacing(const DisplacementField& f) {
                         [&f](size_t a, size_t b) { return f.x[a] == f.x[b] && f.y[a] == f.y[b]; }),
             idx.end());
   if (idx.size() < 2) return 0;
-  double xmin = 1e300, xmax = -1e300, ymin = 1e300, ymax = -1e300;
-  for (size_t i : idx) {
-    xmin = std::min(xmin, f.x[i]);
-    xmax = std::max(xmax, f.x[i]);
-    ymin = std::min(ymin, f.y[i]);
-    ymax = std::max(ymax, f.y[i]);
-  }
+  // The valid points' box (their repeats left out above do not change it).
+  const FieldExtent box = ValidExtent(f);
+  const double xmin = box.x0, xmax = box.x1, ymin = box.y0, ymax = box.y1;
   // Buckets of about four points each; a field on one line (zero area) gets
   // at most 4n buckets along it. Coordinates whose span overflows have no
   // meaningful spacing.

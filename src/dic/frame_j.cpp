@@ -150,15 +150,8 @@ FrameJ ComputeFrameJ(const DisplacementField& field, double tip_x_px, double tip
   // half the zone plus the margin to the valid points' bounding box.
   const double half = 0.5 * root_px / step;
   const double cx = tip_x_px - c * 0.5 * root_px, cy = tip_y_px - s * 0.5 * root_px;
-  double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
-  for (std::size_t i = 0; i < field.size(); ++i) {
-    if (!field.ok(i)) continue;
-    x0 = std::min(x0, field.x[i]);
-    x1 = std::max(x1, field.x[i]);
-    y0 = std::min(y0, field.y[i]);
-    y1 = std::max(y1, field.y[i]);
-  }
-  const double reach = std::min({cx - x0, x1 - cx, cy - y0, y1 - cy}) / step - 1;
+  const FieldExtent box = ValidExtent(field);
+  const double reach = std::min({cx - box.x0, box.x1 - cx, cy - box.y0, box.y1 - cy}) / step - 1;
   const double r_in0 = half + std::max(options.margin_points, band_half_width_px / step + 1);
   const int n = options.far_field_domains;
   const double room = std::max(reach - r_in0, 4.0);  // too little: the domains leave the field
@@ -186,20 +179,21 @@ FrameJ ComputeFrameJ(const DisplacementField& field, double tip_x_px, double tip
       band_half_width_px);
   // The field-wide fit first: a uniform dilatation it shows (stress-free,
   // FieldFitJResult::dilatation) is taken out of the field the domains read.
-  DisplacementField domains_field = banded;
-  if (options.field_fit) {
+  if (options.field_fit)
     out.fit = FitFarFieldJ(banded, cx, cy, c, s, (r_in0 + options.fit_margin_points) * step,
                            options.elastic, scale_m_per_px, options.fit);
-    if (out.fit.dilatation_removed) {
-      for (std::size_t i = 0; i < domains_field.size(); ++i) {
-        domains_field.u[i] -= out.fit.dilatation * (domains_field.x[i] - cx);
-        domains_field.v[i] -= out.fit.dilatation * (domains_field.y[i] - cy);
-      }
+  DisplacementField undilated;
+  if (out.fit.dilatation_removed) {
+    undilated = banded;
+    for (std::size_t i = 0; i < undilated.size(); ++i) {
+      undilated.u[i] -= out.fit.dilatation * (undilated.x[i] - cx);
+      undilated.v[i] -= out.fit.dilatation * (undilated.y[i] - cy);
     }
   }
   JIntegralResult r;
   try {
-    r = ComputeJIntegral(domains_field, crack, options.elastic, jo);
+    r = ComputeJIntegral(out.fit.dilatation_removed ? undilated : banded, crack, options.elastic,
+                         jo);
   } catch (const Error& e) {
     if (e.kind() == ErrorKind::kUsage) throw;
     out.status = FrameJStatus::kNoFarFieldDomain;

@@ -27,6 +27,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <cmath>
 #include <vector>
 
 #include "bridgefit/dic/correlation.hpp"
@@ -150,6 +151,14 @@ std::vector<std::filesystem::path> ExpandFieldArguments(const std::vector<std::s
 // than a quarter of the nodes present) is left as it is. The readers call it:
 // the J integral and the tip fit's continuum test need grid neighbours.
 bool ArrangeAsGrid(DisplacementField* field);
+
+// The bounding box of a field's valid points and their count (the box
+// inverted, x0 = +inf, where none is valid).
+struct FieldExtent {
+  double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+  std::size_t valid = 0;
+};
+FieldExtent ValidExtent(const DisplacementField& field);
 
 // The field with its rigid rotation taken out exactly (deformed positions
 // turned back about their centroid; *theta the rotation, radians,
