@@ -94,6 +94,7 @@ void SetGridDefaults(int subset_px, int step_px, CrackSequenceOptions* o) {
   o->path.hint_tolerance_px = std::max(2.0, 0.5 * step_px + 1.0);
   o->path.curved_rms_px = o->path.hint_tolerance_px;
   o->path.error_correlation_px = subset_px;  // overlapping subsets share speckle
+  o->tip.noise_correlation_px = subset_px;
 }
 
 void SetFieldDefaults(double spacing, double band, CrackSequenceOptions* o) {
@@ -108,6 +109,7 @@ void SetFieldDefaults(double spacing, double band, CrackSequenceOptions* o) {
   o->path.hint_tolerance_px = 1.5 * spacing;
   o->path.curved_rms_px = 1.5 * spacing;
   o->path.error_correlation_px = 2 * band;  // band: half the subset of a DIC export
+  o->tip.noise_correlation_px = 2 * band;
   o->path.search_half_width_px = std::max(o->path.search_half_width_px, 8.0 * spacing);
 }
 

@@ -33,6 +33,12 @@ struct CrackTipOptions {
   double side_depth_px = 15;        // normal extent of the point rows used per side
   double threshold_floor_px = 0.02; // physical floor of the jump threshold
   double noise_factor = 5;          // threshold = max(floor, factor * noise of the jump)
+  // Length over which the field's errors are correlated (overlapping
+  // subsets share speckle: a subset): the opening's noise is read again from
+  // differences of stations that far apart over the ligament ahead of the
+  // opened run, and raises the threshold where it exceeds the neighbours'
+  // reading. 0: neighbours only.
+  double noise_correlation_px = 0;
   int mode1_terms = 4;              // Williams mode I terms n = 1..N
   int mode2_terms = 2;              // Williams mode II terms n = 1, 3, ..
   double kappa = (3.0 - 0.3) / 1.3; // Kolosov constant (plane stress, nu = 0.3)
