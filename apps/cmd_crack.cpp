@@ -32,6 +32,9 @@ class CrackCommand final : public Command {
                    "Expected crack x0,y0,x1,y1 in the fields' coordinates (a hint for the path "
                    "found from the data)");
     sub.add_flag("--fixed-line", fixed_line_, "Take --crack-line as the crack (no path search)");
+    sub.add_flag("--own-paths", own_paths_,
+                 "Each frame's length along its own path (default: frames whose own path is not "
+                 "resolved take the path of the frame with the most evidence)");
     sub.add_option("--scale", scale_, "For fields in px: e.g. '0.05mm/px'");
     sub.add_option("--band", band_,
                    "Half width around the crack whose points are ignored, in the fields' unit "
@@ -58,6 +61,7 @@ class CrackCommand final : public Command {
     opt.offset_m = ParseQuantity(offset_, Dimension::Length());
     opt.has_line = !crack_line_.empty();
     opt.find_path = !fixed_line_;
+    opt.sequence_path = !own_paths_;
     if (fixed_line_ && !opt.has_line)
       throw Error(ErrorKind::kUsage, "--fixed-line needs --crack-line", {.field = "--fixed-line"});
     if (opt.has_line) {
@@ -86,7 +90,7 @@ class CrackCommand final : public Command {
   std::vector<std::string> files_;
   std::string crack_line_, scale_, tip_method_, threshold_, offset_, out_, csv_;
   double band_ = 0, fit_radius_ = 0;
-  bool fixed_line_ = false;
+  bool fixed_line_ = false, own_paths_ = false;
   JIntegralFlags j_integral_;  // --scene, --j-integral
 };
 

@@ -56,6 +56,9 @@ class DicCommand final : public Command {
                    "edge on the notch side");
     sub.add_flag("--fixed-line", fixed_line_,
                  "Take --crack-line as the crack itself (no path search; crack band on the line)");
+    sub.add_flag("--own-paths", own_paths_,
+                 "Each frame's length along its own path (default: frames whose own path is not "
+                 "resolved take the path of the frame with the most evidence)");
     sub.add_option("--path-search", path_search_,
                    "Path search half width across the given line, px")
         ->default_val(40);
@@ -117,6 +120,7 @@ class DicCommand final : public Command {
     settings.scale_m_per_px = m_per_px;
     settings.offset_m = ParseQuantity(offset_, Dimension::Length());
     settings.fixed_line = fixed_line_;
+    settings.own_paths = own_paths_;
     if (fixed_line_ && crack_line_.empty())
       throw Error(ErrorKind::kUsage, "--fixed-line needs --crack-line",
                   {.field = "--fixed-line", .expected = "--crack-line x0,y0,x1,y1"});
@@ -182,7 +186,7 @@ class DicCommand final : public Command {
   double min_zncc_ = 0.8, fit_radius_ = 0;
   double path_search_ = 40;
   bool full_field_ = false;
-  bool no_incremental_ = false, fields_ = false, fixed_line_ = false;
+  bool no_incremental_ = false, fields_ = false, fixed_line_ = false, own_paths_ = false;
   JIntegralFlags j_integral_;  // --scene, --j-integral
 };
 

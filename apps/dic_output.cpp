@@ -16,6 +16,9 @@ namespace {
 nlohmann::json PathJson(const dic::FrameResult& f) {
   const dic::CrackLine& L = f.line_used;
   nlohmann::json j = {{"found", f.path.found}, {"line_px", {L.x0, L.y0, L.x1, L.y1}}};
+  // line_px is the sequence's path where this frame's own (below) was not
+  // resolved: the frame (index in "frames") whose path it is.
+  j["from_frame"] = f.path_from_frame >= 0 ? nlohmann::json(f.path_from_frame) : nlohmann::json();
   if (f.path.found) {
     j["angle_deg"] = f.path.angle_deg;
     j["points"] = f.path.inliers;
@@ -145,6 +148,9 @@ void PrintDicResult(const dic::CrackSequenceResult& result, const dic::CrackSequ
     out["mean_correlated_points"] = result.mean_correlated_points;
     out["wall_s"] = result.wall_s;
     out["points_per_s"] = result.points_per_s;
+    out["sequence_path_frame"] =
+        result.sequence_path_frame >= 0 ? nlohmann::json(result.sequence_path_frame) : nlohmann::json();
+    out["fields_not_kept"] = result.fields_not_kept;
     // The *_px values are in the images' pixels, or for `crack` in the
     // fields' own coordinate unit (e.g. mm): said here, not guessed.
     out["length_unit"] = field_unit;

@@ -92,6 +92,19 @@ std::vector<char> BandTracker::Missing(const FrameResult& r) const {
   return need;
 }
 
+bool BandTracker::Lacks(const DisplacementField& field, const FrameResult& r) const {
+  if (!Enabled()) return false;
+  CrackBandReads reads;
+  reads.cod = !r.tip.cod.s_px.empty();
+  reads.cod_line = r.line_used;
+  reads.window = r.tip.williams_window;
+  r.line_used.FromLocal(r.tip.williams_centre_s_px, 0, &reads.window_x, &reads.window_y);
+  const std::vector<char> need = CrackBandPoints(c_->Grid(), o_, reads);
+  for (size_t i = 0; i < need.size(); ++i)
+    if (need[i] && usable_[i] && field.status[i] == PointStatus::kMasked) return true;
+  return false;
+}
+
 void BandTracker::Complete(DisplacementField* field, FrameResult* r) {
   if (!Enabled()) return;
   // Without a line and before a path: the whole field was correlated.

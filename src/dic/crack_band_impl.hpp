@@ -27,6 +27,9 @@ class BandTracker {
   // `field` and `r` of the frame just correlated and located; both are
   // replaced by the completed ones.
   void Complete(DisplacementField* field, FrameResult* r);
+  // Whether r's location (its COD windows and Williams window, no path
+  // scan) read points of `field` that were not correlated.
+  bool Lacks(const DisplacementField& field, const FrameResult& r) const;
 
  private:
   bool Enabled() const { return !o_.full_field && !o_.j_integral.enabled; }

@@ -10,6 +10,7 @@
 #include "bridgefit/core/units.hpp"
 #include "bridgefit/dic/fields.hpp"
 #include "crack_band_impl.hpp"
+#include "sequence_path_impl.hpp"
 
 namespace bridgefit::dic {
 
@@ -20,6 +21,10 @@ bool CrackSequenceOptions::IsValid(std::string* why) const {
   }
   if (!std::isfinite(offset_m)) {
     if (why) *why = "offset must be finite";
+    return false;
+  }
+  if (!(kept_fields_mb >= 0)) {
+    if (why) *why = "kept fields budget must be >= 0 MB";
     return false;
   }
   if (!has_line && !find_path) {
@@ -75,8 +80,17 @@ std::string CrackSequenceResult::BriefReport() const {
       mean_correlated_points > 0
           ? fmt::format(" ({:.0f} correlated on average)", mean_correlated_points)
           : "";
-  return fmt::format("{} frames, {} with a crack tip, {} grid points per frame{}, {:.2f} s, {:.0f} points/s",
-                     frames.size(), with_tip, points, correlated, wall_s, points_per_s);
+  size_t along = 0;
+  for (const FrameResult& f : frames) along += f.path_from_frame >= 0 ? 1 : 0;
+  std::string path;
+  if (along > 0)
+    path = fmt::format("; {} frame(s) located along frame {}'s path (their own not resolved)", along,
+                       sequence_path_frame);
+  if (fields_not_kept > 0)
+    path += fmt::format("; {} frame(s) kept their own reading (beyond the kept fields' budget)",
+                        fields_not_kept);
+  return fmt::format("{} frames, {} with a crack tip, {} grid points per frame{}, {:.2f} s, {:.0f} points/s{}",
+                     frames.size(), with_tip, points, correlated, wall_s, points_per_s, path);
 }
 
 void SetGridDefaults(int subset_px, int step_px, CrackSequenceOptions* o) {
@@ -159,6 +173,7 @@ CrackSequenceResult AnalyzeCrackFields(const std::vector<std::filesystem::path>&
   FieldFrames frames(files);
   FieldFile file;
   std::string name;
+  detail::KeptFields kept(options.kept_fields_mb);
   for (size_t k = 0; frames.Next(&file, &name); ++k) {
     if (k == 0) {
       unit = file.unit;
@@ -185,11 +200,16 @@ CrackSequenceResult AnalyzeCrackFields(const std::vector<std::filesystem::path>&
     } catch (const Error& e) {
       throw e.WithContext({.file = name});
     }
+    if (options.find_path && options.sequence_path) kept.Offer(k, file.field, r, path_opt);
     if (options.keep_fields) r.field = std::move(file.field);
     out.frames.push_back(std::move(r));
     progress.Update(std::min(k + 1, files.size()));
   }
   progress.Finish();
+  // Every file is a frame (no reference frame among them), all of it read.
+  detail::ApplySequencePath(
+      kept, options, path_opt, [](const DisplacementField&, const FrameResult&) { return false; }, 0,
+      &out);
   MakeMonotone(&out.frames);
   out.length_unit = unit;
   if (used) *used = options;
@@ -323,6 +343,7 @@ CrackSequenceResult AnalyzeCrackSequence(const std::vector<std::filesystem::path
   Progress progress("dic", images.size() - 1, options.show_progress);
   double solve_seconds = 0, solves = 0, correlated = 0;
   detail::BandTracker band(options, path_opt, correlator.get());
+  detail::KeptFields kept(options.kept_fields_mb);
   for (size_t k = 1; k < images.size(); ++k) {
     const Image frame = ReadImage(images[k]);
     if (frame.width != reference.width || frame.height != reference.height)
@@ -338,16 +359,25 @@ CrackSequenceResult AnalyzeCrackSequence(const std::vector<std::filesystem::path
     band.Complete(&field, &r);  // the points the location read and the band lacked
     // The crack as located here: its subsets leave the update test and are
     // lost if this frame becomes the reference (Correlator::SetLocatedCrack).
-    if (r.tip.tip.found) correlator->SetLocatedCrack(r.line_used, r.tip.tip.s_px);
+    // Only a path resolved to its resolution locates the crack: the band of
+    // a line off the crack (the line given where no path was found, or a
+    // path found on a few scattered points) would be lost at an update, and
+    // the next frames' paths found mid-gap of it (aldic, lines 18 px apart).
+    if (r.tip.tip.found && (!options.find_path || detail::PathResolved(r.path, path_opt)))
+      correlator->SetLocatedCrack(r.line_used, r.tip.tip.s_px);
     solve_seconds += r.correlation.wall_s;
     solves += static_cast<double>(r.correlation.solves);
     correlated += static_cast<double>(r.correlation.points);
     MeasureFrameJ(field, options, &r);
+    if (options.find_path && options.sequence_path) kept.Offer(k, field, r, path_opt);
     if (options.keep_fields) r.field = std::move(field);
     out.frames.push_back(std::move(r));
     progress.Update(k);
   }
   progress.Finish();
+  detail::ApplySequencePath(
+      kept, options, path_opt,
+      [&band](const DisplacementField& f, const FrameResult& r) { return band.Lacks(f, r); }, 1, &out);
   MakeMonotone(&out.frames);
   out.wall_s = watch.Seconds();
   out.points_per_s = solve_seconds > 0 ? solves / solve_seconds : 0;

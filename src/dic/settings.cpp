@@ -12,6 +12,7 @@ CrackSequenceOptions MakeSequenceOptions(const DicSettings& s) {
   opt.offset_m = s.offset_m;
   opt.has_line = s.crack_line.has_value();
   opt.find_path = !s.fixed_line;
+  opt.sequence_path = !s.own_paths;
   if (s.fixed_line && !opt.has_line)
     throw Error(ErrorKind::kUsage, "a fixed crack line needs the line",
                 {.field = "fixed_line", .expected = "the crack line x0,y0,x1,y1 in px"});

@@ -38,6 +38,13 @@ struct CrackSequenceOptions {
   // full_field): the far-field domains reach beyond the crack band.
   FrameJOptions j_integral;
   bool show_progress = true;  // on stderr
+  // find_path: after the last frame, frames without a path of their own,
+  // or whose own is not resolved and disagrees with the sequence's most
+  // precise path, are located again along that one (the path is a material
+  // line: src/dic/sequence_path_impl.hpp). Their fields are kept until
+  // then, at most kept_fields_mb; frames beyond it keep their own reading.
+  bool sequence_path = true;
+  double kept_fields_mb = 256;
 
   bool IsValid(std::string* why) const;
 };
@@ -78,6 +85,9 @@ struct FrameResult {
   // The field's rigid rotation, taken out before locating (radians,
   // counter-clockwise; 0 below 1 - cos = 1e-7: WithoutRigidRotation).
   double rigid_rotation_rad = 0;
+  // The frame whose path this frame's length is measured along (-1: its
+  // own path, or the line given); `path` stays this frame's own.
+  int path_from_frame = -1;
   DisplacementField field;  // only with keep_fields
 };
 
@@ -91,6 +101,10 @@ struct CrackSequenceResult {
   // Exported fields (AnalyzeCrackFields): the fields' coordinate unit ("px",
   // "mm", ...), in which the *_px members are.
   std::string length_unit = "px";
+  // The frame whose path is the sequence's (-1: none, or not sought), and
+  // the frames whose fields did not fit kept_fields_mb.
+  int sequence_path_frame = -1;
+  std::size_t fields_not_kept = 0;
   std::string BriefReport() const;
 };
 

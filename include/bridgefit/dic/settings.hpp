@@ -18,6 +18,7 @@ struct DicSettings {
   double offset_m = 0;                  // added to every crack length
   std::optional<CrackLine> crack_line;  // reference px, from the notch into the material
   bool fixed_line = false;              // the line is the crack (no path search)
+  bool own_paths = false;               // no sequence path (CrackSequenceOptions::sequence_path)
   int subset_px = 31;
   int step_px = 5;
   std::string tip_method = "williams";  // williams | jump | sqrt

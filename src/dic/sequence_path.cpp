@@ -1,0 +1,128 @@
+// The sequence's crack path and the frames located again along it
+// (sequence_path_impl.hpp).
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "sequence_path_impl.hpp"
+
+namespace bridgefit::dic::detail {
+
+double PathSe(const CrackPathResult& path) {
+  return path.found && path.line_se_px > 0 ? path.line_se_px
+                                           : std::numeric_limits<double>::infinity();
+}
+
+bool PathResolved(const CrackPathResult& path, const CrackPathOptions& o) {
+  return PathSe(path) <= 0.5 * o.hint_tolerance_px;
+}
+
+void KeptFields::Offer(std::size_t frame, const DisplacementField& field, const FrameResult& r,
+                       const CrackPathOptions& path_opt) {
+  if (PathResolved(r.path, path_opt)) return;
+  Kept k;
+  k.frame = frame;
+  k.nx = field.nx;
+  k.ny = field.ny;
+  // Frames of one grid (every image frame, an export's fixed mesh) share
+  // their positions.
+  const bool same_grid = !kept_.empty() && *kept_.back().x == field.x && *kept_.back().y == field.y;
+  double bytes = static_cast<double>(field.size()) * sizeof(PointStatus);
+  if (same_grid) {
+    k.x = kept_.back().x;
+    k.y = kept_.back().y;
+  } else {
+    bytes += 2.0 * static_cast<double>(field.size()) * sizeof(double);
+  }
+  for (std::size_t i = 0; i < field.size(); ++i)
+    if (field.status[i] != PointStatus::kMasked) bytes += 2 * sizeof(double) + sizeof(std::uint32_t);
+  if (used_bytes_ + bytes > budget_bytes_) {
+    ++dropped_;
+    return;
+  }
+  used_bytes_ += bytes;
+  if (!same_grid) {
+    k.x = std::make_shared<const std::vector<double>>(field.x);
+    k.y = std::make_shared<const std::vector<double>>(field.y);
+  }
+  k.status = field.status;
+  for (std::size_t i = 0; i < field.size(); ++i)
+    if (field.status[i] != PointStatus::kMasked) {
+      k.index.push_back(static_cast<std::uint32_t>(i));
+      k.u.push_back(field.u[i]);
+      k.v.push_back(field.v[i]);
+    }
+  kept_.push_back(std::move(k));
+}
+
+bool KeptFields::Has(std::size_t frame) const {
+  for (const Kept& k : kept_)
+    if (k.frame == frame) return true;
+  return false;
+}
+
+DisplacementField KeptFields::Restore(std::size_t frame) const {
+  DisplacementField f;
+  for (const Kept& k : kept_) {
+    if (k.frame != frame) continue;
+    f.nx = k.nx;
+    f.ny = k.ny;
+    f.x = *k.x;
+    f.y = *k.y;
+    f.status = k.status;
+    const std::size_t n = f.x.size();
+    f.u.assign(n, 0.0);
+    f.v.assign(n, 0.0);
+    for (std::size_t j = 0; j < k.index.size(); ++j) {
+      f.u[k.index[j]] = k.u[j];
+      f.v[k.index[j]] = k.v[j];
+    }
+    // What the location does not read, zero (gradients, ZNCC, iterations).
+    for (auto* a : {&f.dudx, &f.dudy, &f.dvdx, &f.dvdy, &f.zncc}) a->assign(n, 0.0);
+    f.iterations.assign(n, 0);
+  }
+  return f;
+}
+
+int SequencePathFrame(const std::vector<FrameResult>& frames) {
+  int best = -1;
+  double best_se = std::numeric_limits<double>::infinity(), best_score = 0;
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    const FrameResult& f = frames[k];
+    if (!f.path.found || f.path.curved || !f.has_length || f.LengthDoubtful()) continue;
+    double score = 0;
+    for (std::size_t i = 0; i < f.path.point_jump_px.size(); ++i)
+      if (i < f.path.inlier.size() && f.path.inlier[i]) score += f.path.point_jump_px[i];
+    const double se = PathSe(f.path);
+    if (se < best_se || (se == best_se && score > best_score)) {
+      best_se = se;
+      best_score = score;
+      best = static_cast<int>(k);
+    }
+  }
+  return best;
+}
+
+bool TakesSequencePath(const FrameResult& frame, const FrameResult& source,
+                       const CrackPathOptions& path_opt) {
+  if (!frame.path.found) return true;
+  if (PathResolved(frame.path, path_opt)) return false;
+  // The larger distance of the source's line from this frame's path at the
+  // ends of its cracked length, against twice their uncertainties there.
+  const CrackLine& own = frame.line_used;
+  const CrackLine& src = source.line_used;
+  const double sx = src.x1 - src.x0, sy = src.y1 - src.y0, slen = std::hypot(sx, sy);
+  const double ox = own.x1 - own.x0, oy = own.y1 - own.y0, olen = std::hypot(ox, oy);
+  if (!(slen > 0) || !(olen > 0)) return false;
+  double apart = 0;
+  for (double s : {0.0, frame.path.cracked_length_px}) {
+    const double x = own.x0 + s * ox / olen, y = own.y0 + s * oy / olen;
+    apart = std::max(apart, std::abs(-(x - src.x0) * sy + (y - src.y0) * sx) / slen);
+  }
+  const double tolerance =
+      2 * std::sqrt(std::pow(PathSe(frame.path), 2) + std::pow(PathSe(source.path), 2) +
+                    std::pow(0.5 * path_opt.hint_tolerance_px, 2));
+  return apart > tolerance;
+}
+
+}  // namespace bridgefit::dic::detail

@@ -1,0 +1,125 @@
+#pragma once
+// Private: the sequence's crack path (sequence.cpp, sequence_path.cpp).
+//
+// The crack path is a material line: in reference coordinates it does not
+// move from frame to frame, and a growing crack's early frames hold a part
+// of the path its later frames hold. Frames with a small opening resolve it
+// badly or not at all (no jump above the noise), and the length they read
+// along the line given then depends on that line. After the last frame the
+// most precise path found (the smallest standard error at its ends, then the
+// largest summed jump of its crack points; not curved, its frame's length
+// not in doubt) is the sequence's path, and every frame without a path of
+// its own, or whose own is not resolved and disagrees with it
+// (TakesSequencePath), is located again along it. Their fields are kept
+// until then, compactly (statuses, and the displacements of the points that
+// were correlated), within a memory budget; frames beyond it keep their own
+// reading.
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "bridgefit/dic/sequence.hpp"
+
+namespace bridgefit::dic::detail {
+
+// The standard error of a frame's path at its ends, +inf where it has none
+// (no fit of its own: too few points for one).
+double PathSe(const CrackPathResult& path);
+
+// True where a frame's own path is resolved to the path's resolution (half
+// the hint tolerance): such a frame never takes the sequence's path.
+bool PathResolved(const CrackPathResult& path, const CrackPathOptions& o);
+
+class KeptFields {
+ public:
+  explicit KeptFields(double budget_mb) : budget_bytes_(budget_mb * 1048576.0) {}
+  // Keeps frame k's field where its path is not resolved, budget allowing.
+  void Offer(std::size_t frame, const DisplacementField& field, const FrameResult& r,
+             const CrackPathOptions& path_opt);
+  bool Has(std::size_t frame) const;
+  DisplacementField Restore(std::size_t frame) const;
+  std::size_t Dropped() const { return dropped_; }
+
+ private:
+  struct Kept {
+    std::size_t frame;
+    int nx, ny;
+    std::shared_ptr<const std::vector<double>> x, y;
+    std::vector<PointStatus> status;
+    std::vector<std::uint32_t> index;  // points not masked
+    std::vector<double> u, v;          // at index
+  };
+  double budget_bytes_;
+  double used_bytes_ = 0;
+  std::size_t dropped_ = 0;
+  std::vector<Kept> kept_;
+};
+
+// The frame whose path is the sequence's (-1: none): the most precise.
+int SequencePathFrame(const std::vector<FrameResult>& frames);
+
+// A frame takes the sequence's path where it has none of its own, or where
+// its own is not resolved (its standard error above the path's resolution)
+// and lies further from the sequence's, at an end of its cracked length,
+// than twice their uncertainties there (the standard errors and the
+// resolution in quadrature): a few scattered points off the crack (aldic
+// 0120 at y = 582: 9 points, RMS 13.5 px, 36 px off the later frames').
+// An unresolved path that agrees keeps its frame's reading. (Taking every
+// unresolved frame onto the sequence's path moved the 4-frame aldic crop's
+// 0240 onto a path 7 px off its own, where no opening was left; the
+// sequence's own path is as good as its standard error, which on real
+// frames with failed subsets understates it.)
+bool TakesSequencePath(const FrameResult& frame, const FrameResult& source,
+                       const CrackPathOptions& path_opt);
+
+// Locates frame *r again in `field` along the source frame's path (no path
+// search), keeping its own path for the report; `lacks` (optional) says
+// whether the location read points that were not correlated (crack band).
+template <class Lacks>
+void RelocateAlongSequencePath(const DisplacementField& field, const CrackSequenceOptions& options,
+                               const CrackPathOptions& path_opt, int source,
+                               const FrameResult& source_frame, const Lacks& lacks, FrameResult* r) {
+  CrackSequenceOptions along = options;
+  along.find_path = false;
+  along.has_line = true;
+  along.tip.line = source_frame.line_used;
+  FrameResult again;
+  again.image = r->image;
+  again.correlation = r->correlation;
+  LocateCrackInField(field, along, path_opt, &again);
+  again.path = r->path;
+  again.path_from_frame = source;
+  again.path_disagrees_with_hint = source_frame.path_disagrees_with_hint;
+  // Points the location read that the crack band did not correlate (its
+  // band followed this frame's own reading): a tip there may be off.
+  again.tip_beyond_band = again.has_length && lacks(field, again);
+  again.flagged = !again.Flags().empty();
+  MeasureFrameJ(field, options, &again);
+  again.field = std::move(r->field);
+  *r = std::move(again);
+}
+
+// After the last frame: the frames from `first` on that take the sequence's
+// path, located again along it; out->sequence_path_frame and
+// fields_not_kept set.
+template <class Lacks>
+void ApplySequencePath(const KeptFields& kept, const CrackSequenceOptions& options,
+                       const CrackPathOptions& path_opt, const Lacks& lacks, std::size_t first,
+                       CrackSequenceResult* out) {
+  out->fields_not_kept = kept.Dropped();
+  if (!options.find_path || !options.sequence_path) return;
+  std::vector<FrameResult>& frames = out->frames;
+  const int source = SequencePathFrame(frames);
+  out->sequence_path_frame = source;
+  if (source < 0) return;
+  for (std::size_t k = first; k < frames.size(); ++k) {
+    if (static_cast<int>(k) == source || !kept.Has(k)) continue;
+    if (!TakesSequencePath(frames[k], frames[source], path_opt)) continue;
+    RelocateAlongSequencePath(kept.Restore(k), options, path_opt, source, frames[source], lacks,
+                              &frames[k]);
+  }
+}
+
+}  // namespace bridgefit::dic::detail
