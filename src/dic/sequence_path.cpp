@@ -105,7 +105,11 @@ int SequencePathFrame(const std::vector<FrameResult>& frames) {
 
 bool TakesSequencePath(const FrameResult& frame, const FrameResult& source,
                        const CrackPathOptions& path_opt) {
-  if (!frame.path.found) return true;
+  // No path, or (with a line given: only then is a standard error worked
+  // out) one whose line fit has none (too few independent points: aldic's
+  // full field put 5 such points 14-17 px off the crack, at an RMS of 10-15
+  // px, and read -1.5 px): no measurement of the line.
+  if (!frame.path.found || (path_opt.has_hint && !std::isfinite(PathSe(frame.path)))) return true;
   if (PathResolved(frame.path, path_opt)) return false;
   // The larger distance of the source's line from this frame's path at the
   // ends of its cracked length, against twice their uncertainties there.

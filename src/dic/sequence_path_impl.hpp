@@ -60,8 +60,9 @@ class KeptFields {
 // The frame whose path is the sequence's (-1: none): the most precise.
 int SequencePathFrame(const std::vector<FrameResult>& frames);
 
-// A frame takes the sequence's path where it has none of its own, or where
-// its own is not resolved (its standard error above the path's resolution)
+// A frame takes the sequence's path where it has none of its own (or one
+// without a standard error: too few points for one), or where its own is
+// not resolved (its standard error above the path's resolution)
 // and lies further from the sequence's, at an end of its cracked length,
 // than twice their uncertainties there (the standard errors and the
 // resolution in quadrature): a few scattered points off the crack (aldic
