@@ -58,6 +58,7 @@ std::string FrameResult::Flags() const {
   add(tip.williams_unstable, "williams_unstable");
   add(tip.williams_window_short, "williams_window_short");
   add(tip_beyond_band, "tip_beyond_band");
+  add(length_drop, "length_drop");
   return out;
 }
 
@@ -210,6 +211,7 @@ CrackSequenceResult AnalyzeCrackFields(const std::vector<std::filesystem::path>&
   detail::ApplySequencePath(
       kept, options, path_opt, [](const DisplacementField&, const FrameResult&) { return false; }, 0,
       &out);
+  FlagLengthDrops(&out.frames);
   MakeMonotone(&out.frames);
   out.length_unit = unit;
   if (used) *used = options;
@@ -279,6 +281,31 @@ void MeasureFrameJ(const DisplacementField& field, const CrackSequenceOptions& o
                        options.scale_m_per_px, options.offset_m, options.j_integral,
                        r->uncertainty_m / options.scale_m_per_px);
   r->j.resampled = scattered && resampled.nx >= 3;
+}
+
+void FlagLengthDrops(std::vector<FrameResult>* frames) {
+  std::vector<FrameResult>& f = *frames;
+  auto below = [&](size_t hi, size_t lo) {  // lo's length below hi's beyond 2 sigma
+    return f[hi].crack_length_raw_m - f[lo].crack_length_raw_m >
+           2 * std::hypot(f[hi].uncertainty_m, f[lo].uncertainty_m);
+  };
+  std::vector<size_t> drops;
+  for (size_t k = 0; k < f.size(); ++k) {
+    if (!f[k].has_length || f[k].LengthDoubtful()) continue;
+    bool drop = false;
+    // Evidence: any frame with a length, in doubt or not (a frame read too
+    // long before k is answered by the later frame that must match it).
+    for (size_t i = 0; i < k && !drop; ++i) {
+      if (!f[i].has_length || !below(i, k)) continue;
+      for (size_t j = k + 1; j < f.size() && !drop; ++j)
+        drop = f[j].has_length && below(j, k) && !below(i, j);
+    }
+    if (drop) drops.push_back(k);
+  }
+  for (size_t k : drops) {
+    f[k].length_drop = true;
+    f[k].flagged = true;
+  }
 }
 
 void MakeMonotone(std::vector<FrameResult>* frames) {
@@ -378,6 +405,7 @@ CrackSequenceResult AnalyzeCrackSequence(const std::vector<std::filesystem::path
   detail::ApplySequencePath(
       kept, options, path_opt,
       [&band](const DisplacementField& f, const FrameResult& r) { return band.Lacks(f, r); }, 1, &out);
+  FlagLengthDrops(&out.frames);
   MakeMonotone(&out.frames);
   out.wall_s = watch.Seconds();
   out.points_per_s = solve_seconds > 0 ? solves / solve_seconds : 0;

@@ -108,7 +108,7 @@ bool TakesSequencePath(const FrameResult& frame, const FrameResult& source,
   // No path, or (with a line given: only then is a standard error worked
   // out) one whose line fit has none (too few independent points: aldic's
   // full field put 5 such points 14-17 px off the crack, at an RMS of 10-15
-  // px, and read -1.5 px): no measurement of the line.
+  // px, and read -1.5 +- 63 px): no measurement of the line.
   if (!frame.path.found || (path_opt.has_hint && !std::isfinite(PathSe(frame.path)))) return true;
   if (PathResolved(frame.path, path_opt)) return false;
   // The larger distance of the source's line from this frame's path at the

@@ -263,5 +263,51 @@ TEST(CrackFlags, CorrelatedNoiseIsNoOpening) {
   EXPECT_LE(detected, 2);
 }
 
+// A crack does not heal: a length below an earlier frame's and a later
+// frame's, which agree, by more than twice their uncertainties is flagged
+// (a path off the crack reads a short crack: aldic's full field without ROI
+// read 0540 at 10.8 px between 47.6 and 49.0, but stated u = 48 px, and is
+// within it), and stays out of the monotone fit, which would pool its
+// neighbours down to it. A frame read too long is no evidence
+// against the frames after it: they are not flagged.
+TEST(CrackFlags, AnIsolatedDropIsFlaggedAndKeptOutOfTheMonotoneFit) {
+  auto frames_of = [](const std::vector<double>& px, double u_px) {
+    std::vector<FrameResult> frames(px.size());
+    for (std::size_t k = 0; k < px.size(); ++k) {
+      frames[k].has_length = true;
+      frames[k].crack_length_raw_m = px[k] * 1e-5;
+      frames[k].uncertainty_m = u_px * 1e-5;
+    }
+    return frames;
+  };
+  std::vector<FrameResult> drop = frames_of({43.7, 47.3, 47.2, 10.8, 48.2}, 0.5);
+  FlagLengthDrops(&drop);
+  for (std::size_t k = 0; k < drop.size(); ++k) EXPECT_EQ(drop[k].length_drop, k == 3) << "frame " << k;
+  EXPECT_TRUE(drop[3].LengthDoubtful());
+  EXPECT_NE(drop[3].Flags().find("length_drop"), std::string::npos);
+  MakeMonotone(&drop);
+  EXPECT_DOUBLE_EQ(drop[3].crack_length_m, drop[3].crack_length_raw_m);
+  EXPECT_NEAR(drop[4].crack_length_m, 48.2e-5, 1e-12) << "the drop pooled nothing";
+  // One too long (a noise-made tip, 116 px) before a growing crack: none of
+  // the later frames is flagged, nor is it (it is no drop).
+  std::vector<FrameResult> spike = frames_of({115.7, 37.6, 40.4, 43.4, 47.1, 49.1}, 0.5);
+  FlagLengthDrops(&spike);
+  for (const FrameResult& f : spike) EXPECT_FALSE(f.length_drop);
+  // A growing crack, and one growing in steps within its noise: none.
+  std::vector<FrameResult> growing = frames_of({30.1, 29.8, 33.0, 32.6, 36.2, 40.0}, 0.5);
+  FlagLengthDrops(&growing);
+  for (const FrameResult& f : growing) EXPECT_FALSE(f.length_drop);
+  // Frames in doubt count as evidence (aldic's 0480 and 0570 read
+  // methods_disagree around the drop); a frame in doubt already is not
+  // flagged again.
+  std::vector<FrameResult> doubtful = frames_of({47.3, 10.8, 12.0, 48.2, 11.0, 49.0}, 0.5);
+  doubtful[0].tip.methods_disagree = true;
+  doubtful[3].tip.methods_disagree = true;
+  doubtful[4].tip.tip_at_edge = true;
+  FlagLengthDrops(&doubtful);
+  for (std::size_t k = 0; k < doubtful.size(); ++k)
+    EXPECT_EQ(doubtful[k].length_drop, k == 1 || k == 2) << "frame " << k;
+}
+
 }  // namespace
 }  // namespace bridgefit::dic

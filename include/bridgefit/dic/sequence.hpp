@@ -64,6 +64,10 @@ struct FrameResult {
   // Crack band: some points the crack location read were not correlated
   // (three extensions of the band did not catch up with the path found).
   bool tip_beyond_band = false;
+  // The length lies below an earlier frame's and a later frame's, which
+  // agree with each other, by more than twice the uncertainties
+  // (FlagLengthDrops): a crack does not heal.
+  bool length_drop = false;
   CrackPathResult path;            // find_path only
   CrackLine line_used;             // the line the crack length is measured along
   // "tip_at_edge;methods_disagree;..." ("" = none); path_curved: the straight
@@ -128,6 +132,14 @@ void LocateCrackInField(const DisplacementField& field, const CrackSequenceOptio
 // tip), along the line the length is measured on.
 void MeasureFrameJ(const DisplacementField& field, const CrackSequenceOptions& options,
                    FrameResult* r);
+
+// Sets length_drop (and flagged) on every frame k with a length not in doubt
+// that lies below an earlier frame i's and a later frame j's (any frames
+// with a length) by more than twice their uncertainties in quadrature,
+// where j is not itself below i by that much: an isolated drop. (A frame
+// read too long is no evidence against the frames after it: without a later
+// frame as long as it, nothing is flagged.) Call before MakeMonotone.
+void FlagLengthDrops(std::vector<FrameResult>* frames);
 
 // crack_length_m of the frames with a length not in doubt: non-decreasing
 // in time (weighted isotonic regression of their raw lengths). A frame whose
