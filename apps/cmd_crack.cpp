@@ -33,8 +33,8 @@ class CrackCommand final : public Command {
                    "found from the data)");
     sub.add_flag("--fixed-line", fixed_line_, "Take --crack-line as the crack (no path search)");
     sub.add_flag("--own-paths", own_paths_,
-                 "Each frame's length along its own path (default: frames whose own path is not "
-                 "resolved take the path of the frame with the most evidence)");
+                 "Each frame's length along its own path (default: frames without a path of their "
+                 "own, or whose unresolved path contradicts it, take the sequence's most precise path)");
     sub.add_option("--scale", scale_, "For fields in px: e.g. '0.05mm/px'");
     sub.add_option("--band", band_,
                    "Half width around the crack whose points are ignored, in the fields' unit "

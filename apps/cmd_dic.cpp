@@ -57,8 +57,8 @@ class DicCommand final : public Command {
     sub.add_flag("--fixed-line", fixed_line_,
                  "Take --crack-line as the crack itself (no path search; crack band on the line)");
     sub.add_flag("--own-paths", own_paths_,
-                 "Each frame's length along its own path (default: frames whose own path is not "
-                 "resolved take the path of the frame with the most evidence)");
+                 "Each frame's length along its own path (default: frames without a path of their "
+                 "own, or whose unresolved path contradicts it, take the sequence's most precise path)");
     sub.add_option("--path-search", path_search_,
                    "Path search half width across the given line, px")
         ->default_val(40);
