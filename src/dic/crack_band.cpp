@@ -77,16 +77,23 @@ void BandTracker::Prepare() {
   c_->SetActive(active_);
 }
 
-// The points the location of *r read (given its line and window) that
-// were not correlated.
-std::vector<char> BandTracker::Missing(const FrameResult& r) const {
+// What the location of *r read beside the path scan: the COD windows about
+// the line it used and its Williams window about its centre.
+CrackBandReads BandTracker::LocationReads(const FrameResult& r) const {
   CrackBandReads reads;
-  reads.scan = o_.find_path;  // --fixed-line: no path scan
-  reads.scan_line = scan_line_;
   reads.cod = !r.tip.cod.s_px.empty();
   reads.cod_line = r.line_used;
   reads.window = r.tip.williams_window;
   r.line_used.FromLocal(r.tip.williams_centre_s_px, 0, &reads.window_x, &reads.window_y);
+  return reads;
+}
+
+// The points the location of *r read (given its line and window) that
+// were not correlated.
+std::vector<char> BandTracker::Missing(const FrameResult& r) const {
+  CrackBandReads reads = LocationReads(r);
+  reads.scan = o_.find_path;  // --fixed-line: no path scan
+  reads.scan_line = scan_line_;
   std::vector<char> need = CrackBandPoints(c_->Grid(), o_, reads);
   for (size_t i = 0; i < need.size(); ++i) need[i] = need[i] && usable_[i] && !active_[i];
   return need;
@@ -94,12 +101,7 @@ std::vector<char> BandTracker::Missing(const FrameResult& r) const {
 
 bool BandTracker::Lacks(const DisplacementField& field, const FrameResult& r) const {
   if (!Enabled()) return false;
-  CrackBandReads reads;
-  reads.cod = !r.tip.cod.s_px.empty();
-  reads.cod_line = r.line_used;
-  reads.window = r.tip.williams_window;
-  r.line_used.FromLocal(r.tip.williams_centre_s_px, 0, &reads.window_x, &reads.window_y);
-  const std::vector<char> need = CrackBandPoints(c_->Grid(), o_, reads);
+  const std::vector<char> need = CrackBandPoints(c_->Grid(), o_, LocationReads(r));
   for (size_t i = 0; i < need.size(); ++i)
     if (need[i] && usable_[i] && field.status[i] == PointStatus::kMasked) return true;
   return false;

@@ -33,6 +33,7 @@ class BandTracker {
 
  private:
   bool Enabled() const { return !o_.full_field && !o_.j_integral.enabled; }
+  CrackBandReads LocationReads(const FrameResult& r) const;
   std::vector<char> Missing(const FrameResult& r) const;
 
   const CrackSequenceOptions& o_;

@@ -207,9 +207,9 @@ CrackSequenceResult AnalyzeCrackFields(const std::vector<std::filesystem::path>&
     progress.Update(std::min(k + 1, files.size()));
   }
   progress.Finish();
-  // Every file is a frame (no reference frame among them), all of it read.
+  // Every point of a file was read: none lacking.
   detail::ApplySequencePath(
-      kept, options, path_opt, [](const DisplacementField&, const FrameResult&) { return false; }, 0,
+      kept, options, path_opt, [](const DisplacementField&, const FrameResult&) { return false; },
       &out);
   FlagLengthDrops(&out.frames);
   MakeMonotone(&out.frames);
@@ -404,7 +404,7 @@ CrackSequenceResult AnalyzeCrackSequence(const std::vector<std::filesystem::path
   progress.Finish();
   detail::ApplySequencePath(
       kept, options, path_opt,
-      [&band](const DisplacementField& f, const FrameResult& r) { return band.Lacks(f, r); }, 1, &out);
+      [&band](const DisplacementField& f, const FrameResult& r) { return band.Lacks(f, r); }, &out);
   FlagLengthDrops(&out.frames);
   MakeMonotone(&out.frames);
   out.wall_s = watch.Seconds();

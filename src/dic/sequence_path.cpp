@@ -17,9 +17,13 @@ bool PathResolved(const CrackPathResult& path, const CrackPathOptions& o) {
   return PathSe(path) <= 0.5 * o.hint_tolerance_px;
 }
 
+bool MayTakeSequencePath(const CrackPathResult& path, const CrackPathOptions& o) {
+  return !path.found || (o.has_hint && !PathResolved(path, o));
+}
+
 void KeptFields::Offer(std::size_t frame, const DisplacementField& field, const FrameResult& r,
                        const CrackPathOptions& path_opt) {
-  if (PathResolved(r.path, path_opt)) return;
+  if (!MayTakeSequencePath(r.path, path_opt)) return;
   Kept k;
   k.frame = frame;
   k.nx = field.nx;
@@ -110,7 +114,7 @@ bool TakesSequencePath(const FrameResult& frame, const FrameResult& source,
   // full field put 5 such points 14-17 px off the crack, at an RMS of 10-15
   // px, and read -1.5 +- 63 px): no measurement of the line.
   if (!frame.path.found || (path_opt.has_hint && !std::isfinite(PathSe(frame.path)))) return true;
-  if (PathResolved(frame.path, path_opt)) return false;
+  if (!MayTakeSequencePath(frame.path, path_opt)) return false;
   // The larger distance of the source's line from this frame's path at the
   // ends of its cracked length, against twice their uncertainties there.
   const CrackLine& own = frame.line_used;

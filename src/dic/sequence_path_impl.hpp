@@ -32,10 +32,16 @@ double PathSe(const CrackPathResult& path);
 // the hint tolerance): such a frame never takes the sequence's path.
 bool PathResolved(const CrackPathResult& path, const CrackPathOptions& o);
 
+// Whether a frame with this path can take the sequence's path at all
+// (TakesSequencePath): no path, or with a line given (only then is a
+// standard error worked out) one not resolved.
+bool MayTakeSequencePath(const CrackPathResult& path, const CrackPathOptions& o);
+
 class KeptFields {
  public:
   explicit KeptFields(double budget_mb) : budget_bytes_(budget_mb * 1048576.0) {}
-  // Keeps frame k's field where its path is not resolved, budget allowing.
+  // Keeps frame k's field where it may take the sequence's path, budget
+  // allowing.
   void Offer(std::size_t frame, const DisplacementField& field, const FrameResult& r,
              const CrackPathOptions& path_opt);
   bool Has(std::size_t frame) const;
@@ -76,7 +82,7 @@ bool TakesSequencePath(const FrameResult& frame, const FrameResult& source,
                        const CrackPathOptions& path_opt);
 
 // Locates frame *r again in `field` along the source frame's path (no path
-// search), keeping its own path for the report; `lacks` (optional) says
+// search), keeping its own path for the report; `lacks(field, result)` says
 // whether the location read points that were not correlated (crack band).
 template <class Lacks>
 void RelocateAlongSequencePath(const DisplacementField& field, const CrackSequenceOptions& options,
@@ -102,12 +108,11 @@ void RelocateAlongSequencePath(const DisplacementField& field, const CrackSequen
   *r = std::move(again);
 }
 
-// After the last frame: the frames from `first` on that take the sequence's
-// path, located again along it; out->sequence_path_frame and
-// fields_not_kept set.
+// After the last frame: the frames kept that take the sequence's path,
+// located again along it; out->sequence_path_frame and fields_not_kept set.
 template <class Lacks>
 void ApplySequencePath(const KeptFields& kept, const CrackSequenceOptions& options,
-                       const CrackPathOptions& path_opt, const Lacks& lacks, std::size_t first,
+                       const CrackPathOptions& path_opt, const Lacks& lacks,
                        CrackSequenceResult* out) {
   out->fields_not_kept = kept.Dropped();
   if (!options.find_path || !options.sequence_path) return;
@@ -115,7 +120,7 @@ void ApplySequencePath(const KeptFields& kept, const CrackSequenceOptions& optio
   const int source = SequencePathFrame(frames);
   out->sequence_path_frame = source;
   if (source < 0) return;
-  for (std::size_t k = first; k < frames.size(); ++k) {
+  for (std::size_t k = 0; k < frames.size(); ++k) {
     if (static_cast<int>(k) == source || !kept.Has(k)) continue;
     if (!TakesSequencePath(frames[k], frames[source], path_opt)) continue;
     RelocateAlongSequencePath(kept.Restore(k), options, path_opt, source, frames[source], lacks,

@@ -35,9 +35,10 @@ struct CrackTipOptions {
   double noise_factor = 5;          // threshold = max(floor, factor * noise of the jump)
   // Length over which the field's errors are correlated (overlapping
   // subsets share speckle: a subset): the opening's noise is read again from
-  // differences of stations that far apart over the ligament ahead of the
-  // opened run, and raises the threshold where it exceeds the neighbours'
-  // reading. 0: neighbours only.
+  // differences of stations whose windows share no point (this plus two
+  // station spacings apart) off the first opened run and this far around
+  // it, and raises the threshold where it exceeds the neighbours' reading.
+  // 0: neighbours only.
   double noise_correlation_px = 0;
   int mode1_terms = 4;              // Williams mode I terms n = 1..N
   int mode2_terms = 2;              // Williams mode II terms n = 1, 3, ..
