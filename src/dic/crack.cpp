@@ -326,19 +326,44 @@ void ChooseTip(TipMethod preferred, const CrackTipOptions& o, CrackTipResult& re
 // it drops below a threshold) may lie up to a band half width ahead of the
 // others, the sqrt tip by that share of it that its fit's stations near the
 // tip carry. Never allowed: a COD tip behind.
+namespace {
+
+// How far tip a lies from tip b beyond what their documented biases allow
+// (a may lie up to ahead_allowed ahead of b), 0 where within it or either is
+// missing.
+double BeyondBias(const TipEstimate& a, const TipEstimate& b, double ahead_allowed) {
+  if (!a.found || !b.found) return 0;
+  const double d = a.s_px - b.s_px;  // a relative to b
+  return d > ahead_allowed ? d - ahead_allowed : std::max(0.0, -d);
+}
+
+// The method pairs MethodsDisagree compares, with their allowances.
+template <class PairFn>
+void ForMethodPairs(const CrackTipResult& r, const CrackTipOptions& o, const PairFn& fn) {
+  const TipEstimate &w = r.williams, &q = r.sqrt_cod, &j = r.jump;
+  fn(q, w, BeyondBias(q, w, r.sqrt_near_tip_share * o.band_half_width_px));
+  fn(j, w, BeyondBias(j, w, o.band_half_width_px));
+  fn(j, q, BeyondBias(j, q, o.band_half_width_px));
+}
+
+}  // namespace
+
 bool MethodsDisagree(const CrackTipResult& r, const CrackTipOptions& o) {
   const double floor_sigma = o.station_spacing_px / std::sqrt(12.0);
   auto sig = [&](const TipEstimate& t) { return std::max(t.uncertainty_px, floor_sigma); };
-  auto apart = [&](const TipEstimate& a, const TipEstimate& b, double ahead_allowed) {
-    if (!a.found || !b.found) return false;
-    const double tol = 2.0 * std::hypot(sig(a), sig(b));
-    const double d = a.s_px - b.s_px;  // a relative to b
-    return d > tol + ahead_allowed || d < -tol;
-  };
-  const TipEstimate &w = r.williams, &q = r.sqrt_cod, &j = r.jump;
-  return apart(q, w, r.sqrt_near_tip_share * o.band_half_width_px) ||
-         apart(j, w, o.band_half_width_px) ||
-         apart(j, q, o.band_half_width_px);
+  bool disagree = false;
+  ForMethodPairs(r, o, [&](const TipEstimate& a, const TipEstimate& b, double beyond) {
+    disagree = disagree || beyond > 2.0 * std::hypot(sig(a), sig(b));
+  });
+  return disagree;
+}
+
+double AgreementSigma(const CrackTipResult& r, const CrackTipOptions& o) {
+  double sigma = 0;
+  ForMethodPairs(r, o, [&](const TipEstimate&, const TipEstimate&, double beyond) {
+    sigma = std::max(sigma, beyond / (2.0 * std::sqrt(2.0)));
+  });
+  return sigma;
 }
 
 // Stages: opening profile -> noise and threshold -> first opened run (again

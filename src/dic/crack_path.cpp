@@ -545,6 +545,7 @@ CrackPathResult FindCrackPath(const DisplacementField& field, const CrackPathOpt
     // length: its resolution (hint_tolerance_px is two of its sigmas) and its
     // standard error there, in quadrature.
     const detail::WeightedPoly fit = InlierFit(scan.hits, scan.fit, scan.fit.slope_from_hint ? 0 : 1, o);
+    res.line_se_fitted = fit.ok;
     res.line_se_px = fit.ok ? std::max(fit.Se(s_first), fit.Se(s_last)) : 0.0;
     res.disagrees_with_hint =
         res.hint_max_offset_px > 2 * std::hypot(0.5 * o.hint_tolerance_px, res.line_se_px);

@@ -9,7 +9,9 @@
 namespace bridgefit::dic::detail {
 
 double PathSe(const CrackPathResult& path) {
-  return path.found && path.line_se_px > 0 ? path.line_se_px
+  // A fitted standard error of 0 (every crack point on one row of a
+  // lattice) is a resolved path, not a missing fit.
+  return path.found && path.line_se_fitted ? path.line_se_px
                                            : std::numeric_limits<double>::infinity();
 }
 
@@ -131,6 +133,34 @@ bool TakesSequencePath(const FrameResult& frame, const FrameResult& source,
       2 * std::sqrt(std::pow(PathSe(frame.path), 2) + std::pow(PathSe(source.path), 2) +
                     std::pow(0.5 * path_opt.hint_tolerance_px, 2));
   return apart > tolerance;
+}
+
+namespace {
+
+// A reading's uncertainty for comparing it with another, px: +inf without a
+// length or at the field's edge (a bound, not a reading); where the methods
+// disagree, at least what they would need to agree (AgreementSigma).
+double ComparableSigmaPx(const FrameResult& f, const CrackSequenceOptions& o) {
+  if (!f.has_length || f.tip.tip_at_edge) return std::numeric_limits<double>::infinity();
+  double s = f.uncertainty_m / o.scale_m_per_px;
+  if (f.tip.methods_disagree) s = std::max(s, AgreementSigma(f.tip, o.tip));
+  return s;
+}
+
+// Doubts other than the methods' disagreement and the edge: the Williams
+// fit's, and points the crack band did not correlate.
+bool OtherDoubt(const FrameResult& f) {
+  return f.tip.williams_unstable || f.tip.williams_window_short || f.tip_beyond_band;
+}
+
+}  // namespace
+
+bool ReadsBetterAlongSequencePath(const FrameResult& along, const FrameResult& own,
+                                  const CrackSequenceOptions& options) {
+  if (!along.has_length) return false;
+  if (!own.has_length) return true;
+  if (OtherDoubt(along) && !OtherDoubt(own)) return false;
+  return ComparableSigmaPx(along, options) < ComparableSigmaPx(own, options);
 }
 
 }  // namespace bridgefit::dic::detail

@@ -152,6 +152,12 @@ struct CrackTipResult {
 // Williams tip.
 bool MethodsDisagree(const CrackTipResult& r, const CrackTipOptions& o);
 
+// The common uncertainty the found tips would need for that rule to pass
+// (the largest pairwise distance beyond the allowed bias / (2 sqrt 2)), px;
+// 0 where they lie within it. What a reading whose methods disagree is
+// worth when compared with another.
+double AgreementSigma(const CrackTipResult& r, const CrackTipOptions& o);
+
 // Throws Error(kUsage) for invalid options.
 CrackTipResult LocateCrackTip(const DisplacementField& field, const CrackTipOptions& options,
                               TipMethod preferred);

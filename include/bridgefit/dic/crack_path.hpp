@@ -95,6 +95,7 @@ struct CrackPathResult {
   // Standard error of the fitted line at the ends of the cracked length
   // (has_hint only; the larger of the two), px.
   double line_se_px = 0;
+  bool line_se_fitted = false;  // false: too few independent points for one
   bool curved = false;
   std::vector<double> polyline_x, polyline_y;
   double polyline_rms_px = 0;  // RMS distance of the crack points to the polyline
