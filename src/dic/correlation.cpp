@@ -199,6 +199,44 @@ void Correlator::Impl::SetReference(const Image& image) {
   }
 }
 
+// Outside the active set only the update test's lattice was correlated in
+// the new reference's frame; filled from the active points' edge alone, the
+// motion there was extrapolated over the whole field (0.3-0.5 px off 120 px
+// from aldic's crack band, so the band's Williams fits read other fields
+// than the full field's). The lattice cell around a point, its four corners
+// correlated, gives it by bilinear interpolation instead (the motion is
+// smooth there: the crack and its band are correlated in full).
+void Correlator::Impl::FillFromLattice(std::vector<Params>& p, std::vector<char>& known) const {
+  const int s = sample_stride;
+  if (s <= 1 || active_set.empty()) return;
+  const size_t n = grid.size();
+  std::vector<Params> add(n);
+  std::vector<char> newly(n, 0);
+  for (size_t i = 0; i < n; ++i) {
+    if (known[i] || !static_eligible[i] || ref_lost[i] || AcrossCrack(i)) continue;
+    const int ix = static_cast<int>(i % grid.nx), iy = static_cast<int>(i / grid.nx);
+    const int x0 = ix / s * s, y0 = iy / s * s;
+    const int x1 = x0 + s < grid.nx ? x0 + s : x0, y1 = y0 + s < grid.ny ? y0 + s : y0;
+    if ((x1 == x0 && ix != x0) || (y1 == y0 && iy != y0)) continue;  // beyond the last lattice line
+    const double tx = x1 > x0 ? static_cast<double>(ix - x0) / s : 0.0;
+    const double ty = y1 > y0 ? static_cast<double>(iy - y0) / s : 0.0;
+    const size_t c[4] = {static_cast<size_t>(y0) * grid.nx + x0, static_cast<size_t>(y0) * grid.nx + x1,
+                         static_cast<size_t>(y1) * grid.nx + x0, static_cast<size_t>(y1) * grid.nx + x1};
+    const double w[4] = {(1 - tx) * (1 - ty), tx * (1 - ty), (1 - tx) * ty, tx * ty};
+    bool all = true;
+    for (size_t j : c) all = all && known[j];
+    if (!all) continue;
+    for (int q = 0; q < 4; ++q)
+      for (int k = 0; k < kNp; ++k) add[i][k] += w[q] * p[c[q]][k];
+    newly[i] = 1;
+  }
+  for (size_t i = 0; i < n; ++i)
+    if (newly[i]) {
+      p[i] = add[i];
+      known[i] = 1;
+    }
+}
+
 // Fills unknown reference motions from known same-side grid neighbours
 // (never across crack-band or masked points, which are not eligible, and
 // never for points lost at a reference update).
@@ -305,6 +343,7 @@ DisplacementField Correlator::Impl::Next(const Image& frame, CorrelationSummary*
         ref_lost[i] = (eligible[i] && !prev_ok[i]) || AcrossCrack(i) ? 1 : 0;
         if (AcrossCrack(i)) ref_known[i] = 0;
       }
+      FillFromLattice(ref_p, ref_known);
       FillUnknown(ref_p, ref_known);
       for (size_t i = 0; i < n; ++i)
         if (!ref_known[i]) lost_status[i] = AcrossCrack(i) ? PointStatus::kCrackBand : prev_status[i];

@@ -102,6 +102,11 @@ struct Correlator::Impl : detail::CorrelatorState {
     return detail::RunPass(*this, def_image, def_interp, guess, has_guess, solves);
   }
   void FillUnknown(std::vector<Params>& p, std::vector<char>& known) const;
+  // At a reference update with an active set: the motion of every point not
+  // correlated in the new reference's frame (outside the active set),
+  // bilinear between the update test's lattice points around it, where all
+  // four were correlated there.
+  void FillFromLattice(std::vector<Params>& p, std::vector<char>& known) const;
   void SetActive(const std::vector<char>& active);
   void SetLocatedCrack(const CrackLine& line, double length_px);
   // eligible = static and (active or on the update test's lattice: stride 4

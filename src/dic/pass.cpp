@@ -91,7 +91,7 @@ class PassRunner {
   void SolveFront(const std::vector<size_t>& front, int stride);
   void MarkLeaving(const std::vector<char>& act, const std::vector<Params>& guess,
                    const std::vector<char>& has_guess);
-  size_t PickSeed(const std::vector<char>& act) const;
+  size_t PickSeed(const std::vector<char>& act, int stride) const;
   void SolveSeed(size_t seed, const std::vector<Params>& guess, const std::vector<char>& has_guess);
   void Propagate(const std::vector<char>& act, int stride, const std::vector<Params>& guess,
                  const std::vector<char>& has_guess);
@@ -265,9 +265,13 @@ void PassRunner::MarkLeaving(const std::vector<char>& act, const std::vector<Par
   }
 }
 
-// The most interior unprocessed point (grid distance transform, image
-// border counted as processed); n when none is left.
-size_t PassRunner::PickSeed(const std::vector<char>& act) const {
+// The most interior unprocessed point of `act` (grid distance transform in
+// steps of `stride`, the set's own neighbourhood, image border counted as
+// processed); n when none is left. (With one-point steps every point of a
+// lattice set lay one step from a point outside it: the seed was the first
+// in scan order, the field's corner, and on aldic's unspeckled border all
+// 40 seed attempts of the first frame's coarse pass failed.)
+size_t PassRunner::PickSeed(const std::vector<char>& act, int stride) const {
   const int nx = m_.grid.nx, ny = m_.grid.ny;
   std::vector<int> dist(n_, -1);
   std::vector<size_t> queue;
@@ -279,7 +283,7 @@ size_t PassRunner::PickSeed(const std::vector<char>& act) const {
   if (queue.size() == n_) return n_;
   for (size_t q = 0; q < queue.size(); ++q) {
     size_t nb[4];
-    const int m = Neighbours(queue[q], 1, nb);
+    const int m = Neighbours(queue[q], stride, nb);
     for (int k = 0; k < m; ++k)
       if (dist[nb[k]] < 0) {
         dist[nb[k]] = dist[queue[q]] + 1;
@@ -292,7 +296,8 @@ size_t PassRunner::PickSeed(const std::vector<char>& act) const {
     if (!(act[i] && !done_[i])) continue;
     const int ix = static_cast<int>(i % nx), iy = static_cast<int>(i / nx);
     const int di = dist[i] < 0 ? std::numeric_limits<int>::max() : dist[i];
-    const int d = std::min({di, ix + 1, iy + 1, nx - ix, ny - iy});
+    const int d = std::min({di, ix / stride + 1, iy / stride + 1, (nx - 1 - ix) / stride + 1,
+                            (ny - 1 - iy) / stride + 1});
     if (d > best_d) {
       best_d = d;
       seed = i;
@@ -348,7 +353,7 @@ void PassRunner::Propagate(const std::vector<char>& act, int stride,
       front = FrontierOf(front, act, stride);
     }
     MarkLeaving(act, guess, has_guess);
-    const size_t seed = PickSeed(act);
+    const size_t seed = PickSeed(act, stride);
     if (seed == n_ || seed_attempts >= m_.opt.max_seed_attempts) break;
     ++seed_attempts;
     SolveSeed(seed, guess, has_guess);
