@@ -544,9 +544,19 @@ CrackPathResult FindCrackPath(const DisplacementField& field, const CrackPathOpt
     // Disagree beyond twice the line's uncertainty at an end of the cracked
     // length: its resolution (hint_tolerance_px is two of its sigmas) and its
     // standard error there, in quadrature.
-    const detail::WeightedPoly fit = InlierFit(scan.hits, scan.fit, scan.fit.slope_from_hint ? 0 : 1, o);
+    const int degree = scan.fit.slope_from_hint ? 0 : 1;
+    const detail::WeightedPoly fit = InlierFit(scan.hits, scan.fit, degree, o);
     res.line_se_fitted = fit.ok;
-    res.line_se_px = fit.ok ? std::max(fit.Se(s_first), fit.Se(s_last)) : 0.0;
+    // At least what the points' own resolution (hint_tolerance_px / 2 each)
+    // leaves at an end of the line (variance 4 / n for a slope and an
+    // offset, 1 / n for an offset, with the stations' correlation): three
+    // points on one grid row fit with no residual, and their standard error
+    // of 0 had made a path 18 px off the crack aldic's most precise.
+    const double point_sigma = 0.5 * o.hint_tolerance_px;
+    const double floor_se =
+        point_sigma * std::sqrt((degree == 1 ? 4.0 : 1.0) * CorrelationInflation(o) /
+                                std::max(1, scan.fit.count));
+    res.line_se_px = fit.ok ? std::max({fit.Se(s_first), fit.Se(s_last), floor_se}) : 0.0;
     res.disagrees_with_hint =
         res.hint_max_offset_px > 2 * std::hypot(0.5 * o.hint_tolerance_px, res.line_se_px);
   }

@@ -95,7 +95,11 @@ int SequencePathFrame(const std::vector<FrameResult>& frames) {
   double best_se = std::numeric_limits<double>::infinity(), best_score = 0;
   for (std::size_t k = 0; k < frames.size(); ++k) {
     const FrameResult& f = frames[k];
-    if (!f.path.found || f.path.curved || !f.has_length || f.LengthDoubtful()) continue;
+    // A path without a standard error (too few independent points for one)
+    // is no measurement of where the crack runs: never the sequence's.
+    if (!f.path.found || !f.path.line_se_fitted || f.path.curved || !f.has_length ||
+        f.LengthDoubtful())
+      continue;
     double score = 0;
     for (std::size_t i = 0; i < f.path.point_jump_px.size(); ++i)
       if (i < f.path.inlier.size() && f.path.inlier[i]) score += f.path.point_jump_px[i];

@@ -7,8 +7,8 @@
 // badly or not at all (no jump above the noise), and the length they read
 // along the line given then depends on that line. After the last frame the
 // most precise path found (the smallest standard error at its ends, then the
-// largest summed jump of its crack points; not curved, its frame's length
-// not in doubt) is the sequence's path, and every frame without a path of
+// largest summed jump of its crack points; a standard error fitted, not
+// curved, its frame's length not in doubt) is the sequence's path, and every frame without a path of
 // its own, or whose own is not resolved and disagrees with it
 // (TakesSequencePath), is located again along it; an unresolved one that
 // agrees takes that reading where it is better (a length where its own path

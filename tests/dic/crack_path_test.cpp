@@ -164,6 +164,32 @@ TEST_P(CrackPathHints, PathAndTipIndependentOfTheHint) {
 INSTANTIATE_TEST_SUITE_P(NearCrack, CrackPathHints,
                          ::testing::Values(NearCrack::kFailed, NearCrack::kSmeared));
 
+// A short straight crack between two grid rows: its few crack points all
+// sit on one row, the line through them fits with no residual, and its
+// standard error read 0 - a 3-point path the most precise of a sequence
+// (aldic's full field chose one 18 px off the crack). The standard error is
+// now at least what the points' resolution (hint_tolerance_px / 2 each)
+// leaves at the line's end. Runtime: milliseconds.
+TEST(CrackPath, AShortPathOnOneRowKeepsThePointsResolution) {
+  const int step = 6;
+  ModeICrackField m;
+  m.tip_x = 10 + 5 * step;
+  m.tip_y = 3 + 20 * step + 0.5 * step;  // midway between rows
+  m.k_over_2mu = 0.05;
+  const DisplacementField f = CrackedField(m, 300, 240, step, 16, NearCrack::kFailed);
+  CrackPathOptions o = PathOptions(step, 16);
+  o.has_hint = true;
+  o.hint = {10, m.tip_y, 290, m.tip_y};
+  o.hint_tolerance_px = 4;
+  const CrackPathResult r = FindCrackPath(f, o);
+  ASSERT_TRUE(r.found) << r.why_not_found;
+  std::printf("%d crack points, RMS %.3f px, standard error %.3f px (fitted: %d)\n", r.inliers,
+              r.rms_residual_px, r.line_se_px, r.line_se_fitted ? 1 : 0);
+  ASSERT_TRUE(r.line_se_fitted);
+  EXPECT_LT(r.rms_residual_px, 1e-9);  // the case: points on one row
+  EXPECT_GE(r.line_se_px, 0.5 * o.hint_tolerance_px / std::sqrt(static_cast<double>(r.inliers)));
+}
+
 TEST(CrackPath, RigidMotionHasNoPath) {
   ModeICrackField m;
   m.k_over_2mu = 0;
