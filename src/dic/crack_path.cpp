@@ -547,6 +547,7 @@ CrackPathResult FindCrackPath(const DisplacementField& field, const CrackPathOpt
     const int degree = scan.fit.slope_from_hint ? 0 : 1;
     const detail::WeightedPoly fit = InlierFit(scan.hits, scan.fit, degree, o);
     res.line_se_fitted = fit.ok;
+    res.angle_from_hint = scan.fit.slope_from_hint;
     // At least what the points' own resolution (hint_tolerance_px / 2 each)
     // leaves at an end of the line (variance 4 / n for a slope and an
     // offset, 1 / n for an offset, with the stations' correlation): three

@@ -97,6 +97,9 @@ struct CrackPathResult {
   // resolution (hint_tolerance_px / 2 each) leaves there.
   double line_se_px = 0;
   bool line_se_fitted = false;  // false: too few independent points for one
+  // The data did not resolve the angle: the line keeps the hint's direction
+  // (line_se_px is then the offset's alone).
+  bool angle_from_hint = false;
   bool curved = false;
   std::vector<double> polyline_x, polyline_y;
   double polyline_rms_px = 0;  // RMS distance of the crack points to the polyline
