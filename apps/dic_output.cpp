@@ -28,7 +28,10 @@ nlohmann::json PathJson(const dic::FrameResult& f) {
     j["line_angle_deg"] = f.path.hint_angle_deg;
     j["disagrees_with_line"] = f.path.disagrees_with_hint;
     j["rms_all_points_px"] = f.path.line_rms_all_px;  // fit quality of the straight path
-    j["line_se_px"] = f.path.line_se_px;  // the path's standard error at its ends
+    // The path's standard error at its ends (null: too few independent
+    // points for one), and whether the angle is the line's, not measured.
+    j["line_se_px"] = f.path.line_se_fitted ? nlohmann::json(f.path.line_se_px) : nlohmann::json();
+    j["angle_from_line"] = f.path.angle_from_hint;
     j["curvature_per_px"] = f.path.curvature_per_px;
     j["curvature_se_per_px"] = f.path.curvature_se_per_px;
     j["curved"] = f.path.curved;
