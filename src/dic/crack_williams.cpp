@@ -254,14 +254,17 @@ class Shadow {
 };
 
 // The points the window reads: continuum, not hidden, within `radius` of
-// the centre and outside the band about the line.
+// the centre, outside the band about the line and not behind the line's
+// start (the notch root: behind it lies the notch, a slot, often unspeckled
+// background that moves with the camera, not the crack's flanks; aldic
+// without ROI fitted its notch flanks into the early frames' tips).
 std::vector<const LocalPoint*> WindowPoints(const std::vector<LocalPoint>& pts,
                                             const std::vector<char>& readable, double xc,
                                             double yc, double radius, const CrackTipOptions& o) {
   std::vector<const LocalPoint*> set;
   for (const LocalPoint& p : pts)
     if (readable[p.index] && std::hypot(p.x - xc, p.y - yc) < radius &&
-        std::abs(p.n) >= o.band_half_width_px)
+        std::abs(p.n) >= o.band_half_width_px && p.s >= 0)
       set.push_back(&p);
   return set;
 }
@@ -425,7 +428,7 @@ void WilliamsTip(const DisplacementField& field, const std::vector<LocalPoint>& 
     if (!Continuum(field, kind, p.index)) continue;
     const bool behind = shadow.Hides(p.x, p.y);
     if (behind && std::hypot(p.x - xs, p.y - ys) < o.fit_radius_px &&
-        std::abs(p.n) >= o.band_half_width_px)
+        std::abs(p.n) >= o.band_half_width_px && p.s >= 0)
       ++hidden;
     readable[p.index] = behind ? 0 : 1;
   }
