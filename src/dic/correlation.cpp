@@ -209,10 +209,9 @@ void Correlator::Impl::SetReference(const Image& image) {
 void Correlator::Impl::FillFromLattice(std::vector<Params>& p, std::vector<char>& known) const {
   const int s = sample_stride;
   if (s <= 1 || active_set.empty()) return;
-  const size_t n = grid.size();
-  std::vector<Params> add(n);
-  std::vector<char> newly(n, 0);
-  for (size_t i = 0; i < n; ++i) {
+  // The corners are lattice points, which this never fills (a lattice
+  // point is its own corner): the fill reads only motions known before it.
+  for (size_t i = 0; i < grid.size(); ++i) {
     if (known[i] || !static_eligible[i] || ref_lost[i] || AcrossCrack(i)) continue;
     const int ix = static_cast<int>(i % grid.nx), iy = static_cast<int>(i / grid.nx);
     const int x0 = ix / s * s, y0 = iy / s * s;
@@ -226,15 +225,12 @@ void Correlator::Impl::FillFromLattice(std::vector<Params>& p, std::vector<char>
     bool all = true;
     for (size_t j : c) all = all && known[j];
     if (!all) continue;
+    Params sum{};
     for (int q = 0; q < 4; ++q)
-      for (int k = 0; k < kNp; ++k) add[i][k] += w[q] * p[c[q]][k];
-    newly[i] = 1;
+      for (int k = 0; k < kNp; ++k) sum[k] += w[q] * p[c[q]][k];
+    p[i] = sum;
+    known[i] = 1;
   }
-  for (size_t i = 0; i < n; ++i)
-    if (newly[i]) {
-      p[i] = add[i];
-      known[i] = 1;
-    }
 }
 
 // Fills unknown reference motions from known same-side grid neighbours

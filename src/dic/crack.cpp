@@ -319,13 +319,6 @@ void ChooseTip(TipMethod preferred, const CrackTipOptions& o, CrackTipResult& re
 
 }  // namespace
 
-// Pairwise: |s_a - s_b| > 2 sqrt(sigma_a^2 + sigma_b^2), sigmas at least one
-// station / sqrt(12). Both COD tips read the opening extrapolated from
-// outside the band, which near the tip exceeds the faces' (the field at r ~
-// band, not at the face), so the opening seems to run on: the jump tip (where
-// it drops below a threshold) may lie up to a band half width ahead of the
-// others, the sqrt tip by that share of it that its fit's stations near the
-// tip carry. Never allowed: a COD tip behind.
 namespace {
 
 // How far tip a lies from tip b beyond what their documented biases allow
@@ -348,6 +341,13 @@ void ForMethodPairs(const CrackTipResult& r, const CrackTipOptions& o, const Pai
 
 }  // namespace
 
+// Pairwise: |s_a - s_b| > 2 sqrt(sigma_a^2 + sigma_b^2), sigmas at least one
+// station / sqrt(12). Both COD tips read the opening extrapolated from
+// outside the band, which near the tip exceeds the faces' (the field at r ~
+// band, not at the face), so the opening seems to run on: the jump tip (where
+// it drops below a threshold) may lie up to a band half width ahead of the
+// others, the sqrt tip by that share of it that its fit's stations near the
+// tip carry. Never allowed: a COD tip behind.
 bool MethodsDisagree(const CrackTipResult& r, const CrackTipOptions& o) {
   const double floor_sigma = o.station_spacing_px / std::sqrt(12.0);
   auto sig = [&](const TipEstimate& t) { return std::max(t.uncertainty_px, floor_sigma); };

@@ -253,19 +253,23 @@ class Shadow {
   std::vector<double> nearest_;
 };
 
-// The points the window reads: continuum, not hidden, within `radius` of
-// the centre, outside the band about the line and not behind the line's
-// start (the notch root: behind it lies the notch, a slot, often unspeckled
+// Whether a window of `radius` about (xc, yc) reaches point p: within the
+// radius, outside the band about the line and not behind the line's start
+// (the notch root: behind it lies the notch, a slot, often unspeckled
 // background that moves with the camera, not the crack's flanks; aldic
 // without ROI fitted its notch flanks into the early frames' tips).
+bool InWindow(const LocalPoint& p, double xc, double yc, double radius, const CrackTipOptions& o) {
+  return std::hypot(p.x - xc, p.y - yc) < radius && std::abs(p.n) >= o.band_half_width_px &&
+         p.s >= 0;
+}
+
+// The points the window reads: continuum, not hidden, in its reach.
 std::vector<const LocalPoint*> WindowPoints(const std::vector<LocalPoint>& pts,
                                             const std::vector<char>& readable, double xc,
                                             double yc, double radius, const CrackTipOptions& o) {
   std::vector<const LocalPoint*> set;
   for (const LocalPoint& p : pts)
-    if (readable[p.index] && std::hypot(p.x - xc, p.y - yc) < radius &&
-        std::abs(p.n) >= o.band_half_width_px && p.s >= 0)
-      set.push_back(&p);
+    if (readable[p.index] && InWindow(p, xc, yc, radius, o)) set.push_back(&p);
   return set;
 }
 
@@ -427,9 +431,7 @@ void WilliamsTip(const DisplacementField& field, const std::vector<LocalPoint>& 
   for (const LocalPoint& p : pts) {
     if (!Continuum(field, kind, p.index)) continue;
     const bool behind = shadow.Hides(p.x, p.y);
-    if (behind && std::hypot(p.x - xs, p.y - ys) < o.fit_radius_px &&
-        std::abs(p.n) >= o.band_half_width_px && p.s >= 0)
-      ++hidden;
+    if (behind && InWindow(p, xs, ys, o.fit_radius_px, o)) ++hidden;
     readable[p.index] = behind ? 0 : 1;
   }
   res.williams_hidden_points = hidden;

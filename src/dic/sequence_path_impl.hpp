@@ -6,16 +6,16 @@
 // of the path its later frames hold. Frames with a small opening resolve it
 // badly or not at all (no jump above the noise), and the length they read
 // along the line given then depends on that line. After the last frame the
-// most precise path found (the smallest standard error at its ends, then the
-// largest summed jump of its crack points; a standard error fitted, not
-// curved, its frame's length not in doubt) is the sequence's path, and every frame without a path of
+// most precise path found (its angle measured, then the smallest standard
+// error at its ends, then the largest summed jump of its crack points; a
+// standard error fitted, not curved, its frame's length not in doubt) is the
+// sequence's path (SequencePathFrame), and every frame without a path of
 // its own, or whose own is not resolved and disagrees with it
 // (TakesSequencePath), is located again along it; an unresolved one that
-// agrees takes that reading where it is better (a length where its own path
-// gave none, or a smaller uncertainty). Their fields are kept
-// until then, compactly (statuses, and the displacements of the points that
-// were correlated), within a memory budget; frames beyond it keep their own
-// reading.
+// agrees takes that reading where it is better (ReadsBetterAlongSequencePath).
+// Their fields are kept until then, compactly (statuses, and the
+// displacements of the points that were correlated), within a memory
+// budget; frames beyond it keep their own reading.
 
 #include <cstddef>
 #include <cstdint>
@@ -65,7 +65,8 @@ class KeptFields {
   std::vector<Kept> kept_;
 };
 
-// The frame whose path is the sequence's (-1: none): the most precise.
+// The frame whose path is the sequence's (-1: none): the most precise, its
+// angle measured first.
 int SequencePathFrame(const std::vector<FrameResult>& frames);
 
 // A frame takes the sequence's path where it has none of its own (or one
@@ -77,11 +78,10 @@ int SequencePathFrame(const std::vector<FrameResult>& frames);
 // 0120 at y = 582: 9 points, RMS 13.5 px, 36 px off the later frames').
 // An unresolved path that agrees keeps its frame's reading unless the
 // reading along the sequence's path is better (ReadsBetterAlongSequencePath).
-// (Taking every
-// unresolved frame onto the sequence's path moved the 4-frame aldic crop's
-// 0240 onto a path 7 px off its own, where no opening was left; the
-// sequence's own path is as good as its standard error, which on real
-// frames with failed subsets understates it.)
+// (Taking every unresolved frame onto the sequence's path moved the 4-frame
+// aldic crop's 0240 onto a path 7 px off its own, where no opening was
+// left; the sequence's own path is as good as its standard error, which on
+// real frames with failed subsets understates it.)
 bool TakesSequencePath(const FrameResult& frame, const FrameResult& source,
                        const CrackPathOptions& path_opt);
 
@@ -141,9 +141,9 @@ void ApplySequencePath(const KeptFields& kept, const CrackSequenceOptions& optio
   out->sequence_path_frame = source;
   if (source < 0) return;
   for (std::size_t k = 0; k < frames.size(); ++k) {
+    // Kept: the frame may take the sequence's path (KeptFields::Offer).
     if (static_cast<int>(k) == source || !kept.Has(k)) continue;
     const bool takes = TakesSequencePath(frames[k], frames[source], path_opt);
-    if (!takes && !MayTakeSequencePath(frames[k].path, path_opt)) continue;
     FrameResult along = LocatedAlongSequencePath(kept.Restore(k), options, path_opt, source,
                                                  frames[source], lacks, frames[k]);
     if (!takes && !ReadsBetterAlongSequencePath(along, frames[k], options)) continue;
