@@ -94,6 +94,20 @@ CrackSequenceResult Locate(const std::vector<fs::path>& files, double line_y, bo
   return AnalyzeCrackFields(files, o);
 }
 
+// Whatever the line given, the same reading (to 0.05 mm).
+void ExpectSameReading(const FrameResult& on, const FrameResult& off, const std::string& where) {
+  EXPECT_EQ(on.has_length, off.has_length) << where;
+  if (on.has_length && off.has_length)
+    EXPECT_NEAR(on.crack_length_raw_m, off.crack_length_raw_m, 0.05e-3) << where;
+}
+
+// Never a confident wrong length: right within twice its uncertainty, or
+// in doubt.
+void ExpectRightOrInDoubt(const FrameResult& f, double truth_m, const std::string& where) {
+  if (f.has_length && !f.LengthDoubtful())
+    EXPECT_LT(std::abs(f.crack_length_raw_m - truth_m), 2 * f.uncertainty_m) << where;
+}
+
 TEST(SequencePath, LengthsDoNotDependOnTheLineWhereEarlyFramesCannotResolveThePath) {
   const fs::path dir = fs::temp_directory_path() / ("bf_seqpath_" + std::to_string(::getpid()));
   const double lines[3] = {kCrackY, kCrackY + 4, kCrackY - 4};
@@ -121,21 +135,14 @@ TEST(SequencePath, LengthsDoNotDependOnTheLineWhereEarlyFramesCannotResolveThePa
                   mm(own[2].frames[k]).c_str());
       taken += on.path_from_frame >= 0 ? 1 : 0;
       bool own_differ = false;
+      const std::string where = fmt::format("seed {} frame {}", seed, k);
       for (int l = 1; l < 3; ++l) {
-        // Whatever the line given, the same reading.
-        const FrameResult& off = along[l].frames[k];
-        EXPECT_EQ(on.has_length, off.has_length) << "seed " << seed << " frame " << k << " line " << l;
-        if (on.has_length && off.has_length)
-          EXPECT_NEAR(on.crack_length_raw_m, off.crack_length_raw_m, 0.05e-3)
-              << "seed " << seed << " frame " << k << " line " << l;
+        ExpectSameReading(on, along[l].frames[k], fmt::format("{} line {}", where, l));
         const FrameResult &a = own[l].frames[k], &b = along[l].frames[k];
         own_differ = own_differ || a.has_length != b.has_length ||
                      (a.has_length && std::abs(a.crack_length_raw_m - b.crack_length_raw_m) > 0.05e-3);
       }
-      // Right within its uncertainty, or flagged.
-      if (on.has_length && !on.LengthDoubtful())
-        EXPECT_LT(std::abs(on.crack_length_raw_m - (TrueTip(k) + 10) * 1e-3), 2 * on.uncertainty_m)
-            << "seed " << seed << " frame " << k;
+      ExpectRightOrInDoubt(on, (TrueTip(k) + 10) * 1e-3, where);
       ++frames_compared;
       differ_without += own_differ ? 1 : 0;
     }
@@ -174,16 +181,10 @@ TEST(SequencePath, AnUnresolvedPathWithoutAnOpeningReadsAlongTheSequencesPath) {
                     a.LengthDoubtful() ? (" (" + a.Flags() + ")").c_str() : "");
         EXPECT_EQ(a.path_from_frame, along[0].sequence_path_frame) << "seed " << seed << " frame " << k;
       }
-      for (int l = 1; l < 3; ++l) {
-        const FrameResult& off = along[l].frames[k];
-        EXPECT_EQ(a.has_length, off.has_length) << "seed " << seed << " frame " << k << " line " << l;
-        if (a.has_length && off.has_length)
-          EXPECT_NEAR(a.crack_length_raw_m, off.crack_length_raw_m, 0.05e-3)
-              << "seed " << seed << " frame " << k << " line " << l;
-      }
-      if (a.has_length && !a.LengthDoubtful())
-        EXPECT_LT(std::abs(a.crack_length_raw_m - truth), 2 * a.uncertainty_m)
-            << "seed " << seed << " frame " << k;
+      const std::string where = fmt::format("seed {} frame {}", seed, k);
+      for (int l = 1; l < 3; ++l)
+        ExpectSameReading(a, along[l].frames[k], fmt::format("{} line {}", where, l));
+      ExpectRightOrInDoubt(a, truth, where);
     }
   }
   fs::remove_all(dir);
