@@ -106,6 +106,9 @@ void PrintDicResult(const dic::CrackSequenceResult& result, const dic::CrackSequ
            f.tip.sqrt_cod.found ? NumberOrNull(f.tip.sqrt_cod.s_px) : nlohmann::json()},
           {"methods_disagree", f.tip.methods_disagree},
           {"tip_at_edge", f.tip.tip_at_edge},
+          {"closed_lead_px", f.tip.opening_detected ? NumberOrNull(f.tip.closed_lead_px)
+                                                    : nlohmann::json()},
+          {"opening_detached", f.tip.opening_detached},
           {"flagged", f.flagged},
           {"flags", f.Flags()},
           {"path", PathJson(f)},

@@ -32,6 +32,11 @@ TipMethod ParseTipMethod(const std::string& text) {
               {.field = "--tip-method", .value = text, .expected = "williams, jump or sqrt"});
 }
 
+double CrackTipOptions::MaxClosedLeadPx() const {
+  if (max_closed_lead_px > 0) return max_closed_lead_px;
+  return std::max(3 * station_spacing_px, noise_correlation_px + 2 * station_spacing_px);
+}
+
 bool CrackTipOptions::IsValid(std::string* why) const {
   auto fail = [&](const char* m) {
     if (why) *why = m;
@@ -48,6 +53,7 @@ bool CrackTipOptions::IsValid(std::string* why) const {
   if (Orthotropic() && !(s11 > 0 && s22 > 0 && s66 > 0 && s12 * s12 < s11 * s22))
     return fail("orthotropic compliances: s11, s22, s66 > 0 and s12^2 < s11 s22");
   if (!(fit_radius_px > 0) || !(sqrt_window_px > 0)) return fail("fit windows must be > 0");
+  if (!(max_closed_lead_px >= 0)) return fail("closed lead must be >= 0");
   if (min_failed_cluster < 1 || !(min_fit_radius_fraction >= 0 && min_fit_radius_fraction <= 1))
     return fail("failed cluster size must be >= 1, minimum radius fraction in [0, 1]");
   return true;
@@ -224,6 +230,16 @@ int FirstOpenedRun(const CodProfile& cod, CrackTipResult& res, int* first_out = 
   return last;
 }
 
+// The valid closed stations before the first opened run (its first station
+// `first`), as a length along the line; detached beyond the allowed lead.
+void ClosedLead(const CodProfile& cod, int first, const CrackTipOptions& o, CrackTipResult& res) {
+  int closed = 0;
+  for (int k = 0; k < first; ++k)
+    if (cod.valid[k] && cod.opening_px[k] < res.threshold_px) ++closed;
+  res.closed_lead_px = closed * o.station_spacing_px;
+  res.opening_detached = res.closed_lead_px > o.MaxClosedLeadPx();
+}
+
 // Jump tip: where the opening falls through the threshold after the run's
 // last station (linear between stations), +- the station spacing and noise.
 void JumpTip(const CodProfile& cod, int last, const CrackTipOptions& o, CrackTipResult& res) {
@@ -379,8 +395,9 @@ CrackTipResult LocateCrackTip(const DisplacementField& field, const CrackTipOpti
   OpeningNoiseAndThreshold(res.cod, o, res);
   int first = -1;
   int last = FirstOpenedRun(res.cod, res, &first);
-  if (CorrelatedNoiseOffTheRun(res.cod, o, first, last, res)) last = FirstOpenedRun(res.cod, res);
+  if (CorrelatedNoiseOffTheRun(res.cod, o, first, last, res)) last = FirstOpenedRun(res.cod, res, &first);
   if (!res.opening_detected) return res;
+  ClosedLead(res.cod, first, o, res);
   JumpTip(res.cod, last, o, res);
   SqrtCodTip(res.cod, last, o, res);
   detail::WilliamsTip(field, pts, o, res);

@@ -537,13 +537,10 @@ CrackPathResult FindCrackPath(const DisplacementField& field, const CrackPathOpt
     return res;
   }
   res.angle_deg = std::atan2(dy, dx) * 180.0 / std::numbers::pi;
-  if (o.has_hint) {
-    const double a = scan.fit.a, b = scan.fit.b;
-    res.hint_max_offset_px = std::max(std::abs(a + b * s_first), std::abs(a + b * s_last));
-    res.hint_angle_deg = std::atan(b) * 180.0 / std::numbers::pi;
-    // Disagree beyond twice the line's uncertainty at an end of the cracked
-    // length: its resolution (hint_tolerance_px is two of its sigmas) and its
-    // standard error there, in quadrature.
+  // The line's standard error at the ends of the cracked length, with or
+  // without a hint (without one a few points far from the crack - a strain
+  // concentration at a notch root - are a path in any direction).
+  {
     const int degree = scan.fit.slope_from_hint ? 0 : 1;
     const detail::WeightedPoly fit = InlierFit(scan.hits, scan.fit, degree, o);
     res.line_se_fitted = fit.ok;
@@ -558,6 +555,14 @@ CrackPathResult FindCrackPath(const DisplacementField& field, const CrackPathOpt
         point_sigma * std::sqrt((degree == 1 ? 4.0 : 1.0) * CorrelationInflation(o) /
                                 std::max(1, scan.fit.count));
     res.line_se_px = fit.ok ? std::max({fit.Se(s_first), fit.Se(s_last), floor_se}) : 0.0;
+  }
+  if (o.has_hint) {
+    const double a = scan.fit.a, b = scan.fit.b;
+    res.hint_max_offset_px = std::max(std::abs(a + b * s_first), std::abs(a + b * s_last));
+    res.hint_angle_deg = std::atan(b) * 180.0 / std::numbers::pi;
+    // Disagree beyond twice the line's uncertainty at an end of the cracked
+    // length: its resolution (hint_tolerance_px is two of its sigmas) and its
+    // standard error there, in quadrature.
     res.disagrees_with_hint =
         res.hint_max_offset_px > 2 * std::hypot(0.5 * o.hint_tolerance_px, res.line_se_px);
   }

@@ -52,8 +52,10 @@ std::string FrameResult::Flags() const {
   };
   add(path_not_found, "path_not_found");
   add(path_disagrees_with_hint, "path_disagrees_with_line");
+  add(path_unresolved, "path_unresolved");
   add(path.found && path.curved, "path_curved");
   add(tip.tip_at_edge, "tip_at_edge");
+  add(tip.opening_detached, "opening_detached");
   add(tip.methods_disagree, "methods_disagree");
   add(tip.williams_unstable, "williams_unstable");
   add(tip.williams_window_short, "williams_window_short");
@@ -244,6 +246,7 @@ void LocateCrackInField(const DisplacementField& given, const CrackSequenceOptio
       tip_opt.line = r->path.line;
       have_line = true;
       r->path_disagrees_with_hint = r->path.disagrees_with_hint;
+      r->path_unresolved = !path_opt.has_hint && !detail::PathResolved(r->path, path_opt);
     } else {
       r->path_not_found = true;
     }

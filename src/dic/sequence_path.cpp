@@ -20,7 +20,7 @@ bool PathResolved(const CrackPathResult& path, const CrackPathOptions& o) {
 }
 
 bool MayTakeSequencePath(const CrackPathResult& path, const CrackPathOptions& o) {
-  return !path.found || (o.has_hint && !PathResolved(path, o));
+  return !path.found || !PathResolved(path, o);
 }
 
 void KeptFields::Offer(std::size_t frame, const DisplacementField& field, const FrameResult& r,
@@ -127,11 +127,11 @@ int SequencePathFrame(const std::vector<FrameResult>& frames) {
 
 bool TakesSequencePath(const FrameResult& frame, const FrameResult& source,
                        const CrackPathOptions& path_opt) {
-  // No path, or (with a line given: only then is a standard error worked
-  // out) one whose line fit has none (too few independent points: aldic's
-  // full field put 5 such points 14-17 px off the crack, at an RMS of 10-15
-  // px, and read -1.5 +- 63 px): no measurement of the line.
-  if (!frame.path.found || (path_opt.has_hint && !std::isfinite(PathSe(frame.path)))) return true;
+  // No path, or one whose line fit has no standard error (too few
+  // independent points: aldic's full field put 5 such points 14-17 px off
+  // the crack, at an RMS of 10-15 px, and read -1.5 +- 63 px): no
+  // measurement of the line.
+  if (!frame.path.found || !std::isfinite(PathSe(frame.path))) return true;
   if (!MayTakeSequencePath(frame.path, path_opt)) return false;
   // The larger distance of the source's line from this frame's path at the
   // ends of its cracked length, against twice their uncertainties there.
@@ -164,9 +164,11 @@ double ComparableSigmaPx(const FrameResult& f, const CrackSequenceOptions& o) {
 }
 
 // Doubts other than the methods' disagreement and the edge: the Williams
-// fit's, and points the crack band did not correlate.
+// fit's, points the crack band did not correlate, and an opening that does
+// not reach back to the line's start.
 bool OtherDoubt(const FrameResult& f) {
-  return f.tip.williams_unstable || f.tip.williams_window_short || f.tip_beyond_band;
+  return f.tip.williams_unstable || f.tip.williams_window_short || f.tip_beyond_band ||
+         f.tip.opening_detached;
 }
 
 }  // namespace

@@ -146,7 +146,15 @@ void ApplySequencePath(const KeptFields& kept, const CrackSequenceOptions& optio
     const bool takes = TakesSequencePath(frames[k], frames[source], path_opt);
     FrameResult along = LocatedAlongSequencePath(kept.Restore(k), options, path_opt, source,
                                                  frames[source], lacks, frames[k]);
-    if (!takes && !ReadsBetterAlongSequencePath(along, frames[k], options)) continue;
+    if (!takes && !ReadsBetterAlongSequencePath(along, frames[k], options)) {
+      // Its own path agrees with the sequence's, which is resolved (a frame
+      // whose path is not is in doubt and never the source): confirmed.
+      if (frames[k].path_unresolved) {
+        frames[k].path_unresolved = false;
+        frames[k].flagged = !frames[k].Flags().empty();
+      }
+      continue;
+    }
     along.field = std::move(frames[k].field);
     frames[k] = std::move(along);
   }

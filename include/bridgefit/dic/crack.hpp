@@ -58,6 +58,12 @@ struct CrackTipOptions {
   // fit_radius_px; otherwise no Williams tip.
   double min_fit_radius_fraction = 0.5;
   double sqrt_window_px = 60;       // sqrt COD fit: window behind the jump tip
+  // The closed stretch allowed before the first opened run (see
+  // CrackTipResult::closed_lead_px); 0: three stations or the noise's
+  // correlation length and two stations (a station's window reaching over
+  // the run's correlated error), whichever is longer.
+  double max_closed_lead_px = 0;
+  double MaxClosedLeadPx() const;
   bool IsValid(std::string* why) const;
 };
 
@@ -141,6 +147,14 @@ struct CrackTipResult {
   // crack may run beyond the field, so the length is a lower bound.
   bool tip_at_edge = false;
   double last_station_px = 0;  // s of the last station with data on both sides
+  // Valid stations read closed (below the threshold) between the line's
+  // start and the first opened run, times the station spacing, px. A crack
+  // is open from its notch: a run that begins after a closed stretch is not
+  // a crack grown from the line's start (a strain concentration, an edge
+  // effect, a path found across the crack), and its length from the start
+  // means nothing. Detached: more than max_closed_lead_px (CrackTipOptions).
+  double closed_lead_px = 0;
+  bool opening_detached = false;
 };
 
 // The rule of CrackTipResult::methods_disagree, on the found tips of r:

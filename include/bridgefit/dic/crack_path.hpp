@@ -93,7 +93,7 @@ struct CrackPathResult {
   // and its standard error (sandwich, correlation-inflated).
   double curvature_per_px = 0, curvature_se_per_px = 0;
   // Standard error of the fitted line at the ends of the cracked length
-  // (has_hint only; the larger of the two), px; at least what the points'
+  // (the larger of the two), px; at least what the points'
   // resolution (hint_tolerance_px / 2 each) leaves there.
   double line_se_px = 0;
   bool line_se_fitted = false;  // false: too few independent points for one

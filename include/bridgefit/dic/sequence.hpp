@@ -61,6 +61,11 @@ struct FrameResult {
   bool flagged = false;
   bool path_not_found = false;     // find_path and no path: the given line was used
   bool path_disagrees_with_hint = false;
+  // Without a crack line: the path found does not resolve where the crack
+  // runs (its standard error above half hint_tolerance_px, or too few
+  // independent points for one) and no resolved path of the sequence
+  // confirms it: a few points off the crack are a path in any direction.
+  bool path_unresolved = false;
   // Crack band: some points the crack location read were not correlated
   // (three extensions of the band did not catch up with the path found).
   bool tip_beyond_band = false;
@@ -70,7 +75,8 @@ struct FrameResult {
   bool length_drop = false;
   CrackPathResult path;            // find_path only
   CrackLine line_used;             // the line the crack length is measured along
-  // "tip_at_edge;methods_disagree;..." ("" = none); path_curved: the straight
+  // "tip_at_edge;methods_disagree;..." ("" = none; docs/DIC.md, Flags);
+  // path_curved: the straight
   // path fits the crack points badly (the length along it may be off; see
   // path.polyline_x/y).
   std::string Flags() const;
