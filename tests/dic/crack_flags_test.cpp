@@ -16,6 +16,7 @@
 #include "bridgefit/dic/crack.hpp"
 #include "bridgefit/dic/crack_path.hpp"
 #include "bridgefit/dic/sequence.hpp"
+#include "exact_crack_field.hpp"
 
 namespace bridgefit::dic {
 namespace {
@@ -23,22 +24,7 @@ namespace {
 // Opening jump across the path y = path_y(x), falling as sqrt(200 - x) to
 // zero at the tip x = 200 (the notch on the left), on a 2 px grid.
 DisplacementField CrackAlong(const std::function<double(double)>& path_y) {
-  DisplacementField f;
-  for (int y = 0; y <= 200; y += 2)
-    for (int x = 0; x <= 240; x += 2) {
-      const double side = y > path_y(x) ? 1.0 : -1.0;
-      const bool cracked = x < 200;
-      f.x.push_back(x);
-      f.y.push_back(y);
-      f.u.push_back(0.1);
-      f.v.push_back(0.05 + (cracked ? 0.5 * side * std::sqrt((200.0 - x) / 200.0) : 0.0));
-      f.zncc.push_back(1);
-      f.iterations.push_back(0);
-      f.status.push_back(PointStatus::kOk);
-    }
-  f.nx = 121;
-  f.ny = 101;
-  return f;
+  return test_fields::ExactOpeningField(path_y);
 }
 
 // A crack on y = 100 whose found position wanders by +-3 px with a period

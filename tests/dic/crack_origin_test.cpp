@@ -20,6 +20,7 @@
 #include "bridgefit/dic/fields.hpp"
 #include "bridgefit/dic/sequence.hpp"
 #include "bridgefit/dic/speckle.hpp"
+#include "exact_crack_field.hpp"
 
 namespace bridgefit::dic {
 namespace {
@@ -29,22 +30,7 @@ namespace fs = std::filesystem;
 // sqrt(200 - x) to zero at the tip x = 200, on a 2 px grid (the line's
 // start at x = 0).
 DisplacementField OpeningFrom(double x_open) {
-  DisplacementField f;
-  for (int y = 0; y <= 200; y += 2)
-    for (int x = 0; x <= 240; x += 2) {
-      const double side = y > 100 ? 1.0 : -1.0;
-      const bool open = x >= x_open && x < 200;
-      f.x.push_back(x);
-      f.y.push_back(y);
-      f.u.push_back(0.1);
-      f.v.push_back(0.05 + (open ? 0.5 * side * std::sqrt((200.0 - x) / 200.0) : 0.0));
-      f.zncc.push_back(1);
-      f.iterations.push_back(0);
-      f.status.push_back(PointStatus::kOk);
-    }
-  f.nx = 121;
-  f.ny = 101;
-  return f;
+  return test_fields::ExactOpeningField([](double) { return 100.0; }, x_open);
 }
 
 CrackTipOptions TipOptions() {
@@ -137,7 +123,9 @@ TEST(CrackOrigin, WithoutALineAShortSlipIsNoConfidentLength) {
       paths += f.path.found ? 1 : 0;
       // Six points over 5 mm, errors correlated over a node: no standard
       // error, so no path that says where a crack runs.
-      if (f.path.found) EXPECT_TRUE(f.path_unresolved) << "seed " << seed << " frame " << k;
+      if (f.path.found) {
+        EXPECT_TRUE(f.path_unresolved) << "seed " << seed << " frame " << k;
+      }
       // There is no crack: no length, or one in doubt.
       EXPECT_TRUE(!f.has_length || f.LengthDoubtful())
           << "seed " << seed << " frame " << k << ": " << f.crack_length_raw_m * 1e3 << " mm, "

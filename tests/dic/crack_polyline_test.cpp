@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "bridgefit/dic/crack_path.hpp"
+#include "exact_crack_field.hpp"
 
 namespace bridgefit::dic {
 namespace {
@@ -16,22 +17,7 @@ namespace {
 DisplacementField Kinked(double kink_deg) {
   const double t = std::tan(kink_deg * std::numbers::pi / 180);
   auto path_y = [t](double x) { return 100.0 + (x > 100 ? (x - 100) * t : 0.0); };
-  DisplacementField f;
-  for (int y = 0; y <= 200; y += 2)
-    for (int x = 0; x <= 240; x += 2) {
-      const double side = y > path_y(x) ? 1.0 : -1.0;
-      const bool cracked = x < 200;  // tip at x = 200
-      f.x.push_back(x);
-      f.y.push_back(y);
-      f.u.push_back(0.1);
-      f.v.push_back(0.05 + (cracked ? 0.5 * side * std::sqrt((200.0 - x) / 200.0) : 0.0));
-      f.zncc.push_back(1);
-      f.iterations.push_back(0);
-      f.status.push_back(PointStatus::kOk);
-    }
-  f.nx = 121;
-  f.ny = 101;
-  return f;
+  return test_fields::ExactOpeningField(path_y);  // tip at x = 200
 }
 
 CrackPathOptions Options() {
