@@ -428,8 +428,18 @@ void WilliamsTip(const DisplacementField& field, const std::vector<LocalPoint>& 
   res.williams_clear_radius_px = shadow.ClearRadius();
   std::vector<char> readable(field.size(), 0);
   int hidden = 0;
+  // Where the field reaches behind the line's start by more than a band
+  // half width (the notch root lies inside it, not at its edge), the
+  // subsets of points within a band half width in front of the root
+  // straddle the notch as those near the line straddle the crack: not read
+  // (aldic without ROI: flank subsets there, up to 3 px apart between runs,
+  // had moved 0240's tip by 2.7 px between band and full field).
+  const bool root_inside = std::any_of(pts.begin(), pts.end(), [&](const LocalPoint& p) {
+    return p.s < -o.band_half_width_px;
+  });
+  const double s_read = root_inside ? o.band_half_width_px : 0.0;
   for (const LocalPoint& p : pts) {
-    if (!Continuum(field, kind, p.index)) continue;
+    if (!Continuum(field, kind, p.index) || p.s < s_read) continue;
     const bool behind = shadow.Hides(p.x, p.y);
     if (behind && InWindow(p, xs, ys, o.fit_radius_px, o)) ++hidden;
     readable[p.index] = behind ? 0 : 1;
