@@ -120,6 +120,14 @@ struct LawFreeOptions {
   // the peak sigma: there the data pin sigma; elsewhere the curve is the
   // penalty's shape inside a wide band (LawFreeResult::resolved).
   double resolved_fraction = 0.10;
+  // The range's ends (J route): sigma there is a one-sided derivative, held
+  // by the penalty chosen for the whole range. The route is run again on the
+  // samples within this fraction of the range from each end alone (its own
+  // penalty); over the half of that window next to its end the band is the
+  // union of both bands (0: off). A window with fewer than
+  // end_window_min_points samples leaves its end unresolved (a note).
+  double end_window_fraction = 0.5;
+  int end_window_min_points = 6;
   bool IsValid(std::string* why) const;
 };
 
@@ -162,7 +170,9 @@ struct LawFreeResult {
   std::vector<double> delta;                     // [m]
   std::vector<double> sigma;                     // clipped at 0 [Pa]
   std::vector<double> sigma_standard_error;      // [Pa]
-  std::vector<double> sigma_lower, sigma_upper;  // sigma -+ band_z se, unclipped [Pa]
+  // sigma -+ band_z se, unclipped, widened at the range's ends to hold the
+  // end windows' bands (J route, LawFreeOptions::end_window_fraction) [Pa]
+  std::vector<double> sigma_lower, sigma_upper;
   double J_tip_c = 0.0;                          // [J/m^2]
   double J_tip_c_standard_error = 0.0;           // 0 when given
   bool J_tip_c_given = false;
