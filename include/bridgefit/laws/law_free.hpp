@@ -52,7 +52,14 @@
 // criterion's best fit with tr H >= the null space + 0.5): its covariance
 // plus d d^T, d the step from the line to it (91.7 %; a note says so).
 // Negative fitted sigma is clipped to 0 (a note counts the nodes; the band
-// is left as computed).
+// is left as computed). The range's ends (J route): sigma there is a
+// one-sided derivative, and the penalty chosen for the whole range holds it
+// (a plateau law whose drop starts within the last fifth of the data was
+// read as a straight line, 20 % of the peak off inside a band of a few %).
+// The route is run again on the samples within end_window_fraction of the
+// range from each end alone (its own penalty by the same criterion); over
+// the half of each window next to its end the band is the union of both
+// bands. sigma_standard_error stays the whole fit's.
 //
 // Steady state: the samples from index p on are "flat within their noise"
 // when they cover at least `plateau_span` of the opening range and
