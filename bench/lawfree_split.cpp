@@ -105,7 +105,7 @@ int main(int argc, char** argv) {
           worst_in = std::max(worst_in, std::abs(e)), ++n_in;
         }
         const double half = 0.5 * (r.sigma_upper[j] - r.sigma_lower[j]);
-        if (half <= 0.10 * r.sigma[j]) worst_cov = std::max(worst_cov, std::abs(e)), ++n_cov;
+        if (r.resolved[j]) worst_cov = std::max(worst_cov, std::abs(e)), ++n_cov;
         if (t < r.sigma_lower[j] || t > r.sigma_upper[j]) ++misses;
         if (j % 5 == 0)
           row += fmt::format(" {:.0f}um:{:+.1f}%(+-{:.1f})", r.delta[j] * 1e6, 100 * e,
@@ -114,7 +114,7 @@ int main(int argc, char** argv) {
       std::printf(
           "%-26s onset %d%s J_tip,c %6.1f  lambda 10^%.1f  dof %.1f  s %.2f  worst %5.1f %%  rms "
           "%4.1f "
-          "%%  worst 10-90 %% of range %5.1f %%  worst where band <= 10 %% (%d nodes) %5.1f "
+          "%%  worst 10-90 %% of range %5.1f %%  worst where resolved (%d nodes) %5.1f "
           "%%  band misses %d/%zu\n   %s\n",
           name, r.onset_index, r.onset_detected ? "(found)" : "", r.J_tip_c,
           r.penalty_log10_relative, r.effective_dof, r.noise_scale, 100 * worst,
