@@ -14,6 +14,62 @@
 #include "law_free_impl.hpp"
 
 namespace bridgefit::laws {
+namespace law_free_detail {
+
+// sigma, its standard error and band on the grid from the fit; nodes past
+// `free_nodes` are fixed at zero. The standard error holds the penalty's
+// share (sigma's change at the smaller penalty, `less`, less what that
+// fit's own extra noise explains): where the penalty bends the curve (a
+// kink, a plateau's end, the range's end on few degrees of freedom) the
+// covariance alone left the band on the penalty's curve. Adds the clipping
+// / monotonicity notes.
+void FillSigma(const Grid& grid, const PenalisedFit& fit, int offset, int free_nodes,
+               const PenaltySolution& less, const LawFreeOptions& options, LawFreeResult* r) {
+  int clipped = 0, significantly_negative = 0;
+  for (size_t j = 0; j < grid.nodes.size(); ++j) {
+    const bool free = static_cast<int>(j) < free_nodes;
+    const Eigen::Index k = offset + static_cast<Eigen::Index>(j);
+    const double value = free ? fit.x[k] : 0.0;
+    double se = 0.0;
+    if (free) {
+      const double variance = std::max(0.0, fit.covariance(k, k));
+      double share2 = 0.0;
+      if (less.x.size() > 0) {
+        // The change at the smaller penalty less what its own extra noise
+        // explains (nested fits: Var(change) = Var(less) - Var(fit)).
+        const double change = less.x[k] - fit.x[k];
+        share2 = std::max(0.0, change * change - std::max(0.0, less.variance[k] - variance));
+      }
+      se = std::sqrt(variance + share2);
+    }
+    r->delta.push_back(grid.nodes[j]);
+    r->sigma.push_back(std::max(0.0, value));
+    r->sigma_standard_error.push_back(se);
+    r->sigma_lower.push_back(value - options.band_z * se);
+    r->sigma_upper.push_back(value + options.band_z * se);
+    clipped += value < 0.0;
+    significantly_negative += value + options.band_z * se < 0.0;
+  }
+  if (clipped > 0)
+    r->notes.push_back(fmt::format("negative sigma clipped to 0 at {} of {} grid nodes", clipped,
+                                   grid.nodes.size()));
+  if (significantly_negative > 0)
+    r->notes.push_back(fmt::format(
+        "the curve falls beyond its noise ({} grid nodes have sigma < 0 with their whole band): "
+        "non-monotone data (unloading, edge effect or bad samples?)",
+        significantly_negative));
+}
+
+// The fit at penalty_share_factor x its penalty, with its posterior
+// variances at the chosen fit's noise scale (empty when off).
+PenaltySolution LessSmoothed(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
+                             const Eigen::MatrixXd& P, const PenalisedFit& fit,
+                             const LawFreeOptions& options) {
+  if (!(options.penalty_share_factor > 0.0)) return {};
+  return SolveAtPenalty(A, b, P, options.penalty_share_factor * fit.lambda, fit.noise_scale);
+}
+
+}  // namespace law_free_detail
 namespace {
 
 using namespace law_free_detail;
@@ -87,50 +143,6 @@ int ResolveOnset(const FarFieldJSamples& data, const Samples& s, const LawFreeOp
   result->onset_detected = true;
   if (!note.empty()) result->notes.push_back(note);
   return onset;
-}
-
-// sigma, its standard error and band on the grid from the fit; nodes past
-// `free_nodes` are fixed at zero. The standard error holds the penalty's
-// share (sigma's change at the smaller penalty, `less`, less what that
-// fit's own extra noise explains): where the penalty bends the curve (a
-// kink, a plateau's end, the range's end on few degrees of freedom) the
-// covariance alone left the band on the penalty's curve. Adds the clipping
-// / monotonicity notes.
-void FillSigma(const Grid& grid, const PenalisedFit& fit, int offset, int free_nodes,
-               const PenaltySolution& less, const LawFreeOptions& options, LawFreeResult* r) {
-  int clipped = 0, significantly_negative = 0;
-  for (size_t j = 0; j < grid.nodes.size(); ++j) {
-    const bool free = static_cast<int>(j) < free_nodes;
-    const Eigen::Index k = offset + static_cast<Eigen::Index>(j);
-    const double value = free ? fit.x[k] : 0.0;
-    double se = 0.0;
-    if (free) {
-      const double variance = std::max(0.0, fit.covariance(k, k));
-      double share2 = 0.0;
-      if (less.x.size() > 0) {
-        // The change at the smaller penalty less what its own extra noise
-        // explains (nested fits: Var(change) = Var(less) - Var(fit)).
-        const double change = less.x[k] - fit.x[k];
-        share2 = std::max(0.0, change * change - std::max(0.0, less.variance[k] - variance));
-      }
-      se = std::sqrt(variance + share2);
-    }
-    r->delta.push_back(grid.nodes[j]);
-    r->sigma.push_back(std::max(0.0, value));
-    r->sigma_standard_error.push_back(se);
-    r->sigma_lower.push_back(value - options.band_z * se);
-    r->sigma_upper.push_back(value + options.band_z * se);
-    clipped += value < 0.0;
-    significantly_negative += value + options.band_z * se < 0.0;
-  }
-  if (clipped > 0)
-    r->notes.push_back(fmt::format("negative sigma clipped to 0 at {} of {} grid nodes", clipped,
-                                   grid.nodes.size()));
-  if (significantly_negative > 0)
-    r->notes.push_back(fmt::format(
-        "the curve falls beyond its noise ({} grid nodes have sigma < 0 with their whole band): "
-        "non-monotone data (unloading, edge effect or bad samples?)",
-        significantly_negative));
 }
 
 void RecordFit(const PenalisedFit& fit, int points, const LawFreeOptions& options,
@@ -219,93 +231,6 @@ std::pair<double, double> LargestRise(const Eigen::MatrixXd& rows, const Penalis
   Eigen::RowVectorXd a = rows.row(best);
   if (has_constant) a(0) = 0.0;
   return {a.dot(fit.x), StandardError(a, fit, less_smoothed)};
-}
-
-// The fit at penalty_share_factor x its penalty, with its posterior
-// variances at the chosen fit's noise scale (empty when off).
-PenaltySolution LessSmoothed(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
-                             const Eigen::MatrixXd& P, const PenalisedFit& fit,
-                             const LawFreeOptions& options) {
-  if (!(options.penalty_share_factor > 0.0)) return {};
-  return SolveAtPenalty(A, b, P, options.penalty_share_factor * fit.lambda, fit.noise_scale);
-}
-
-// The band of a window's own fit at opening x (its grid from the window's
-// first sample, `from`): linear between its nodes.
-std::pair<double, double> WindowBandAt(const LawFreeResult& w, double from, double x) {
-  const std::vector<double>& d = w.delta;
-  const double at = std::clamp(x - from, d.front(), d.back());
-  const size_t k = std::min<size_t>(std::upper_bound(d.begin(), d.end(), at) - d.begin(),
-                                    d.size() - 1);
-  const size_t k0 = k == 0 ? 0 : k - 1, k1 = std::max<size_t>(k, 1);
-  const double t = (at - d[k0]) / (d[k1] - d[k0]);
-  return {w.sigma_lower[k0] + t * (w.sigma_lower[k1] - w.sigma_lower[k0]),
-          w.sigma_upper[k0] + t * (w.sigma_upper[k1] - w.sigma_upper[k0])};
-}
-
-// The range's ends (J route). sigma at an end of the data is a one-sided
-// derivative, held there by the penalty chosen for the whole range: a
-// plateau law whose drop starts within the last fifth of the data was read
-// as the penalty's straight line, up to 20 % of the peak off with a band of
-// a few %, and marked resolved (closed-form J_ff, 0.5 % noise, 30 seeds:
-// 61 resolved nodes off by more than 10 % of the peak). The route on the
-// samples within end_window_fraction of the range from each end alone
-// (its own penalty by the same criterion) fits the data there as well;
-// over the half of each window next to its end the band is the union of
-// both bands. A window with fewer than end_window_min_points samples
-// cannot be fitted: its end is returned (as [lo, hi] openings) to be left
-// unresolved, with a note.
-std::vector<std::pair<double, double>> AllowForTheRangesEnds(const Samples& g,
-                                                             const std::vector<double>& ux,
-                                                             const LawFreeOptions& options,
-                                                             LawFreeResult* r) {
-  std::vector<std::pair<double, double>> unchecked;
-  if (!(options.end_window_fraction > 0.0)) return unchecked;
-  LawFreeOptions inner = options;
-  inner.end_window_fraction = 0.0;
-  const double range = g.x.back();
-  const double reach = options.end_window_fraction * range;
-  int widened = 0;
-  for (const bool tail : {false, true}) {
-    FarFieldJSamples window;
-    for (size_t i = 0; i < g.x.size(); ++i) {
-      if (tail ? g.x[i] < range - reach : g.x[i] > reach) continue;
-      window.opening.push_back(g.x[i]);
-      window.J_ff.push_back(g.y[i]);
-      window.uncertainty.push_back(g.u[i]);
-      window.opening_uncertainty.push_back(ux[i]);
-    }
-    const int count = static_cast<int>(window.opening.size());
-    const double lo = tail ? range - reach / 2 : 0.0, hi = tail ? range : reach / 2;
-    auto near_end = [&](size_t j) { return r->delta[j] >= lo && r->delta[j] <= hi; };
-    if (count < options.end_window_min_points) {
-      unchecked.push_back({lo, hi});
-      r->notes.push_back(fmt::format(
-          "the range's {} ({:.4g} .. {:.4g} mm) rests on the penalty alone: {} samples lie within "
-          "{:.0f} % of the range from it, {} are needed for a fit of its own; sigma there is not "
-          "marked resolved",
-          tail ? "end" : "start", 1e3 * lo, 1e3 * hi, count,
-          100 * options.end_window_fraction, options.end_window_min_points));
-      continue;
-    }
-    window.onset_index = 0;
-    inner.min_points = std::min(options.min_points, count);
-    const LawFreeResult own = LawFromFarFieldJ(window, inner);
-    for (size_t j = 0; j < r->delta.size(); ++j) {
-      if (!near_end(j)) continue;
-      const auto [lower, upper] = WindowBandAt(own, window.opening.front(), r->delta[j]);
-      const bool wider = lower < r->sigma_lower[j] || upper > r->sigma_upper[j];
-      widened += wider;
-      r->sigma_lower[j] = std::min(r->sigma_lower[j], lower);
-      r->sigma_upper[j] = std::max(r->sigma_upper[j], upper);
-    }
-  }
-  if (widened > 0)
-    r->notes.push_back(fmt::format(
-        "sigma at the range's ends is a one-sided derivative: the band there also holds a fit of "
-        "the samples near each end alone (its own penalty), which widened it at {} nodes",
-        widened));
-  return unchecked;
 }
 
 double Seconds(std::chrono::steady_clock::time_point start) {
@@ -398,9 +323,7 @@ LawFreeResult LawFromFarFieldJ(const FarFieldJSamples& data, const LawFreeOption
   SteadyStateOrBounds(g, FindPlateau(g, 0, options), rise, rise_se, "J_ff", options, &r);
   const auto unchecked = AllowForTheRangesEnds(g, ux, options, &r);
   MarkResolved(options.resolved_fraction, r);
-  for (const auto& [lo, hi] : unchecked)
-    for (size_t j = 0; j < r.delta.size(); ++j)
-      if (r.delta[j] >= lo && r.delta[j] <= hi) r.resolved[j] = 0;
+  LeaveUnresolved(unchecked, r);
   r.run_seconds = Seconds(start);
   return r;
 }
@@ -428,20 +351,11 @@ LawFreeResult LawFromRCurve(const RCurveSamples& data, const LawFreeOptions& opt
   // f_i = sum_j [a_j(delta_i) - delta_i phi_j(delta_i) / 2] s_j, with the
   // last node fixed (s_{M-1} = 0) to remove the null space s_j = C g_j.
   const Grid grid = MakeGrid(s.x.back(), options.grid_points);
-  const int m = options.grid_points, free_nodes = m - 1;
-  const int offset = r.J_tip_c_given ? 0 : 1;
-  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(n, offset + free_nodes);
-  Eigen::VectorXd b(n);
-  for (int i = 0; i < n; ++i) {
-    const Eigen::RowVectorXd row =
-        HatIntegrals(grid, s.x[i]) - 0.5 * s.x[i] * HatValues(grid, s.x[i]);
-    if (offset) A(i, 0) = 1.0 / s.u[i];
-    A.block(i, offset, 1, free_nodes) = row.head(free_nodes) / s.u[i];
-    b[i] = (s.y[i] - (r.J_tip_c_given ? *data.J_tip_c : 0.0)) / s.u[i];
-  }
-  const Eigen::MatrixXd D = SecondDifferences(m).leftCols(free_nodes);
-  Eigen::MatrixXd P = Eigen::MatrixXd::Zero(offset + free_nodes, offset + free_nodes);
-  P.bottomRightCorner(free_nodes, free_nodes) = D.transpose() * D;
+  const RCurveSystem system = MakeRCurveSystem(s, grid, data.J_tip_c, 0.0);
+  const Eigen::MatrixXd& A = system.A;
+  const Eigen::VectorXd& b = system.b;
+  const Eigen::MatrixXd& P = system.P;
+  const int offset = system.offset, free_nodes = system.free_nodes;
   const PenalisedFit fit = SolvePenalised(A, b, P, options.penalty_rule, options.gcv_gamma);
 
   const PenaltySolution less = LessSmoothed(A, b, P, fit, options);
@@ -464,7 +378,9 @@ LawFreeResult LawFromRCurve(const RCurveSamples& data, const LawFreeOptions& opt
         "true law is sigma + C delta with unknown C >= {:.4g} Pa/m",
         r.null_space_slope_min));
   }
+  const auto unchecked = AllowForTheRCurvesStart(s, data.J_tip_c, options, &r);
   MarkResolved(options.resolved_fraction, r);
+  LeaveUnresolved(unchecked, r);
   r.run_seconds = Seconds(start);
   return r;
 }

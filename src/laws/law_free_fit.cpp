@@ -228,6 +228,28 @@ Eigen::MatrixXd SecondDifferences(int node_count) {
   return d;
 }
 
+RCurveSystem MakeRCurveSystem(const Samples& s, const Grid& grid, std::optional<double> J_tip_c,
+                              double sigma_end) {
+  RCurveSystem sys;
+  const int n = static_cast<int>(s.x.size()), m = static_cast<int>(grid.nodes.size());
+  sys.offset = J_tip_c ? 0 : 1;
+  sys.free_nodes = m - 1;
+  sys.A = Eigen::MatrixXd::Zero(n, sys.offset + sys.free_nodes);
+  sys.b.resize(n);
+  for (int i = 0; i < n; ++i) {
+    const Eigen::RowVectorXd row =
+        HatIntegrals(grid, s.x[i]) - 0.5 * s.x[i] * HatValues(grid, s.x[i]);
+    if (sys.offset) sys.A(i, 0) = 1.0 / s.u[i];
+    sys.A.block(i, sys.offset, 1, sys.free_nodes) = row.head(sys.free_nodes) / s.u[i];
+    sys.b[i] = (s.y[i] - J_tip_c.value_or(0.0) - sigma_end * row.sum()) / s.u[i];
+  }
+  const Eigen::MatrixXd D = SecondDifferences(m).leftCols(sys.free_nodes);
+  const int k = sys.offset + sys.free_nodes;
+  sys.P = Eigen::MatrixXd::Zero(k, k);
+  sys.P.bottomRightCorner(sys.free_nodes, sys.free_nodes) = D.transpose() * D;
+  return sys;
+}
+
 PenalisedFit SolvePenalised(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
                             const Eigen::MatrixXd& P, PenaltyRule rule, double gcv_gamma) {
   const Eigen::MatrixXd AtA = A.transpose() * A;

@@ -3,7 +3,9 @@
 // penalised least squares with its lambda search, plateau and onset tests.
 
 #include <Eigen/Dense>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bridgefit/laws/law_free.hpp"
@@ -59,6 +61,44 @@ struct PenaltySolution {
 };
 PenaltySolution SolveAtPenalty(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
                                const Eigen::MatrixXd& P, double lambda, double noise_scale);
+
+// The R route's weighted rows (elastic zone, eq. 3, law_free.hpp) on
+// `grid`: unknowns (J_tip,c unless given, t_0 .. t_{M-2}) with
+// s_j = t_j + sigma_end and t_{M-1} = 0: sigma at the grid's last node is
+// pinned to sigma_end (0: steady state; pinning removes the null space
+// s_j = C g_j). P penalises the second differences of t, which are s's.
+struct RCurveSystem {
+  Eigen::MatrixXd A, P;
+  Eigen::VectorXd b;
+  int offset = 0, free_nodes = 0;  // s_j is unknown offset + j
+};
+RCurveSystem MakeRCurveSystem(const Samples& s, const Grid& grid, std::optional<double> J_tip_c,
+                              double sigma_end);
+
+// sigma, its standard error and band on the grid from the fit (law_free.cpp);
+// nodes past `free_nodes` are zero. `less`: the fit at the smaller penalty
+// (LessSmoothed), whose change joins the standard error.
+PenaltySolution LessSmoothed(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
+                             const Eigen::MatrixXd& P, const PenalisedFit& fit,
+                             const LawFreeOptions& options);
+void FillSigma(const Grid& grid, const PenalisedFit& fit, int offset, int free_nodes,
+               const PenaltySolution& less, const LawFreeOptions& options, LawFreeResult* r);
+
+// The range's ends (law_free_ends.cpp; LawFreeOptions::end_window_fraction):
+// the band over the half of each end window next to its end becomes the
+// union with the window's own fit's band. Return the opening intervals
+// whose window held too few samples for a fit (a note says so), which
+// LeaveUnresolved then leaves unresolved. J route: `g` from the onset,
+// `ux` the openings' uncertainties in its order; both ends. R route: the
+// start only (sigma at the window's far end pinned to the whole fit's, as
+// the R route knows sigma only up to + C delta otherwise; the end is
+// sigma = 0 in steady state and unresolved without it).
+using OpeningIntervals = std::vector<std::pair<double, double>>;
+OpeningIntervals AllowForTheRangesEnds(const Samples& g, const std::vector<double>& ux,
+                                       const LawFreeOptions& options, LawFreeResult* r);
+OpeningIntervals AllowForTheRCurvesStart(const Samples& s, std::optional<double> J_tip_c,
+                                         const LawFreeOptions& options, LawFreeResult* r);
+void LeaveUnresolved(const OpeningIntervals& intervals, LawFreeResult& r);
 
 // A tail of samples [start, end) flat within its noise (see law_free.hpp).
 struct Plateau {

@@ -149,6 +149,49 @@ TEST(LawFree, ADropNearTheRangesEndIsNotReadAsTheStraightLine) {
   }
 }
 
+// The R route's start: the cubic law rises steeply from sigma(0) = 0, and
+// with steady state reached (data to 1.4 delta_c) the penalty chosen for the
+// whole range bent sigma over the first nodes: 11 of 1179 resolved nodes
+// more than 10 % of the peak off (worst 23.2 %) over seeds 300 .. 329. The
+// start window (sigma pinned at its far end to the whole fit's) holds most
+// of it (3 of 1171); measured here without and with on other seeds.
+TEST(LawFree, TheRCurvesStartHoldsTheCubicRise) {
+  const Truth truth = MakeTruth("cubic", MakeCubicShape());
+  const BridgingLaw law = truth.Law();
+  LawFreeOptions without;
+  without.end_window_fraction = 0.0;
+  int resolved[2] = {0, 0}, off[2] = {0, 0}, start_misses[2] = {0, 0}, start_nodes = 0;
+  for (unsigned seed = 500; seed < 530; ++seed)
+    for (int with = 0; with < 2; ++with) {
+      const LawFreeResult r =
+          LawFromRCurve(MakeRCurve(truth, 1.4, seed), with ? LawFreeOptions{} : without);
+      ASSERT_TRUE(r.identified) << r.Summary();
+      const double peak = *std::max_element(r.sigma.begin(), r.sigma.end());
+      for (size_t j = 0; j < r.delta.size(); ++j) {
+        const double exact = law.Traction(r.delta[j]);
+        if (r.resolved[j]) {
+          ++resolved[with];
+          off[with] += std::abs(r.sigma[j] - exact) > 0.10 * peak;
+        }
+        if (r.delta[j] <= 0.25 * r.delta.back()) {
+          start_nodes += with;
+          start_misses[with] += exact < r.sigma_lower[j] || exact > r.sigma_upper[j];
+        }
+      }
+    }
+  std::printf("  R route, cubic to 1.4 delta_c: resolved %d / %d nodes, beyond 10 %% of the peak "
+              "%d / %d, band misses over the first quarter %d / %d of %d (without / with the "
+              "start window)\n",
+              resolved[0], resolved[1], off[0], off[1], start_misses[0], start_misses[1],
+              start_nodes);
+  // Measured 17 / 5 resolved nodes off, 45 / 29 start misses of 300.
+  EXPECT_GT(resolved[1], 30 * 41 / 2);
+  EXPECT_LT(off[1], off[0]);
+  EXPECT_LE(off[1], 0.01 * resolved[1]);
+  EXPECT_LT(start_misses[1], start_misses[0]);
+  EXPECT_LE(start_misses[1], 0.12 * start_nodes);
+}
+
 // Where a window next to an end holds too few samples for a fit of its own,
 // that end is not marked resolved and a note says so: openings crowded
 // towards the range's start (x ~ k^2), 4 of 14 samples in its last half.

@@ -52,14 +52,15 @@
 // criterion's best fit with tr H >= the null space + 0.5): its covariance
 // plus d d^T, d the step from the line to it (91.7 %; a note says so).
 // Negative fitted sigma is clipped to 0 (a note counts the nodes; the band
-// is left as computed). The range's ends (J route): sigma there is a
+// is left as computed). The range's ends: sigma there is a
 // one-sided derivative, and the penalty chosen for the whole range holds it
 // (a plateau law whose drop starts within the last fifth of the data was
 // read as a straight line, 20 % of the peak off inside a band of a few %).
 // The route is run again on the samples within end_window_fraction of the
 // range from each end alone (its own penalty by the same criterion); over
 // the half of each window next to its end the band is the union of both
-// bands. sigma_standard_error stays the whole fit's.
+// bands (the R route: its start only, law_free_ends.cpp).
+// sigma_standard_error stays the whole fit's.
 //
 // Steady state: the samples from index p on are "flat within their noise"
 // when they cover at least `plateau_span` of the opening range and
@@ -127,12 +128,15 @@ struct LawFreeOptions {
   // the peak sigma: there the data pin sigma; elsewhere the curve is the
   // penalty's shape inside a wide band (LawFreeResult::resolved).
   double resolved_fraction = 0.10;
-  // The range's ends (J route): sigma there is a one-sided derivative, held
-  // by the penalty chosen for the whole range. The route is run again on the
-  // samples within this fraction of the range from each end alone (its own
+  // The range's ends: sigma there is a one-sided derivative, held by the
+  // penalty chosen for the whole range. The route is run again on the
+  // samples within this fraction of the range from an end alone (its own
   // penalty); over the half of that window next to its end the band is the
-  // union of both bands (0: off). A window with fewer than
-  // end_window_min_points samples leaves its end unresolved (a note).
+  // union of both bands (0: off). J route: both ends. R route: the start,
+  // sigma at the window's far end pinned to the whole fit's (R fixes sigma
+  // only up to + C delta otherwise); its end is sigma = 0 in steady state
+  // and unresolved without. A window with fewer than end_window_min_points
+  // samples leaves its end unresolved (a note).
   double end_window_fraction = 0.5;
   int end_window_min_points = 6;
   bool IsValid(std::string* why) const;
@@ -178,7 +182,7 @@ struct LawFreeResult {
   std::vector<double> sigma;                     // clipped at 0 [Pa]
   std::vector<double> sigma_standard_error;      // [Pa]
   // sigma -+ band_z se, unclipped, widened at the range's ends to hold the
-  // end windows' bands (J route, LawFreeOptions::end_window_fraction) [Pa]
+  // end windows' bands (LawFreeOptions::end_window_fraction) [Pa]
   std::vector<double> sigma_lower, sigma_upper;
   double J_tip_c = 0.0;                          // [J/m^2]
   double J_tip_c_standard_error = 0.0;           // 0 when given
