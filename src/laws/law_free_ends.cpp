@@ -13,7 +13,9 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <string>
 
+#include "bridgefit/core/error.hpp"
 #include "law_free_impl.hpp"
 
 namespace bridgefit::laws::law_free_detail {
@@ -46,14 +48,19 @@ int Union(const LawFreeResult& own, double from, double lo, double hi, LawFreeRe
   return widened;
 }
 
-void NoteTooFew(bool tail, double lo, double hi, int count, const LawFreeOptions& options,
-                LawFreeResult* r) {
+// An end the window cannot check (too few samples, or its own fit failed):
+// left unresolved, with a note saying why.
+void NoteUnchecked(bool tail, double lo, double hi, const std::string& why, LawFreeResult* r) {
   r->notes.push_back(fmt::format(
-      "the range's {} ({:.4g} .. {:.4g} mm) rests on the penalty alone: {} samples lie within "
-      "{:.0f} % of the range from it, {} are needed for a fit of its own; sigma there is not "
-      "marked resolved",
-      tail ? "end" : "start", 1e3 * lo, 1e3 * hi, count, 100 * options.end_window_fraction,
-      options.end_window_min_points));
+      "the range's {} ({:.4g} .. {:.4g} mm) rests on the penalty alone ({}); sigma there is "
+      "not marked resolved",
+      tail ? "end" : "start", 1e3 * lo, 1e3 * hi, why));
+}
+
+std::string TooFew(int count, const LawFreeOptions& options) {
+  return fmt::format("{} samples lie within {:.0f} % of the range from it, {} are needed for a "
+                     "fit of its own",
+                     count, 100 * options.end_window_fraction, options.end_window_min_points);
 }
 
 void NoteWidened(int widened, LawFreeResult* r) {
@@ -94,12 +101,17 @@ OpeningIntervals AllowForTheRangesEnds(const Samples& g, const std::vector<doubl
     const double lo = tail ? range - reach / 2 : 0.0, hi = tail ? range : reach / 2;
     if (count < options.end_window_min_points) {
       unchecked.push_back({lo, hi});
-      NoteTooFew(tail, lo, hi, count, options, r);
+      NoteUnchecked(tail, lo, hi, TooFew(count, options), r);
       continue;
     }
     window.onset_index = 0;  // the window's first sample: J_tip,c becomes its constant
     inner.min_points = std::min(options.min_points, count);
-    widened += Union(LawFromFarFieldJ(window, inner), window.opening.front(), lo, hi, r);
+    try {
+      widened += Union(LawFromFarFieldJ(window, inner), window.opening.front(), lo, hi, r);
+    } catch (const Error& e) {
+      unchecked.push_back({lo, hi});
+      NoteUnchecked(tail, lo, hi, std::string("its own fit failed: ") + e.what(), r);
+    }
   }
   NoteWidened(widened, r);
   return unchecked;
@@ -119,7 +131,7 @@ OpeningIntervals AllowForTheRCurvesStart(const Samples& s, std::optional<double>
   const int count = static_cast<int>(window.x.size());
   if (count < options.end_window_min_points) {
     unchecked.push_back({0.0, reach / 2});
-    NoteTooFew(false, 0.0, reach / 2, count, options, r);
+    NoteUnchecked(false, 0.0, reach / 2, TooFew(count, options), r);
     return unchecked;
   }
   // sigma at the window's far end pinned to the whole fit's there (only the
@@ -127,7 +139,14 @@ OpeningIntervals AllowForTheRCurvesStart(const Samples& s, std::optional<double>
   const double sigma_end = FittedSigmaAt(*r, window.x.back());
   const Grid grid = MakeGrid(window.x.back(), options.grid_points);
   const RCurveSystem sys = MakeRCurveSystem(window, grid, J_tip_c, sigma_end);
-  PenalisedFit fit = SolvePenalised(sys.A, sys.b, sys.P, options.penalty_rule, options.gcv_gamma);
+  PenalisedFit fit;
+  try {
+    fit = SolvePenalised(sys.A, sys.b, sys.P, options.penalty_rule, options.gcv_gamma);
+  } catch (const Error& e) {
+    unchecked.push_back({0.0, reach / 2});
+    NoteUnchecked(false, 0.0, reach / 2, std::string("its own fit failed: ") + e.what(), r);
+    return unchecked;
+  }
   PenaltySolution less = LessSmoothed(sys.A, sys.b, sys.P, fit, options);
   // t_j = s_j - sigma_end (MakeRCurveSystem): back to sigma.
   fit.x.segment(sys.offset, sys.free_nodes).array() += sigma_end;
