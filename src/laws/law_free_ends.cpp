@@ -16,22 +16,19 @@
 #include <string>
 
 #include "bridgefit/core/error.hpp"
+#include "bridgefit/laws/law.hpp"
 #include "law_free_impl.hpp"
 
 namespace bridgefit::laws::law_free_detail {
 namespace {
 
 // The band of a window's own fit at opening x (its grid from the window's
-// first sample, `from`): linear between its nodes.
+// first sample, `from`): linear between its nodes (the law module's
+// piecewise-linear rule).
 std::pair<double, double> WindowBandAt(const LawFreeResult& w, double from, double x) {
-  const std::vector<double>& d = w.delta;
-  const double at = std::clamp(x - from, d.front(), d.back());
-  const size_t k =
-      std::min<size_t>(std::upper_bound(d.begin(), d.end(), at) - d.begin(), d.size() - 1);
-  const size_t k0 = k == 0 ? 0 : k - 1, k1 = std::max<size_t>(k, 1);
-  const double t = (at - d[k0]) / (d[k1] - d[k0]);
-  return {w.sigma_lower[k0] + t * (w.sigma_lower[k1] - w.sigma_lower[k0]),
-          w.sigma_upper[k0] + t * (w.sigma_upper[k1] - w.sigma_upper[k0])};
+  const double at = std::clamp(x - from, w.delta.front(), w.delta.back());
+  return {detail::PiecewiseValue(w.delta, w.sigma_lower, at),
+          detail::PiecewiseValue(w.delta, w.sigma_upper, at)};
 }
 
 // r's band over [lo, hi] becomes its union with the window's; returns the
