@@ -87,8 +87,8 @@ void FillSigma(const Grid& grid, const PenalisedFit& fit, int offset, int free_n
 // The range's ends (law_free_ends.cpp; LawFreeOptions::end_window_fraction):
 // the band over the half of each end window next to its end becomes the
 // union with the window's own fit's band. Return the opening intervals
-// whose window held too few samples for a fit (a note says so), which
-// LeaveUnresolved then leaves unresolved. J route: `g` from the onset,
+// whose window held too few samples for a fit, or whose own fit failed (a
+// note says which), which LeaveUnresolved then leaves unresolved. J route: `g` from the onset,
 // `ux` the openings' uncertainties in its order; both ends. R route: the
 // start only (sigma at the window's far end pinned to the whole fit's, as
 // the R route knows sigma only up to + C delta otherwise; the end is
